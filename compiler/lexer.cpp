@@ -1,0 +1,311 @@
+#include "compiler/lexer.h"
+
+#include <fast_float/fast_float.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace pbrtc {
+
+namespace {
+
+// Character classes in one table: the scanner tests one byte per step.
+enum : uint8_t { kOther = 0, kSpace = 1, kDelim = 2, kBad = 4 };
+
+struct CharTable {
+  uint8_t c[256];
+  constexpr CharTable() : c() {
+    for (int i = 0; i < 256; ++i) c[i] = kOther;
+    for (int i = 0; i < 0x20; ++i) c[i] = kBad;
+    c[0x7F] = kBad;
+    for (int i = 0x80; i < 256; ++i) c[i] = kBad;
+    c[int(' ')] = c[int('\t')] = c[int('\n')] = c[int('\r')] = kSpace | kDelim;
+    c[int('\f')] = c[int('\v')] = kSpace | kDelim;
+    c[int('[')] = c[int(']')] = c[int('"')] = c[int('#')] = kDelim;
+  }
+};
+constexpr CharTable kChars;
+
+inline bool is_space(char ch) { return kChars.c[uint8_t(ch)] & kSpace; }
+inline bool is_delim(char ch) { return kChars.c[uint8_t(ch)] & (kDelim | kBad); }
+inline bool starts_number(char ch) {
+  return (ch >= '0' && ch <= '9') || ch == '-' || ch == '+' || ch == '.';
+}
+
+std::string describe_byte(unsigned char ch) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0x%02X", ch);
+  return buf;
+}
+
+}  // namespace
+
+bool parse_float_token(std::string_view s, float* v) {
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b < e && *b == '+') {
+    ++b;  // fast_float, like from_chars, rejects '+'
+    if (b < e && (*b == '+' || *b == '-')) return false;
+  }
+  if (b == e) return false;
+  auto r = fast_float::from_chars(b, e, *v);
+  if (r.ec != std::errc() || r.ptr != e) return false;
+  return true;
+}
+
+bool parse_int_token(std::string_view s, int32_t* v) {
+  const char* b = s.data();
+  const char* e = b + s.size();
+  bool neg = false;
+  if (b < e && (*b == '+' || *b == '-')) neg = *b++ == '-';
+  if (b == e) return false;
+  int64_t acc = 0;
+  for (; b < e; ++b) {
+    if (*b < '0' || *b > '9') return false;
+    acc = acc * 10 + (*b - '0');
+    if (acc > int64_t(1) << 31) return false;
+  }
+  if (neg) acc = -acc;
+  if (acc > INT32_MAX || acc < INT32_MIN) return false;
+  *v = int32_t(acc);
+  return true;
+}
+
+Lexer::Lexer(const SourceFiles& files, uint32_t file, Diagnostics* diag)
+    : file_(file), diag_(diag) {
+  std::string_view t = files.text(file);
+  begin_ = t.data();
+  p_ = begin_;
+  end_ = begin_ + t.size();
+  // A UTF-8 byte order mark is not part of the scene.
+  if (t.size() >= 3 && std::memcmp(begin_, "\xEF\xBB\xBF", 3) == 0) p_ += 3;
+}
+
+void Lexer::fatal(const char* p, const std::string& message) {
+  diag_->error(loc_at(p), message);
+  broken_ = true;
+  p_ = end_;
+}
+
+void Lexer::skip_space() {
+  for (;;) {
+    while (p_ < end_ && is_space(*p_)) ++p_;
+    if (p_ < end_ && *p_ == '#') {
+      // Comments may hold any text, UTF-8 included.
+      const void* nl = std::memchr(p_, '\n', size_t(end_ - p_));
+      p_ = nl ? static_cast<const char*>(nl) + 1 : end_;
+      continue;
+    }
+    return;
+  }
+}
+
+const Token& Lexer::peek() {
+  if (!has_peek_) {
+    peeked_ = lex();
+    has_peek_ = true;
+  }
+  return peeked_;
+}
+
+Token Lexer::next() {
+  if (has_peek_) {
+    has_peek_ = false;
+    return peeked_;
+  }
+  return lex();
+}
+
+Token Lexer::lex() {
+  skip_space();
+  Token t;
+  if (p_ >= end_) {
+    t.kind = TokenKind::kEnd;
+    t.loc = loc_at(end_);
+    return t;
+  }
+  const char* start = p_;
+  t.loc = loc_at(start);
+  char ch = *p_;
+  if (ch == '[' || ch == ']') {
+    ++p_;
+    t.kind = ch == '[' ? TokenKind::kLBracket : TokenKind::kRBracket;
+    t.text = std::string_view(start, 1);
+    return t;
+  }
+  if (ch == '"') {
+    ++p_;
+    const char* s = p_;
+    bool escaped = false;
+    while (p_ < end_ && *p_ != '"') {
+      unsigned char c = uint8_t(*p_);
+      if (c == '\n' || c == '\r') {
+        fatal(start, "unterminated string (a quoted string cannot span lines)");
+        t.kind = TokenKind::kEnd;
+        return t;
+      }
+      if (c < 0x20 && c != '\t') {
+        fatal(p_, "control byte " + describe_byte(c) + " inside a string: is this a text file?");
+        t.kind = TokenKind::kEnd;
+        return t;
+      }
+      if (c == '\\') {
+        escaped = true;
+        if (p_ + 1 < end_) ++p_;
+      }
+      ++p_;
+    }
+    if (p_ >= end_) {
+      fatal(start, "unterminated string (end of file inside quotes)");
+      t.kind = TokenKind::kEnd;
+      return t;
+    }
+    t.kind = TokenKind::kString;
+    t.text = std::string_view(s, size_t(p_ - s));
+    ++p_;  // closing quote
+    if (escaped) {
+      unescaped_.clear();
+      for (size_t i = 0; i < t.text.size(); ++i) {
+        char c = t.text[i];
+        if (c == '\\' && i + 1 < t.text.size()) {
+          char e = t.text[++i];
+          switch (e) {
+            case 'b': c = '\b'; break;
+            case 'f': c = '\f'; break;
+            case 'n': c = '\n'; break;
+            case 'r': c = '\r'; break;
+            case 't': c = '\t'; break;
+            default: c = e; break;  // \\ \" \' and anything else stand for themselves
+          }
+        }
+        unescaped_.push_back(c);
+      }
+      t.text = unescaped_;
+    }
+    return t;
+  }
+  if (kChars.c[uint8_t(ch)] & kBad) {
+    fatal(start, "unexpected byte " + describe_byte(uint8_t(ch)) +
+                     " outside a string or comment: is this a text file?");
+    t.kind = TokenKind::kEnd;
+    return t;
+  }
+  while (p_ < end_ && !is_delim(*p_)) ++p_;
+  t.text = std::string_view(start, size_t(p_ - start));
+  t.kind = starts_number(ch) ? TokenKind::kNumber : TokenKind::kWord;
+  return t;
+}
+
+bool Lexer::to_float(const Token& tok, float* v) {
+  if (!parse_float_token(tok.text, v)) {
+    diag_->error(tok.loc, "malformed number '" + std::string(tok.text) + "'");
+    return false;
+  }
+  if (!std::isfinite(*v)) {
+    diag_->error(tok.loc, "number '" + std::string(tok.text) + "' is not finite");
+    return false;
+  }
+  return true;
+}
+
+bool Lexer::to_int(const Token& tok, int32_t* v) {
+  if (parse_int_token(tok.text, v)) return true;
+  float f;
+  if (parse_float_token(tok.text, &f))
+    diag_->error(tok.loc, "expected an integer, got '" + std::string(tok.text) + "'");
+  else
+    diag_->error(tok.loc, "malformed number '" + std::string(tok.text) + "'");
+  return false;
+}
+
+bool Lexer::read_numbers(std::vector<float>* out, Loc* first_bad) {
+  // Callers come here straight after '[': no token is pending.
+  for (;;) {
+    if (has_peek_) {
+      Token t = next();
+      if (t.kind == TokenKind::kRBracket) return true;
+      if (t.kind != TokenKind::kNumber) goto not_number_token;
+      float v;
+      if (!to_float(t, &v)) return false;
+      out->push_back(v);
+      continue;
+    not_number_token:
+      if (first_bad) *first_bad = t.loc;
+      if (t.kind == TokenKind::kEnd)
+        diag_->error(t.loc, "unterminated '[' array at end of file");
+      else
+        diag_->error(t.loc, "expected a number or ']', got '" + std::string(t.text) + "'");
+      return false;
+    }
+    skip_space();
+    if (p_ >= end_ || !starts_number(*p_)) {
+      if (p_ < end_ && *p_ == ']') {
+        ++p_;
+        return true;
+      }
+      peek();  // let the generic path produce the message
+      continue;
+    }
+    const char* start = p_;
+    const char* b = p_;
+    if (*b == '+') ++b;
+    float v;
+    auto r = fast_float::from_chars(b, end_, v);
+    if (r.ec != std::errc() || (r.ptr < end_ && !is_delim(*r.ptr))) {
+      // Find the token's end for the message.
+      p_ = start;
+      while (p_ < end_ && !is_delim(*p_)) ++p_;
+      Token t{TokenKind::kNumber, std::string_view(start, size_t(p_ - start)), loc_at(start)};
+      if (first_bad) *first_bad = t.loc;
+      to_float(t, &v);  // reports
+      return false;
+    }
+    if (!std::isfinite(v)) {
+      p_ = r.ptr;
+      if (first_bad) *first_bad = loc_at(start);
+      diag_->error(loc_at(start),
+                   "number '" + std::string(start, size_t(r.ptr - start)) + "' is not finite");
+      return false;
+    }
+    out->push_back(v);
+    p_ = r.ptr;
+  }
+}
+
+bool Lexer::read_integers(std::vector<int32_t>* out) {
+  for (;;) {
+    if (!has_peek_) {
+      skip_space();
+      // Fast path for plain decimal integers.
+      const char* q = p_;
+      if (q < end_ && ((*q >= '0' && *q <= '9') || *q == '-')) {
+        bool neg = *q == '-';
+        if (neg) ++q;
+        int64_t acc = 0;
+        const char* digits = q;
+        while (q < end_ && *q >= '0' && *q <= '9' && q - digits < 11) acc = acc * 10 + (*q++ - '0');
+        if (q > digits && (q == end_ || is_space(*q) || *q == ']') &&
+            acc <= (neg ? int64_t(1) << 31 : INT32_MAX)) {
+          out->push_back(int32_t(neg ? -acc : acc));
+          p_ = q;
+          continue;
+        }
+      }
+    }
+    Token t = next();
+    if (t.kind == TokenKind::kRBracket) return true;
+    if (t.kind == TokenKind::kNumber) {
+      int32_t v;
+      if (!to_int(t, &v)) return false;
+      out->push_back(v);
+      continue;
+    }
+    if (t.kind == TokenKind::kEnd)
+      diag_->error(t.loc, "unterminated '[' array at end of file");
+    else
+      diag_->error(t.loc, "expected an integer or ']', got '" + std::string(t.text) + "'");
+    return false;
+  }
+}
+
+}  // namespace pbrtc

@@ -1,0 +1,114 @@
+#include "compiler/mesh_builder.h"
+
+#include <string>
+
+#include "format/ply_reader.h"
+
+namespace pbrtc {
+
+namespace {
+
+std::string desc(const ParsedParam& p) {
+  return "\"" + std::string(p.type_name) + " " + std::string(p.name) + "\"";
+}
+
+}  // namespace
+
+bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* diag,
+                        TriangleMesh* mesh) {
+  const ParsedParam* P = params.find("P");
+  if (!P || P->type != ParamType::kPoint3) {
+    diag->error(shape_loc, "trianglemesh needs vertex positions \"point3 P\"");
+    return false;
+  }
+  size_t nv = P->count / 3;
+  mesh->P.assign(params.floats.begin() + P->offset, params.floats.begin() + P->offset + P->count);
+  const ParsedParam* I = params.find("indices");
+  if (!I) {
+    // pbrt-v3: a single triangle may leave out its indices.
+    if (nv != 3) {
+      diag->error(shape_loc, "trianglemesh needs \"integer indices\" (only a mesh of exactly 3 "
+                             "vertices may leave them out)");
+      return false;
+    }
+    mesh->indices = {0, 1, 2};
+  } else {
+    if (I->type != ParamType::kInteger) {
+      diag->error(I->loc, "trianglemesh indices must be \"integer indices\"");
+      return false;
+    }
+    if (I->count % 3 != 0) {
+      diag->error(I->value_loc, "trianglemesh has " + std::to_string(I->count) +
+                                    " indices, not a multiple of 3");
+      return false;
+    }
+    mesh->indices.resize(I->count);
+    const int32_t* src = params.ints.data() + I->offset;
+    for (uint32_t i = 0; i < I->count; ++i) {
+      if (src[i] < 0 || size_t(src[i]) >= nv) {
+        diag->error(I->value_loc, "trianglemesh index " + std::to_string(src[i]) + " (entry " +
+                                      std::to_string(i) + ") is out of range: " +
+                                      std::to_string(nv) + " vertices");
+        return false;
+      }
+      mesh->indices[i] = uint32_t(src[i]);
+    }
+  }
+  size_t nt = mesh->indices.size() / 3;
+  auto per_vertex = [&](const char* name, ParamType type, int width, std::vector<float>* out) {
+    const ParsedParam* p = params.find(name);
+    if (!p || p->type != type) return true;  // wrong types are warned about by the resolver
+    if (p->count != nv * size_t(width)) {
+      diag->error(p->value_loc, "trianglemesh " + desc(*p) + " has " +
+                                    std::to_string(p->count / size_t(width)) + " elements for " +
+                                    std::to_string(nv) + " vertices");
+      return false;
+    }
+    out->assign(params.floats.begin() + p->offset, params.floats.begin() + p->offset + p->count);
+    return true;
+  };
+  if (!per_vertex("N", ParamType::kNormal3, 3, &mesh->N)) return false;
+  if (!per_vertex("S", ParamType::kVector3, 3, &mesh->S)) return false;
+  // uv: point2 or a flat float list, under "uv" or "st".
+  for (const char* uvname : {"uv", "st"}) {
+    const ParsedParam* p = params.find(uvname);
+    if (!p || mesh->uv.size()) continue;
+    if (p->type != ParamType::kPoint2 && p->type != ParamType::kFloat) continue;
+    if (p->count != nv * 2) {
+      diag->error(p->value_loc, "trianglemesh " + desc(*p) + " has " + std::to_string(p->count) +
+                                    " numbers; " + std::to_string(nv) + " vertices need " +
+                                    std::to_string(nv * 2));
+      return false;
+    }
+    mesh->uv.assign(params.floats.begin() + p->offset, params.floats.begin() + p->offset + p->count);
+  }
+  if (const ParsedParam* f = params.find("faceIndices"); f && f->type == ParamType::kInteger) {
+    if (f->count != nt) {
+      diag->error(f->value_loc, "trianglemesh \"integer faceIndices\" has " +
+                                    std::to_string(f->count) + " entries for " +
+                                    std::to_string(nt) + " triangles");
+      return false;
+    }
+    mesh->face_indices.assign(params.ints.begin() + f->offset,
+                              params.ints.begin() + f->offset + f->count);
+  }
+  return true;
+}
+
+bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag,
+                  TriangleMesh* mesh) {
+  pbrta::PlyMesh ply;
+  pbrta::PlyError err;
+  if (!pbrta::read_ply(path, &ply, &err)) {
+    diag->error(filename_loc, "cannot read PLY file \"" + path + "\": " + err.message);
+    return false;
+  }
+  mesh->P = std::move(ply.positions);
+  mesh->N = std::move(ply.normals);
+  mesh->uv = std::move(ply.uvs);
+  mesh->indices = std::move(ply.indices);
+  mesh->face_indices = std::move(ply.face_indices);
+  return true;
+}
+
+}  // namespace pbrtc

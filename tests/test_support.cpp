@@ -1,0 +1,48 @@
+#include "test_support.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace testing_support {
+
+std::string shared_dir() {
+  const char* env = std::getenv("PBRTC_SHARED_DIR");
+  std::string dir = env && *env ? env : PBRTC_SHARED_DIR_DEFAULT;
+  if (!fs::is_directory(fs::path(dir) / "scenes")) {
+    std::fprintf(stderr,
+                 "FATAL: shared corpus not found at '%s' (expected ../shared beside the "
+                 "repository, or set PBRTC_SHARED_DIR)\n",
+                 dir.c_str());
+    std::abort();
+  }
+  return dir;
+}
+
+std::string scratch_dir(const std::string& test_name) {
+  fs::path p = fs::path(PBRTC_BINARY_DIR) / "test-scratch" / test_name;
+  std::error_code ec;
+  fs::remove_all(p, ec);
+  fs::create_directories(p);
+  return p.string();
+}
+
+std::string write_file(const std::string& path, const std::string& text) {
+  fs::create_directories(fs::path(path).parent_path());
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  return path;
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace testing_support

@@ -1,0 +1,24 @@
+// tests/test_support.h — helpers shared by the unit tests.
+//
+// shared_dir() finds the read-only corpus (../shared beside the repository, or
+// $PBRTC_SHARED_DIR) and fails the test loudly when it is missing, so a test
+// that needs real scenes can never pass by skipping them.
+#pragma once
+
+#include <string>
+
+namespace testing_support {
+
+// The shared corpus directory; aborts the process with a message if absent.
+std::string shared_dir();
+
+// A fresh empty directory under the build tree for one test's files.
+std::string scratch_dir(const std::string& test_name);
+
+// Writes text to path (creating parent directories); returns path.
+std::string write_file(const std::string& path, const std::string& text);
+
+// Reads a whole file; empty string if it cannot be read.
+std::string read_file(const std::string& path);
+
+}  // namespace testing_support
