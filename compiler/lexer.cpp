@@ -219,78 +219,85 @@ bool Lexer::to_int(const Token& tok, int32_t* v) {
 }
 
 bool Lexer::read_numbers(std::vector<float>* out, Loc* first_bad) {
-  // Callers come here straight after '[': no token is pending.
-  for (;;) {
-    if (has_peek_) {
-      Token t = next();
-      if (t.kind == TokenKind::kRBracket) return true;
-      if (t.kind != TokenKind::kNumber) goto not_number_token;
-      float v;
-      if (!to_float(t, &v)) return false;
-      out->push_back(v);
-      continue;
-    not_number_token:
-      if (first_bad) *first_bad = t.loc;
-      if (t.kind == TokenKind::kEnd)
-        diag_->error(t.loc, "unterminated '[' array at end of file");
-      else
-        diag_->error(t.loc, "expected a number or ']', got '" + std::string(t.text) + "'");
-      return false;
-    }
-    skip_space();
-    if (p_ >= end_ || !starts_number(*p_)) {
-      if (p_ < end_ && *p_ == ']') {
-        ++p_;
-        return true;
-      }
-      peek();  // let the generic path produce the message
-      continue;
-    }
-    const char* start = p_;
-    const char* b = p_;
-    if (*b == '+') ++b;
+  // Callers come here straight after '[', so normally no token is pending.
+  if (has_peek_) {
+    Token t = next();
+    if (t.kind == TokenKind::kRBracket) return true;
+    if (t.kind != TokenKind::kNumber) return bad_array_token(t, "a number", first_bad);
     float v;
-    auto r = fast_float::from_chars(b, end_, v);
-    if (r.ec != std::errc() || (r.ptr < end_ && !is_delim(*r.ptr))) {
-      // Find the token's end for the message.
-      p_ = start;
-      while (p_ < end_ && !is_delim(*p_)) ++p_;
-      Token t{TokenKind::kNumber, std::string_view(start, size_t(p_ - start)), loc_at(start)};
-      if (first_bad) *first_bad = t.loc;
-      to_float(t, &v);  // reports
-      return false;
-    }
-    if (!std::isfinite(v)) {
-      p_ = r.ptr;
-      if (first_bad) *first_bad = loc_at(start);
-      diag_->error(loc_at(start),
-                   "number '" + std::string(start, size_t(r.ptr - start)) + "' is not finite");
-      return false;
-    }
+    if (!to_float(t, &v)) return false;
     out->push_back(v);
-    p_ = r.ptr;
   }
+  const char* p = p_;
+  const char* end = end_;
+  for (;;) {
+    while (p < end && is_space(*p)) ++p;
+    if (p < end && starts_number(*p)) {
+      const char* start = p;
+      if (*p == '+') ++p;
+      float v;
+      auto r = fast_float::from_chars(p, end, v);
+      if (__builtin_expect(r.ec != std::errc() || (r.ptr < end && !is_delim(*r.ptr)) ||
+                               !std::isfinite(v),
+                           0)) {
+        p_ = start;
+        while (p_ < end_ && !is_delim(*p_)) ++p_;
+        Token t{TokenKind::kNumber, std::string_view(start, size_t(p_ - start)), loc_at(start)};
+        if (first_bad) *first_bad = t.loc;
+        to_float(t, &v);  // reports
+        return false;
+      }
+      out->push_back(v);
+      p = r.ptr;
+      continue;
+    }
+    if (p < end && *p == ']') {
+      p_ = p + 1;
+      return true;
+    }
+    // A comment, the end of the file or something that is not a number.
+    p_ = p;
+    Token t = next();
+    if (t.kind == TokenKind::kRBracket) return true;
+    if (t.kind != TokenKind::kNumber) return bad_array_token(t, "a number", first_bad);
+    float v;
+    if (!to_float(t, &v)) return false;
+    out->push_back(v);
+    p = p_;
+  }
+}
+
+bool Lexer::bad_array_token(const Token& t, const char* expected, Loc* first_bad) {
+  if (first_bad) *first_bad = t.loc;
+  if (t.kind == TokenKind::kEnd && !broken_)
+    diag_->error(t.loc, "unterminated '[' array at end of file");
+  else if (t.kind != TokenKind::kEnd)
+    diag_->error(t.loc, std::string("expected ") + expected + " or ']', got '" +
+                            std::string(t.text) + "'");
+  return false;
 }
 
 bool Lexer::read_integers(std::vector<int32_t>* out) {
   for (;;) {
     if (!has_peek_) {
-      skip_space();
-      // Fast path for plain decimal integers.
-      const char* q = p_;
-      if (q < end_ && ((*q >= '0' && *q <= '9') || *q == '-')) {
-        bool neg = *q == '-';
-        if (neg) ++q;
-        int64_t acc = 0;
+      const char* p = p_;
+      const char* end = end_;
+      // Fast path for plain decimal integers separated by white space.
+      for (;;) {
+        while (p < end && is_space(*p)) ++p;
+        if (p >= end) break;
+        bool neg = *p == '-';
+        const char* q = p + neg;
         const char* digits = q;
-        while (q < end_ && *q >= '0' && *q <= '9' && q - digits < 11) acc = acc * 10 + (*q++ - '0');
-        if (q > digits && (q == end_ || is_space(*q) || *q == ']') &&
-            acc <= (neg ? int64_t(1) << 31 : INT32_MAX)) {
-          out->push_back(int32_t(neg ? -acc : acc));
-          p_ = q;
-          continue;
-        }
+        uint64_t acc = 0;
+        while (q < end && uint8_t(*q - '0') < 10 && q - digits < 10) acc = acc * 10 + uint8_t(*q++ - '0');
+        if (q == digits || (q < end && !is_space(*q) && *q != ']') ||
+            acc > (neg ? uint64_t(1) << 31 : uint64_t(INT32_MAX)))
+          break;
+        out->push_back(neg ? int32_t(-int64_t(acc)) : int32_t(acc));
+        p = q;
       }
+      p_ = p;
     }
     Token t = next();
     if (t.kind == TokenKind::kRBracket) return true;
@@ -300,11 +307,7 @@ bool Lexer::read_integers(std::vector<int32_t>* out) {
       out->push_back(v);
       continue;
     }
-    if (t.kind == TokenKind::kEnd)
-      diag_->error(t.loc, "unterminated '[' array at end of file");
-    else
-      diag_->error(t.loc, "expected an integer or ']', got '" + std::string(t.text) + "'");
-    return false;
+    return bad_array_token(t, "an integer", nullptr);
   }
 }
 

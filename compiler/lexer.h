@@ -69,6 +69,7 @@ class Lexer {
   void skip_space();
   Loc loc_at(const char* p) const { return Loc{file_, uint64_t(p - begin_)}; }
   void fatal(const char* p, const std::string& message);
+  bool bad_array_token(const Token& t, const char* expected, Loc* first_bad);
 
   const char* begin_;
   const char* p_;

@@ -22,7 +22,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
     return false;
   }
   size_t nv = P->count / 3;
-  mesh->P.assign(params.floats.begin() + P->offset, params.floats.begin() + P->offset + P->count);
+  mesh->P = params.take_floats(*P);
   const ParsedParam* I = params.find("indices");
   if (!I) {
     // pbrt-v3: a single triangle may leave out its indices.
@@ -42,17 +42,18 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
                                     " indices, not a multiple of 3");
       return false;
     }
-    mesh->indices.resize(I->count);
-    const int32_t* src = params.ints.data() + I->offset;
+    // Validate first, then copy in one block: no zero-fill, no per-element stores.
+    const int32_t* src = params.ints_of(*I);
     for (uint32_t i = 0; i < I->count; ++i) {
-      if (src[i] < 0 || size_t(src[i]) >= nv) {
+      if (uint32_t(src[i]) >= nv) {  // negative values wrap to huge
         diag->error(I->value_loc, "trianglemesh index " + std::to_string(src[i]) + " (entry " +
                                       std::to_string(i) + ") is out of range: " +
                                       std::to_string(nv) + " vertices");
         return false;
       }
-      mesh->indices[i] = uint32_t(src[i]);
     }
+    const uint32_t* usrc = reinterpret_cast<const uint32_t*>(src);
+    mesh->indices.assign(usrc, usrc + I->count);
   }
   size_t nt = mesh->indices.size() / 3;
   auto per_vertex = [&](const char* name, ParamType type, int width, std::vector<float>* out) {
@@ -64,7 +65,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
                                     std::to_string(nv) + " vertices");
       return false;
     }
-    out->assign(params.floats.begin() + p->offset, params.floats.begin() + p->offset + p->count);
+    *out = params.take_floats(*p);
     return true;
   };
   if (!per_vertex("N", ParamType::kNormal3, 3, &mesh->N)) return false;
@@ -80,7 +81,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
                                     std::to_string(nv * 2));
       return false;
     }
-    mesh->uv.assign(params.floats.begin() + p->offset, params.floats.begin() + p->offset + p->count);
+    mesh->uv = params.take_floats(*p);
   }
   if (const ParsedParam* f = params.find("faceIndices"); f && f->type == ParamType::kInteger) {
     if (f->count != nt) {
@@ -89,8 +90,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
                                     std::to_string(nt) + " triangles");
       return false;
     }
-    mesh->face_indices.assign(params.ints.begin() + f->offset,
-                              params.ints.begin() + f->offset + f->count);
+    mesh->face_indices.assign(params.ints_of(*f), params.ints_of(*f) + f->count);
   }
   return true;
 }

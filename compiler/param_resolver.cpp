@@ -73,7 +73,46 @@ bool looks_like_v4_named_spectrum(std::string_view s) {
   return false;
 }
 
+// Whether a parameter declared as t is what pbrt-v3 looks up for ps.
+bool type_fits(const ParamSpec& ps, ParamType t) {
+  switch (ps.kind) {
+    case Kind::kInt: return t == ParamType::kInteger;
+    case Kind::kFloat: return t == ParamType::kFloat;
+    case Kind::kBool: return t == ParamType::kBool;
+    case Kind::kString: return t == ParamType::kString;
+    case Kind::kPoint2:
+    case Kind::kVector2:
+      // trianglemesh "float uv" / "float st": a flat list of pairs.
+      return t == ParamType::kPoint2 || t == ParamType::kVector2 ||
+             (ps.arity == 0 && t == ParamType::kFloat);
+    case Kind::kPoint3: return t == ParamType::kPoint3;
+    case Kind::kVector3: return t == ParamType::kVector3;
+    case Kind::kNormal3: return t == ParamType::kNormal3;
+    case Kind::kRgb: return param_type_is_spectrum(t);
+    case Kind::kFloatTex: return t == ParamType::kFloat || t == ParamType::kTexture;
+    case Kind::kSpectrumTex: return param_type_is_spectrum(t) || t == ParamType::kTexture;
+    default: return false;
+  }
+}
+
+// How a scene file declares a parameter of kind k ("integer", not "int").
+std::string declared_as(Kind k) {
+  switch (k) {
+    case Kind::kInt: return "integer";
+    case Kind::kFloatTex: return "float or texture";
+    case Kind::kSpectrumTex: return "rgb, spectrum or texture";
+    case Kind::kRgb: return "rgb or spectrum";
+    default: return std::string(pbrta::kind_name(k));
+  }
+}
+
 }  // namespace
+
+void ParamResolver::warn_wrong_type(const Entity& e, const ParamSpec& ps, const ParsedParam& p) {
+  diag_->warning(p.loc, "parameter " + param_desc(p) + " of " + describe_type(e) +
+                            " should be " + declared_as(ps.kind) +
+                            "; it is ignored (pbrt-v3 does not use it either)");
+}
 
 std::string describe_type(const Entity& e) {
   std::string t = std::string(e.type_name());
@@ -148,7 +187,7 @@ bool ParamResolver::begin(Category c, std::string_view type, Loc loc, Entity* e)
 
 bool ParamResolver::spectrum_to_rgb(const ParsedParam& p, const ParamList& params,
                                     std::vector<float>* rgb) {
-  const float* f = params.floats.data() + p.offset;
+  const float* f = params.floats_of(p);
   switch (p.type) {
     case ParamType::kRgb:
       rgb->insert(rgb->end(), f, f + p.count);
@@ -180,32 +219,8 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
   p.looked_up = true;
   Kind k = ps.kind;
   ParamType t = p.type;
-  bool ok_type = false;
-  switch (k) {
-    case Kind::kInt: ok_type = t == ParamType::kInteger; break;
-    case Kind::kFloat: ok_type = t == ParamType::kFloat; break;
-    case Kind::kBool: ok_type = t == ParamType::kBool; break;
-    case Kind::kString: ok_type = t == ParamType::kString; break;
-    case Kind::kPoint2:
-    case Kind::kVector2:
-      // trianglemesh "float uv" / "float st": a flat list of pairs.
-      ok_type = t == ParamType::kPoint2 || t == ParamType::kVector2 ||
-                (ps.arity == 0 && t == ParamType::kFloat);
-      break;
-    case Kind::kPoint3: ok_type = t == ParamType::kPoint3; break;
-    case Kind::kVector3: ok_type = t == ParamType::kVector3; break;
-    case Kind::kNormal3: ok_type = t == ParamType::kNormal3; break;
-    case Kind::kRgb: ok_type = param_type_is_spectrum(t); break;
-    case Kind::kFloatTex: ok_type = t == ParamType::kFloat || t == ParamType::kTexture; break;
-    case Kind::kSpectrumTex:
-      ok_type = param_type_is_spectrum(t) || t == ParamType::kTexture;
-      break;
-    default: break;
-  }
-  if (!ok_type) {
-    diag_->warning(p.loc, "parameter " + param_desc(p) + " of " + describe_type(*e) +
-                              " should be " + std::string(pbrta::kind_name(k)) +
-                              "; it is ignored (pbrt-v3 does not use it either)");
+  if (!type_fits(ps, t)) {
+    warn_wrong_type(*e, ps, p);
     return false;
   }
   Value v;
@@ -279,7 +294,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
       }
       rgb.assign(cached->second.begin(), cached->second.end());
     } else if (t == ParamType::kSpectrum) {
-      const float* f = params.floats.data() + p.offset;
+      const float* f = params.floats_of(p);
       std::vector<float> lambda, value;
       for (uint32_t i = 0; i < p.count; i += 2) {
         lambda.push_back(f[i]);
@@ -313,8 +328,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
   switch (store_of(k)) {
     case Store::kInts:
       v.offset = uint32_t(e->ints.size());
-      e->ints.insert(e->ints.end(), params.ints.begin() + p.offset,
-                     params.ints.begin() + p.offset + p.count);
+      e->ints.insert(e->ints.end(), params.ints_of(p), params.ints_of(p) + p.count);
       break;
     case Store::kStrings:
       v.offset = uint32_t(e->strings.size());
@@ -338,8 +352,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
       if (!rgb.empty())
         e->floats.insert(e->floats.end(), rgb.begin(), rgb.end());
       else
-        e->floats.insert(e->floats.end(), params.floats.begin() + p.offset,
-                         params.floats.begin() + p.offset + p.count);
+        e->floats.insert(e->floats.end(), params.floats_of(p), params.floats_of(p) + p.count);
       break;
   }
   v.count = elems;
@@ -355,6 +368,10 @@ void ParamResolver::assign_all(Entity* e, const ParamList& params, const Texture
     if (slot < 0) continue;
     if (skip_bulk && (ts.params[slot].flags & pbrta::kParamBulk)) {
       p.looked_up = true;
+      if (!type_fits(ts.params[slot], p.type)) {
+        warn_wrong_type(*e, ts.params[slot], p);
+        continue;
+      }
       e->values[slot].given = true;
       continue;
     }
@@ -368,11 +385,13 @@ bool ParamResolver::check_required(const Entity& e, Loc loc, const ParamList* pa
   for (uint16_t i = 0; i < ts.num_params; ++i) {
     if ((ts.params[i].flags & pbrta::kParamRequired) && !e.values[i].given) {
       ok = false;
-      if (params && (params->find(ts.params[i].name) ||
-                     (!ts.params[i].alias.empty() && params->find(ts.params[i].alias))))
-        continue;
+      // Given with the right type but rejected: that was reported as an
+      // error. Given with the wrong type was only a warning.
+      const ParsedParam* p = params ? params->find(ts.params[i].name) : nullptr;
+      if (!p && params && !ts.params[i].alias.empty()) p = params->find(ts.params[i].alias);
+      if (p && type_fits(ts.params[i], p->type)) continue;
       diag_->error(loc, describe_type(e) + " needs parameter \"" +
-                            std::string(pbrta::kind_name(ts.params[i].kind)) + " " +
+                            declared_as(ts.params[i].kind) + " " +
                             std::string(ts.params[i].name) + "\"");
     }
   }

@@ -64,6 +64,7 @@ class ParamResolver {
 
  private:
   bool spectrum_to_rgb(const ParsedParam& p, const ParamList& params, std::vector<float>* rgb);
+  void warn_wrong_type(const Entity& e, const pbrta::ParamSpec& ps, const ParsedParam& p);
 
   Diagnostics* diag_;
   std::string base_dir_;

@@ -79,4 +79,32 @@ const ParsedParam* ParamList::find(std::string_view name) const {
   return nullptr;
 }
 
+std::vector<float>* ParamList::new_floats(uint32_t* index) {
+  if (used_floats_ == float_pool_.size()) float_pool_.emplace_back();
+  *index = uint32_t(used_floats_);
+  std::vector<float>* v = &float_pool_[used_floats_++];
+  v->clear();
+  return v;
+}
+
+std::vector<int32_t>* ParamList::new_ints(uint32_t* index) {
+  if (used_ints_ == int_pool_.size()) int_pool_.emplace_back();
+  *index = uint32_t(used_ints_);
+  std::vector<int32_t>* v = &int_pool_[used_ints_++];
+  v->clear();
+  return v;
+}
+
+std::vector<float> ParamList::take_floats(const ParsedParam& p) const {
+  std::vector<float>& slot = float_pool_[p.offset];
+  std::vector<float> out;
+  out.swap(slot);
+  // Reserving is only address space until written: the next mesh of similar
+  // size parses without reallocating.
+  slot.reserve(out.capacity());
+  // Do not hand the scene much unused capacity.
+  if (out.capacity() > out.size() + out.size() / 4 + 1024) out.shrink_to_fit();
+  return out;
+}
+
 }  // namespace pbrtc

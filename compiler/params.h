@@ -54,16 +54,17 @@ struct ParsedParam {
   std::string_view name;
   Loc loc;        // of the declaration string
   Loc value_loc;  // of the first value
-  uint32_t offset = 0;  // into floats / ints / strings, by type
+  uint32_t offset = 0;  // strings: first index in strings; numbers and bools: pooled array
   uint32_t count = 0;   // number of numbers or strings
   bool string_values = false;  // values are in strings (a "spectrum" may name a .spd file)
   mutable bool looked_up = false;
 };
 
+// Numeric and bool values live in one pooled array per parameter, so a bulk
+// array (mesh vertices) can be moved into the scene instead of copied; the pool
+// keeps a same-sized replacement so the next mesh parses without regrowing.
 struct ParamList {
   std::vector<ParsedParam> params;
-  std::vector<float> floats;
-  std::vector<int32_t> ints;  // integers and bools (0/1)
   std::vector<std::string_view> strings;
   std::vector<Loc> string_locs;
   // Stable storage for unescaped strings (deque: no reallocation moves them).
@@ -71,13 +72,28 @@ struct ParamList {
 
   void clear() {
     params.clear();
-    floats.clear();
-    ints.clear();
     strings.clear();
     string_locs.clear();
     owned_strings.clear();
+    used_floats_ = used_ints_ = 0;
   }
   const ParsedParam* find(std::string_view name) const;
+
+  // For the parser: an empty pooled array; *index receives its number.
+  std::vector<float>* new_floats(uint32_t* index);
+  std::vector<int32_t>* new_ints(uint32_t* index);
+
+  // Values of a numeric parameter (floats for float-valued types, ints for
+  // integer and bool); p.offset is the pooled array's number.
+  const float* floats_of(const ParsedParam& p) const { return float_pool_[p.offset].data(); }
+  const int32_t* ints_of(const ParsedParam& p) const { return int_pool_[p.offset].data(); }
+  // Moves a parameter's values out (the parameter must not be read again).
+  std::vector<float> take_floats(const ParsedParam& p) const;
+
+ private:
+  mutable std::vector<std::vector<float>> float_pool_;
+  std::vector<std::vector<int32_t>> int_pool_;
+  size_t used_floats_ = 0, used_ints_ = 0;
 };
 
 }  // namespace pbrtc

@@ -128,7 +128,9 @@ class Parser {
       }
       directive(t);
     }
-    target_->EndOfInput(end_loc);
+    // After a lexical error the input was cut short: blocks it leaves open
+    // are not the author's mistake (see ParserTarget::EndOfInput).
+    target_->EndOfInput(lexers_.front()->broken() ? Loc{} : end_loc);
   }
 
  private:
@@ -161,13 +163,23 @@ class Parser {
     return tnext();
   }
 
-  // After an error: skip to the next directive name in this file.
+  // After an error: skip to the next directive name in this file. A bare
+  // true/false (pbrt-v4 syntax, already reported) is a value, not a directive.
   void recover() {
     for (;;) {
       const Token& t = tpeek();
-      if (t.kind == TokenKind::kEnd || t.kind == TokenKind::kWord) return;
+      if (t.kind == TokenKind::kEnd) return;
+      if (t.kind == TokenKind::kWord && t.text != "true" && t.text != "false") return;
       tnext();
     }
+  }
+
+  // A lexical error ends the top-level file early: whatever the parser would
+  // then report about the directive it cut short ("got end of file") is only
+  // a consequence of it, so it is not reported.
+  void error(Loc loc, const std::string& message) {
+    if (lx().broken()) return;
+    diag_->error(loc, message);
   }
 
   bool expect_string(const Token& dir, const char* what, std::string* out) {
@@ -183,7 +195,7 @@ class Parser {
         }
         t = s.kind != TokenKind::kString ? s : close;
       }
-      diag_->error(t.loc, std::string(dir.text) + " needs a quoted " + what + ", got " +
+      error(t.loc, std::string(dir.text) + " needs a quoted " + what + ", got " +
                               token_desc(t));
       recover();
       return false;
@@ -197,7 +209,7 @@ class Parser {
     for (size_t i = 0; i < N; ++i) {
       const Token& t = tpeek();
       if (t.kind != TokenKind::kNumber) {
-        diag_->error(t.loc, std::string(dir.text) + " needs " + std::to_string(N) + " numbers (" +
+        error(t.loc, std::string(dir.text) + " needs " + std::to_string(N) + " numbers (" +
                                 shape + "), got " + std::to_string(i) +
                                 (t.kind == TokenKind::kEnd ? " before the end of file"
                                                            : " before " + token_desc(t)));
@@ -218,7 +230,7 @@ class Parser {
   bool expect_matrix(const Token& dir, std::array<double, 16>* out) {
     Token open = tnext();
     if (open.kind != TokenKind::kLBracket) {
-      diag_->error(open.loc, std::string(dir.text) + " needs 16 numbers in [ ], got " +
+      error(open.loc, std::string(dir.text) + " needs 16 numbers in [ ], got " +
                                  token_desc(open));
       recover();
       return false;
@@ -229,7 +241,7 @@ class Parser {
       return false;
     }
     if (scratch_.size() != 16) {
-      diag_->error(open.loc, std::string(dir.text) + " needs 16 numbers, got " +
+      error(open.loc, std::string(dir.text) + " needs 16 numbers, got " +
                                  std::to_string(scratch_.size()));
       return false;
     }
@@ -255,7 +267,7 @@ class Parser {
       const Token& peeked = tpeek();
       if (peeked.kind == TokenKind::kWord || peeked.kind == TokenKind::kEnd) return true;
       if (peeked.kind != TokenKind::kString) {
-        diag_->error(peeked.loc, "expected a parameter declaration such as \"float radius\" or "
+        error(peeked.loc, "expected a parameter declaration such as \"float radius\" or "
                                  "the next directive, got " + token_desc(peeked));
         tnext();
         recover();
@@ -273,7 +285,7 @@ class Parser {
       size_t f = e == std::string_view::npos ? e : d.find_first_not_of(" \t", e);
       if (a == std::string_view::npos || c == std::string_view::npos ||
           f != std::string_view::npos) {
-        diag_->error(decl.loc, "malformed parameter declaration \"" + std::string(d) +
+        error(decl.loc, "malformed parameter declaration \"" + std::string(d) +
                                    "\": expected \"type name\"");
         skip_value();
         recover();
@@ -282,7 +294,7 @@ class Parser {
       p.type_name = d.substr(a, b - a);
       p.name = d.substr(c, e == std::string_view::npos ? std::string_view::npos : e - c);
       if (!parse_param_type(p.type_name, &p.type)) {
-        diag_->error(decl.loc, "unknown parameter type '" + std::string(p.type_name) + "' in \"" +
+        error(decl.loc, "unknown parameter type '" + std::string(p.type_name) + "' in \"" +
                                    std::string(d) + "\"");
         skip_value();
         recover();
@@ -326,20 +338,23 @@ class Parser {
     // A spectrum may name a file instead of listing numbers.
     bool strings = !numeric || (p->type == ParamType::kSpectrum && first.kind == TokenKind::kString);
     if (first.kind == TokenKind::kWord && (first.text == "true" || first.text == "false")) {
-      diag_->error(first.loc, "bare " + std::string(first.text) +
+      error(first.loc, "bare " + std::string(first.text) +
                                   " is pbrt-v4 syntax; pbrt-v3 writes \"" +
                                   std::string(first.text) + "\" in quotes");
       return false;
     }
     if (!bracket && first.kind != TokenKind::kNumber && first.kind != TokenKind::kString) {
-      diag_->error(first.loc, "parameter " + param_desc(*p) + " has no value (got " +
+      error(first.loc, "parameter " + param_desc(*p) + " has no value (got " +
                                   token_desc(first) + ")");
       return false;
     }
     if (strings) {
       p->string_values = p->type != ParamType::kBool;
-      p->offset = uint32_t(p->type == ParamType::kBool ? params_.ints.size()
-                                                       : params_.strings.size());
+      std::vector<int32_t>* bools = nullptr;
+      if (p->type == ParamType::kBool)
+        bools = params_.new_ints(&p->offset);
+      else
+        p->offset = uint32_t(params_.strings.size());
       for (;;) {
         Token t = tpeek();
         if (bracket && t.kind == TokenKind::kRBracket) {
@@ -348,22 +363,22 @@ class Parser {
         }
         if (t.kind != TokenKind::kString) {
           if (t.kind == TokenKind::kWord && (t.text == "true" || t.text == "false"))
-            diag_->error(t.loc, "bare " + std::string(t.text) +
+            error(t.loc, "bare " + std::string(t.text) +
                                     " is pbrt-v4 syntax; pbrt-v3 writes \"" +
                                     std::string(t.text) + "\" in quotes");
           else if (bracket && t.kind == TokenKind::kEnd)
-            diag_->error(t.loc, "unterminated '[' array at end of file");
+            error(t.loc, "unterminated '[' array at end of file");
           else
-            diag_->error(t.loc, "parameter " + param_desc(*p) + " takes quoted strings, got " +
+            error(t.loc, "parameter " + param_desc(*p) + " takes quoted strings, got " +
                                     token_desc(t));
           return false;
         }
         tnext();
         if (p->type == ParamType::kBool) {
           if (t.text == "true" || t.text == "false") {
-            params_.ints.push_back(t.text == "true");
+            bools->push_back(t.text == "true");
           } else {
-            diag_->error(t.loc, "value \"" + std::string(t.text) + "\" of bool parameter " +
+            error(t.loc, "value \"" + std::string(t.text) + "\" of bool parameter " +
                                     param_desc(*p) + " must be \"true\" or \"false\"");
             return false;
           }
@@ -378,41 +393,41 @@ class Parser {
     }
     // Numbers.
     if (p->type == ParamType::kInteger) {
-      p->offset = uint32_t(params_.ints.size());
+      std::vector<int32_t>* out = params_.new_ints(&p->offset);
       if (bracket) {
-        if (!lx().read_integers(&params_.ints)) return false;
+        if (!lx().read_integers(out)) return false;
       } else {
         Token t = tnext();
         if (t.kind != TokenKind::kNumber) {
-          diag_->error(t.loc, "parameter " + param_desc(*p) + " takes integers, got " +
+          error(t.loc, "parameter " + param_desc(*p) + " takes integers, got " +
                                   token_desc(t));
           return false;
         }
         int32_t v;
         if (!lx().to_int(t, &v)) return false;
-        params_.ints.push_back(v);
+        out->push_back(v);
       }
-      p->count = uint32_t(params_.ints.size() - p->offset);
+      p->count = uint32_t(out->size());
     } else {
-      p->offset = uint32_t(params_.floats.size());
+      std::vector<float>* out = params_.new_floats(&p->offset);
       if (bracket) {
-        if (!lx().read_numbers(&params_.floats)) return false;
+        if (!lx().read_numbers(out)) return false;
       } else {
         Token t = tnext();
         if (t.kind != TokenKind::kNumber) {
-          diag_->error(t.loc, "parameter " + param_desc(*p) + " takes numbers, got " +
+          error(t.loc, "parameter " + param_desc(*p) + " takes numbers, got " +
                                   token_desc(t));
           return false;
         }
         float v;
         if (!lx().to_float(t, &v)) return false;
-        params_.floats.push_back(v);
+        out->push_back(v);
       }
-      p->count = uint32_t(params_.floats.size() - p->offset);
+      p->count = uint32_t(out->size());
     }
     int stride = param_type_stride(p->type);
     if (p->count == 0) {
-      diag_->error(p->value_loc, "parameter " + param_desc(*p) + " has no values");
+      error(p->value_loc, "parameter " + param_desc(*p) + " has no values");
       return false;
     }
     if (p->count % stride != 0) {
@@ -421,9 +436,12 @@ class Parser {
                          : param_type_is_spectrum(p->type)  ? "3 values per color"
                                                             : std::to_string(stride) +
                                                                   " values per element";
-      diag_->error(p->value_loc, "parameter " + param_desc(*p) + " needs " + unit + ", got " +
-                                     std::to_string(p->count) + " value" +
-                                     (p->count == 1 ? "" : "s"));
+      std::string hint = p->type == ParamType::kBlackbody && p->count == 1
+                             ? " (a lone temperature is pbrt-v4 syntax)"
+                             : "";
+      error(p->value_loc, "parameter " + param_desc(*p) + " needs " + unit + ", got " +
+                              std::to_string(p->count) + " value" +
+                              (p->count == 1 ? "" : "s") + hint);
       return false;
     }
     return true;
@@ -434,7 +452,7 @@ class Parser {
     if (!expect_string(dir, "file name", &name)) return;
     std::string path = resolve_path(base_dir_, name);
     if (int(lexers_.size()) >= options_.max_include_depth) {
-      diag_->error(dir.loc, "Include nested deeper than " +
+      error(dir.loc, "Include nested deeper than " +
                                 std::to_string(options_.max_include_depth) + " files");
       return;
     }
@@ -442,14 +460,14 @@ class Parser {
     std::string canonical = ::realpath(path.c_str(), real) ? std::string(real) : path;
     for (size_t i = 0; i < canonical_.size(); ++i) {
       if (canonical_[i] == canonical) {
-        diag_->error(dir.loc, "Include cycle: \"" + path + "\" is already being read");
+        error(dir.loc, "Include cycle: \"" + path + "\" is already being read");
         return;
       }
     }
     std::string err;
     uint32_t f = files_->open(path, path, dir.loc, &err);
     if (f == kNoFile) {
-      diag_->error(dir.loc, "cannot open Include file \"" + path + "\": " + err);
+      error(dir.loc, "cannot open Include file \"" + path + "\": " + err);
       return;
     }
     push(f, canonical);
@@ -458,21 +476,21 @@ class Parser {
   void directive(const Token& t) {
     if (t.kind != TokenKind::kWord) {
       if (t.kind == TokenKind::kString)
-        diag_->error(t.loc, "parameter list " + token_desc(t) +
+        error(t.loc, "parameter list " + token_desc(t) +
                                 " without a directive before it (or a directive is misspelled)");
       else
-        diag_->error(t.loc, "expected a directive, got " + token_desc(t));
+        error(t.loc, "expected a directive, got " + token_desc(t));
       recover();
       return;
     }
     Dir d;
     if (!find_directive(t.text, &d)) {
       if (t.text == "true" || t.text == "false")
-        diag_->error(t.loc, "bare " + std::string(t.text) +
+        error(t.loc, "bare " + std::string(t.text) +
                                 " is pbrt-v4 syntax; pbrt-v3 writes \"" + std::string(t.text) +
                                 "\" in quotes");
       else
-        diag_->error(t.loc, "unknown directive " + quote(t.text));
+        error(t.loc, "unknown directive " + quote(t.text));
       recover();
       return;
     }
@@ -482,7 +500,7 @@ class Parser {
       case Dir::kV4Attribute:
       case Dir::kV4ColorSpace:
       case Dir::kV4Option:
-        diag_->error(t.loc, quote(t.text) + " is a pbrt-v4 directive; pbrt-v3 has no " +
+        error(t.loc, quote(t.text) + " is a pbrt-v4 directive; pbrt-v3 has no " +
                                 std::string(t.text));
         // Skip its arguments: strings, numbers and brackets up to the next word.
         recover();
@@ -506,7 +524,7 @@ class Parser {
         else if (a.kind == TokenKind::kWord && a.text == "All")
           target_->ActiveTransformDirective(t.loc, ActiveTransform::kAll);
         else {
-          diag_->error(a.loc, "ActiveTransform needs StartTime, EndTime or All, got " +
+          error(a.loc, "ActiveTransform needs StartTime, EndTime or All, got " +
                                   token_desc(a));
           recover();
         }

@@ -65,7 +65,9 @@ class ParserTarget {
   virtual void WorldBegin(Loc) = 0;
   virtual void WorldEnd(Loc) = 0;
   // Called once when the input ends (after the last file), with the location
-  // of its end, so the target can report blocks left open.
+  // of its end, so the target can report blocks left open. The Loc is invalid
+  // when a lexical error (already reported) cut the input short: then nothing
+  // left open should be reported.
   virtual void EndOfInput(Loc) = 0;
 };
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "compiler/mesh_builder.h"
 
@@ -51,17 +52,20 @@ struct Block {
   GraphicsState graphics;  // saved only for attribute and object blocks
 };
 
-struct MatrixHash {
-  size_t operator()(const std::array<double, 32>& m) const {
-    size_t h = 1469598103934665603ull;
-    for (double d : m) {
-      uint64_t bits;
-      std::memcpy(&bits, &d, 8);
-      h = (h ^ bits) * 1099511628211ull;
-    }
-    return h;
-  }
-};
+// A 64-bit hash of a transform pair's bits (splitmix-style mixing per word).
+uint64_t hash_matrices(const Matrix4& a, const Matrix4& b) {
+  uint64_t h = 0x9E3779B97F4A7C15ull;
+  auto mix = [&h](double d) {
+    uint64_t x;
+    std::memcpy(&x, &d, 8);
+    h ^= x + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  };
+  for (double d : a.m) mix(d);
+  for (double d : b.m) mix(d);
+  return h;
+}
 
 }  // namespace
 
@@ -78,9 +82,12 @@ struct SceneBuilder::State {
   std::vector<Block> stack;
   std::unordered_map<std::string, TransformPair> coord_systems;
   NameMap named_media;
+  std::unordered_set<std::string> reported_media;  // undefined media already reported
   NameMap objects;
   int32_t current_object = kNone;
-  std::unordered_map<std::array<double, 32>, int32_t, MatrixHash> transform_index;
+  // Transforms are deduplicated by hash; a colliding different pair simply
+  // gets its own entry without being indexed (correct, merely not shared).
+  std::unordered_map<uint64_t, int32_t> transform_index;
 
   bool in_world = false;
   bool world_ended = false;
@@ -131,19 +138,25 @@ struct SceneBuilder::State {
   }
 
   int32_t add_transform(const Matrix4& start, const Matrix4& end) {
-    std::array<double, 32> key;
-    std::copy(start.m.begin(), start.m.end(), key.begin());
-    std::copy(end.m.begin(), end.m.end(), key.begin() + 16);
-    auto it = transform_index.find(key);
-    if (it != transform_index.end()) return it->second;
+    std::vector<AnimatedTransform>& all = scene->transforms;
+    auto same = [&](int32_t i) {
+      const AnimatedTransform& t = all[size_t(i)];
+      return t.start == start && t.end == end && t.start_time == times[0] &&
+             t.end_time == times[1];
+    };
+    // Consecutive shapes very often share a transform.
+    if (!all.empty() && same(int32_t(all.size() - 1))) return int32_t(all.size() - 1);
+    uint64_t h = hash_matrices(start, end);
+    auto it = transform_index.find(h);
+    if (it != transform_index.end() && same(it->second)) return it->second;
     AnimatedTransform at;
     at.start = start;
     at.end = end;
     at.start_time = times[0];
     at.end_time = times[1];
-    scene->transforms.push_back(at);
-    int32_t idx = int32_t(scene->transforms.size() - 1);
-    transform_index.emplace(key, idx);
+    all.push_back(at);
+    int32_t idx = int32_t(all.size() - 1);
+    transform_index.emplace(h, idx);
     return idx;
   }
 
@@ -151,7 +164,10 @@ struct SceneBuilder::State {
     if (name.empty()) return kNone;
     auto it = named_media.find(name);
     if (it == named_media.end()) {
-      diag->error(loc, "undefined medium \"" + name + "\" (named in MediumInterface)");
+      // Once per name and MediumInterface, not once per shape and side.
+      std::string key = name + '\0' + std::to_string(loc.file) + ':' + std::to_string(loc.offset);
+      if (reported_media.insert(key).second)
+        diag->error(loc, "undefined medium \"" + name + "\" (named in MediumInterface)");
       return kNone;
     }
     return it->second;
@@ -191,10 +207,7 @@ struct SceneBuilder::State {
         const std::string& ref = m.params.get_string(pname);
         const ParsedParam* pp = params.find(pname);
         Loc where = pp ? pp->value_loc : loc;
-        if (ref.empty()) {
-          diag->error(where, std::string("mix material needs \"string ") + pname + "\"");
-          continue;
-        }
+        if (!m.params.given(pname)) continue;  // check_required reports it
         auto it = gs.named_materials->find(ref);
         if (it == gs.named_materials->end()) {
           diag->error(where, "undefined named material \"" + ref + "\" in mix material");
@@ -424,8 +437,9 @@ void SceneBuilder::Camera(Loc loc, std::string_view type, const ParamList& param
   if (!s_->resolver.begin(Category::kCamera, type, loc, &cam.params)) return;
   s_->resolver.assign_all(&cam.params, params, {}, false);
   s_->resolver.report_unused(params, &cam.params);
-  // pbrt-v2's "halffov" still works in pbrt-v3: fov = 2 * halffov.
-  if (cam.params.given("halffov") && !cam.params.given("fov")) {
+  // pbrt-v2's "halffov" still works in pbrt-v3: a positive halffov replaces
+  // fov (even one given too) with 2 * halffov; others are ignored.
+  if (cam.params.given("halffov") && cam.params.get_float("halffov") > 0) {
     int slot = cam.params.slot("fov");
     if (slot >= 0) {
       Value& v = cam.params.values[size_t(slot)];
@@ -554,13 +568,18 @@ void SceneBuilder::WorldEnd(Loc loc) {
 }
 
 void SceneBuilder::EndOfInput(Loc loc) {
-  for (const Block& b : s_->stack)
-    s_->diag->error(b.loc, std::string(block_begin_name(b.kind)) + " is not closed at end of file");
+  // An invalid loc: a lexical error cut the input short, and what it left
+  // open is a consequence of that error.
+  if (loc.valid()) {
+    for (const Block& b : s_->stack)
+      s_->diag->error(b.loc,
+                      std::string(block_begin_name(b.kind)) + " is not closed at end of file");
+    if (!s_->saw_world_begin)
+      s_->diag->error(loc, "missing WorldBegin: the file describes no scene");
+    else if (!s_->world_ended)
+      s_->diag->error(loc, "missing WorldEnd at end of input");
+  }
   s_->stack.clear();
-  if (!s_->saw_world_begin)
-    s_->diag->error(loc, "missing WorldBegin: the file describes no scene");
-  else if (!s_->world_ended)
-    s_->diag->error(loc, "missing WorldEnd at end of input");
   SceneDesc* sc = s_->scene;
   if (!s_->film_given) s_->default_entity(Category::kFilm, "image", &sc->film);
   if (!s_->filter_given) s_->default_entity(Category::kFilter, "box", &sc->filter);
@@ -719,6 +738,12 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
   std::string_view tn = sh.params.type_name();
   bool is_mesh = tn == "trianglemesh" || tn == "plymesh";
   s_->resolver.assign_all(&sh.params, params, s_->scope(), is_mesh);
+  if (tn == "trianglemesh" && !params.find("indices")) {
+    // pbrt-v3: a mesh of exactly 3 vertices may leave out its indices.
+    const ParsedParam* P = params.find("P");
+    if (P && P->type == ParamType::kPoint3 && P->count == 9)
+      sh.params.values[size_t(sh.params.slot("indices"))].given = true;
+  }
   bool ok = s_->resolver.check_required(sh.params, loc, &params);
 
   // Per-shape material overrides: parameters the shape does not know but the

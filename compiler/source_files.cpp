@@ -47,7 +47,9 @@ uint32_t SourceFiles::open(const std::string& path, const std::string& display_p
   f->display_path = display_path;
   f->included_from = included_from;
   if (st.st_size > 0) {
-    void* m = mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0);
+    // MAP_POPULATE maps every page in one call: much cheaper than a page fault
+    // per 64 KiB of a large scene file, and the whole file is read anyway.
+    void* m = mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
     if (m == MAP_FAILED) {
       *error = std::strerror(errno);
       ::close(fd);

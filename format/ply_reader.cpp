@@ -25,8 +25,12 @@
 
 namespace pbrta {
 
-size_t PlyMesh::num_vertices() const { return positions.size() / 3; }
-size_t PlyMesh::num_triangles() const { return indices.size() / 3; }
+size_t PlyMesh::num_vertices() const {
+  return positions.size() / 3;
+}
+size_t PlyMesh::num_triangles() const {
+  return indices.size() / 3;
+}
 
 namespace {
 
@@ -52,6 +56,7 @@ constexpr bool kHostIsBigEndian = false;
 
 enum class Format { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
 
+// In the order of kTypeInfo below.
 enum class ScalarType : uint8_t {
   kInt8,
   kUint8,
@@ -70,13 +75,13 @@ struct TypeSpelling {
 
 // Both the original PLY names and the sized names later writers use.
 constexpr TypeSpelling kTypeSpellings[] = {
-    {"char", ScalarType::kInt8},     {"int8", ScalarType::kInt8},
-    {"uchar", ScalarType::kUint8},   {"uint8", ScalarType::kUint8},
-    {"short", ScalarType::kInt16},   {"int16", ScalarType::kInt16},
-    {"ushort", ScalarType::kUint16}, {"uint16", ScalarType::kUint16},
-    {"int", ScalarType::kInt32},     {"int32", ScalarType::kInt32},
-    {"uint", ScalarType::kUint32},   {"uint32", ScalarType::kUint32},
-    {"float", ScalarType::kFloat32}, {"float32", ScalarType::kFloat32},
+    {"char", ScalarType::kInt8},      {"int8", ScalarType::kInt8},
+    {"uchar", ScalarType::kUint8},    {"uint8", ScalarType::kUint8},
+    {"short", ScalarType::kInt16},    {"int16", ScalarType::kInt16},
+    {"ushort", ScalarType::kUint16},  {"uint16", ScalarType::kUint16},
+    {"int", ScalarType::kInt32},      {"int32", ScalarType::kInt32},
+    {"uint", ScalarType::kUint32},    {"uint32", ScalarType::kUint32},
+    {"float", ScalarType::kFloat32},  {"float32", ScalarType::kFloat32},
     {"double", ScalarType::kFloat64}, {"float64", ScalarType::kFloat64},
 };
 
@@ -90,68 +95,42 @@ bool parse_scalar_type(std::string_view name, ScalarType* type) {
   return false;
 }
 
+// Facts about each type, indexed by ScalarType. The integer range checks ascii values against
+// their declared type.
+struct TypeInfo {
+  size_t size;
+  bool is_integer;
+  const char* name;
+  int64_t min;
+  int64_t max;
+};
+
+constexpr TypeInfo kTypeInfo[] = {
+    {1, true, "char", INT8_MIN, INT8_MAX},
+    {1, true, "uchar", 0, UINT8_MAX},
+    {2, true, "short", INT16_MIN, INT16_MAX},
+    {2, true, "ushort", 0, UINT16_MAX},
+    {4, true, "int", INT32_MIN, INT32_MAX},
+    {4, true, "uint", 0, UINT32_MAX},
+    {4, false, "float", 0, 0},
+    {8, false, "double", 0, 0},
+};
+
+static_assert(sizeof(kTypeInfo) / sizeof(kTypeInfo[0]) ==
+              static_cast<size_t>(ScalarType::kFloat64) + 1);
+
+const TypeInfo& info(ScalarType type) {
+  return kTypeInfo[static_cast<size_t>(type)];
+}
 size_t scalar_size(ScalarType type) {
-  switch (type) {
-    case ScalarType::kInt8:
-    case ScalarType::kUint8: return 1;
-    case ScalarType::kInt16:
-    case ScalarType::kUint16: return 2;
-    case ScalarType::kInt32:
-    case ScalarType::kUint32:
-    case ScalarType::kFloat32: return 4;
-    case ScalarType::kFloat64: return 8;
-  }
-  return 1;
+  return info(type).size;
 }
-
 bool is_integer(ScalarType type) {
-  return type != ScalarType::kFloat32 && type != ScalarType::kFloat64;
-}
-
-const char* type_name(ScalarType type) {
-  switch (type) {
-    case ScalarType::kInt8: return "char";
-    case ScalarType::kUint8: return "uchar";
-    case ScalarType::kInt16: return "short";
-    case ScalarType::kUint16: return "ushort";
-    case ScalarType::kInt32: return "int";
-    case ScalarType::kUint32: return "uint";
-    case ScalarType::kFloat32: return "float";
-    case ScalarType::kFloat64: return "double";
-  }
-  return "?";
-}
-
-// The range of an integer type, for checking ascii values against their declared type.
-void integer_range(ScalarType type, int64_t* lo, int64_t* hi) {
-  switch (type) {
-    case ScalarType::kInt8: *lo = INT8_MIN, *hi = INT8_MAX; return;
-    case ScalarType::kUint8: *lo = 0, *hi = UINT8_MAX; return;
-    case ScalarType::kInt16: *lo = INT16_MIN, *hi = INT16_MAX; return;
-    case ScalarType::kUint16: *lo = 0, *hi = UINT16_MAX; return;
-    case ScalarType::kInt32: *lo = INT32_MIN, *hi = INT32_MAX; return;
-    case ScalarType::kUint32: *lo = 0, *hi = UINT32_MAX; return;
-    case ScalarType::kFloat32:
-    case ScalarType::kFloat64: break;
-  }
-  *lo = std::numeric_limits<int64_t>::min();
-  *hi = std::numeric_limits<int64_t>::max();
+  return info(type).is_integer;
 }
 
 // What a property is for. Each role is given to at most one property of its element.
-enum class Role : uint8_t {
-  kSkip,
-  kX,
-  kY,
-  kZ,
-  kNx,
-  kNy,
-  kNz,
-  kU,
-  kV,
-  kVertexIndices,
-  kFaceIndex
-};
+enum class Role : uint8_t { kSkip, kX, kY, kZ, kNx, kNy, kNz, kU, kV, kVertexIndices, kFaceIndex };
 
 struct Property {
   std::string_view name;  // points into the input bytes
@@ -175,14 +154,16 @@ struct Element {
   uint64_t count = 0;
   ElementKind kind = ElementKind::kOther;
   std::vector<Property> properties;
-  size_t fixed_size = 0;        // binary record size if no property is a list, else 0
-  std::vector<Field> fields;    // properties with a role, when fixed_size > 0
+  size_t fixed_size = 0;      // binary record size if no property is a list, else 0
+  std::vector<Field> fields;  // properties with a role, when fixed_size > 0
 };
 
 // ---------------------------------------------------------------------------------------------
 // Binary loads: memcpy (alignment-safe), then swap bytes when the file's order is not the host's.
 
-inline uint16_t byte_swap(uint16_t v) { return static_cast<uint16_t>((v >> 8) | (v << 8)); }
+inline uint16_t byte_swap(uint16_t v) {
+  return static_cast<uint16_t>((v >> 8) | (v << 8));
+}
 inline uint32_t byte_swap(uint32_t v) {
   return ((v & 0x000000FFu) << 24) | ((v & 0x0000FF00u) << 8) | ((v & 0x00FF0000u) >> 8) |
          ((v & 0xFF000000u) >> 24);
@@ -212,14 +193,22 @@ inline T load(const char* p) {
 template <bool kSwap>
 inline double load_real(ScalarType type, const char* p) {
   switch (type) {
-    case ScalarType::kInt8: return load<int8_t, kSwap>(p);
-    case ScalarType::kUint8: return load<uint8_t, kSwap>(p);
-    case ScalarType::kInt16: return load<int16_t, kSwap>(p);
-    case ScalarType::kUint16: return load<uint16_t, kSwap>(p);
-    case ScalarType::kInt32: return load<int32_t, kSwap>(p);
-    case ScalarType::kUint32: return load<uint32_t, kSwap>(p);
-    case ScalarType::kFloat32: return load<float, kSwap>(p);
-    case ScalarType::kFloat64: return load<double, kSwap>(p);
+    case ScalarType::kInt8:
+      return load<int8_t, kSwap>(p);
+    case ScalarType::kUint8:
+      return load<uint8_t, kSwap>(p);
+    case ScalarType::kInt16:
+      return load<int16_t, kSwap>(p);
+    case ScalarType::kUint16:
+      return load<uint16_t, kSwap>(p);
+    case ScalarType::kInt32:
+      return load<int32_t, kSwap>(p);
+    case ScalarType::kUint32:
+      return load<uint32_t, kSwap>(p);
+    case ScalarType::kFloat32:
+      return load<float, kSwap>(p);
+    case ScalarType::kFloat64:
+      return load<double, kSwap>(p);
   }
   return 0.0;
 }
@@ -228,14 +217,21 @@ inline double load_real(ScalarType type, const char* p) {
 template <bool kSwap>
 inline int64_t load_integer(ScalarType type, const char* p) {
   switch (type) {
-    case ScalarType::kInt8: return load<int8_t, kSwap>(p);
-    case ScalarType::kUint8: return load<uint8_t, kSwap>(p);
-    case ScalarType::kInt16: return load<int16_t, kSwap>(p);
-    case ScalarType::kUint16: return load<uint16_t, kSwap>(p);
-    case ScalarType::kInt32: return load<int32_t, kSwap>(p);
-    case ScalarType::kUint32: return load<uint32_t, kSwap>(p);
+    case ScalarType::kInt8:
+      return load<int8_t, kSwap>(p);
+    case ScalarType::kUint8:
+      return load<uint8_t, kSwap>(p);
+    case ScalarType::kInt16:
+      return load<int16_t, kSwap>(p);
+    case ScalarType::kUint16:
+      return load<uint16_t, kSwap>(p);
+    case ScalarType::kInt32:
+      return load<int32_t, kSwap>(p);
+    case ScalarType::kUint32:
+      return load<uint32_t, kSwap>(p);
     case ScalarType::kFloat32:
-    case ScalarType::kFloat64: break;
+    case ScalarType::kFloat64:
+      break;
   }
   return 0;
 }
@@ -243,7 +239,9 @@ inline int64_t load_integer(ScalarType type, const char* p) {
 // ---------------------------------------------------------------------------------------------
 // Text helpers
 
-inline bool is_space(char c) { return c == ' ' || (c >= '\t' && c <= '\r'); }
+inline bool is_space(char c) {
+  return c == ' ' || (c >= '\t' && c <= '\r');
+}
 
 // Bytes from the file, made safe to print: cut short, non-printing bytes replaced.
 std::string printable(std::string_view text) {
@@ -258,7 +256,9 @@ std::string printable(std::string_view text) {
   return out;
 }
 
-std::string quote(std::string_view text) { return "'" + printable(text) + "'"; }
+std::string quote(std::string_view text) {
+  return "'" + printable(text) + "'";
+}
 
 // Splits a header line at spaces and tabs. Returns the number of tokens, which may exceed the
 // array (only the first tokens.size() are stored), so callers can reject extra words.
@@ -340,8 +340,7 @@ class PlyParser {
       length = static_cast<size_t>(static_cast<const char*>(newline) - start);
       pos_ += length + 1;
     } else if (remaining > kMaxHeaderLineBytes) {
-      return fail(line_label() + ": longer than " + std::to_string(kMaxHeaderLineBytes) +
-                  " bytes");
+      return fail(line_label() + ": longer than " + std::to_string(kMaxHeaderLineBytes) + " bytes");
     } else {
       length = remaining;  // the last line of the input, without a line end
       pos_ = bytes_.size();
@@ -422,8 +421,8 @@ class PlyParser {
     }
     if (element.name == "vertex" || element.name == "face") {
       size_t* slot = element.name == "vertex" ? &vertex_element_ : &face_element_;
-      if (*slot != kNone) return fail(line_label() + ": second " + std::string(element.name) +
-                                      " element");
+      if (*slot != kNone)
+        return fail(line_label() + ": second " + std::string(element.name) + " element");
       *slot = elements_.size();
       element.kind = element.name == "vertex" ? ElementKind::kVertex : ElementKind::kFace;
     }
@@ -435,7 +434,8 @@ class PlyParser {
     if (elements_.empty()) return fail(line_label() + ": property before any element");
     Property property;
     if (n >= 2 && words[1] == "list") {
-      if (n != 5) return fail(line_label() + ": expected 'property list <count type> <type> <name>'");
+      if (n != 5)
+        return fail(line_label() + ": expected 'property list <count type> <type> <name>'");
       if (!parse_scalar_type(words[2], &property.count_type)) {
         return fail(line_label() + ": unknown type " + quote(words[2]));
       }
@@ -528,10 +528,9 @@ class PlyParser {
         break;
       }
       if (half_pair.empty() && (u != nullptr || v != nullptr)) {
-        half_pair = u != nullptr ? "'" + std::string(pair[0]) + "' but no '" +
-                                       std::string(pair[1]) + "'"
-                                 : "'" + std::string(pair[1]) + "' but no '" +
-                                       std::string(pair[0]) + "'";
+        half_pair = u != nullptr
+                        ? "'" + std::string(pair[0]) + "' but no '" + std::string(pair[1]) + "'"
+                        : "'" + std::string(pair[1]) + "' but no '" + std::string(pair[0]) + "'";
       }
     }
     if (!has_uvs_ && !half_pair.empty()) return fail("header: vertex has " + half_pair);
@@ -583,8 +582,9 @@ class PlyParser {
       uint64_t min_face = 0;
       for (const Property& property : element.properties) {
         const uint64_t value_bytes = ascii ? 2 : scalar_size(property.value_type);
-        const uint64_t bytes = ascii ? 2 : property.is_list ? scalar_size(property.count_type)
-                                                            : value_bytes;
+        const uint64_t bytes = ascii              ? 2
+                               : property.is_list ? scalar_size(property.count_type)
+                                                  : value_bytes;
         min_record += bytes;
         // A valid face lists at least 3 vertices.
         min_face += bytes + (property.role == Role::kVertexIndices ? 3 * value_bytes : 0);
@@ -652,23 +652,40 @@ class PlyParser {
     const float f = static_cast<float>(value);
     const size_t i = static_cast<size_t>(vertex);
     switch (role) {
-      case Role::kX: positions_[3 * i + 0] = f; break;
-      case Role::kY: positions_[3 * i + 1] = f; break;
-      case Role::kZ: positions_[3 * i + 2] = f; break;
-      case Role::kNx: normals_[3 * i + 0] = f; break;
-      case Role::kNy: normals_[3 * i + 1] = f; break;
-      case Role::kNz: normals_[3 * i + 2] = f; break;
-      case Role::kU: uvs_[2 * i + 0] = f; break;
-      case Role::kV: uvs_[2 * i + 1] = f; break;
-      default: break;
+      case Role::kX:
+        positions_[3 * i + 0] = f;
+        break;
+      case Role::kY:
+        positions_[3 * i + 1] = f;
+        break;
+      case Role::kZ:
+        positions_[3 * i + 2] = f;
+        break;
+      case Role::kNx:
+        normals_[3 * i + 0] = f;
+        break;
+      case Role::kNy:
+        normals_[3 * i + 1] = f;
+        break;
+      case Role::kNz:
+        normals_[3 * i + 2] = f;
+        break;
+      case Role::kU:
+        uvs_[2 * i + 0] = f;
+        break;
+      case Role::kV:
+        uvs_[2 * i + 1] = f;
+        break;
+      default:
+        break;
     }
     return true;
   }
 
   bool set_face_index(int64_t value, uint64_t face) {
     if (value < INT32_MIN || value > INT32_MAX) {
-      return fail("face " + std::to_string(face) + ": face_indices value " +
-                  std::to_string(value) + " does not fit in int32");
+      return fail("face " + std::to_string(face) + ": face_indices value " + std::to_string(value) +
+                  " does not fit in int32");
     }
     face_index_ = static_cast<int32_t>(value);
     return true;
@@ -676,8 +693,7 @@ class PlyParser {
 
   bool begin_face(int64_t size, uint64_t face) {
     if (size < 3) {
-      return fail("face " + std::to_string(face) + " has " + std::to_string(size) +
-                  " vertices");
+      return fail("face " + std::to_string(face) + " has " + std::to_string(size) + " vertices");
     }
     const uint64_t triangles = static_cast<uint64_t>(size) - 2;
     if (triangles > kMaxTriangles - triangle_count_) {
@@ -853,13 +869,11 @@ class PlyParser {
     const auto result = std::from_chars(first, last, *value);
     if (result.ec != std::errc() || result.ptr != last) {
       return fail(printable(element.name) + " " + std::to_string(record) + ": " + quote(token) +
-                  " is not a valid " + type_name(type));
+                  " is not a valid " + info(type).name);
     }
-    int64_t lo, hi;
-    integer_range(type, &lo, &hi);
-    if (*value < lo || *value > hi) {
+    if (*value < info(type).min || *value > info(type).max) {
       return fail(printable(element.name) + " " + std::to_string(record) + ": value " +
-                  std::to_string(*value) + " out of range for " + type_name(type));
+                  std::to_string(*value) + " out of range for " + info(type).name);
     }
     return true;
   }

@@ -178,7 +178,9 @@ std::string parse_error(const std::string& bytes) {
   return error.message;
 }
 
-std::vector<uint32_t> u32(std::initializer_list<uint32_t> v) { return v; }
+std::vector<uint32_t> u32(std::initializer_list<uint32_t> v) {
+  return v;
+}
 
 // ---------------------------------------------------------------------------------------------
 // What it reads
@@ -215,7 +217,8 @@ TEST(PlyReader, ReadsTheSameMeshFromEveryFormat) {
 
 TEST(PlyReader, ReadsBinaryBigEndianQuadsAsPbrtSplitsThem) {
   // pbrt-v3's plymesh turns quad (f0 f1 f2 f3) into (f0 f1 f2) and (f3 f0 f2).
-  const PlyMesh mesh = parse_ok(square_with_faces("binary_big_endian", {{0, 1, 2, 3}, {3, 2, 1, 0}}));
+  const PlyMesh mesh =
+      parse_ok(square_with_faces("binary_big_endian", {{0, 1, 2, 3}, {3, 2, 1, 0}}));
   EXPECT_EQ(mesh.indices, u32({0, 1, 2, 3, 0, 2, 3, 2, 1, 0, 3, 1}));
   EXPECT_EQ(mesh.positions[3 * 2 + 1], 1.0f);
 }
@@ -231,7 +234,7 @@ TEST(PlyReader, SplitsQuadsTheSameWayInEveryFormat) {
 TEST(PlyReader, FanTriangulatesPolygonsThatPbrtWouldDrop) {
   const PlyMesh mesh =
       parse_ok(square_with_faces("binary_little_endian", {{3, 2, 1, 0, 1}, {0, 1, 2, 3, 0, 1}}));
-  EXPECT_EQ(mesh.indices, u32({3, 2, 1, 3, 1, 0, 3, 0, 1,  // pentagon: 3 triangles
+  EXPECT_EQ(mesh.indices, u32({3, 2, 1, 3, 1, 0, 3, 0, 1,              // pentagon: 3 triangles
                                0, 1, 2, 0, 2, 3, 0, 3, 0, 0, 0, 1}));  // hexagon: 4
 }
 
@@ -241,7 +244,9 @@ TEST(PlyReader, RepeatsFaceIndicesForEveryTriangleOfAFace) {
     PlyBuilder b(format);
     b.element("vertex", 4).property("float", "x").property("float", "y").property("float", "z");
     // face_indices after the list, and of a small type, to show neither matters.
-    b.element("face", 2).list("uint8", "uint16", "vertex_indices").property("short", "face_indices");
+    b.element("face", 2)
+        .list("uint8", "uint16", "vertex_indices")
+        .property("short", "face_indices");
     for (int i = 0; i < 4; ++i) b.values("float", {double(i), 0, 0}).end_record();
     b.list_values("uint8", "uint16", {0, 1, 2, 3}).value("short", 7).end_record();
     b.list_values("uint8", "uint16", {1, 2, 3}).value("short", -3).end_record();
@@ -301,10 +306,9 @@ TEST(PlyReader, PrefersUvSpellingsInPbrtOrder) {
 }
 
 TEST(PlyReader, AcceptsEveryScalarTypeSpelling) {
-  const std::vector<std::string> all = {"char",   "int8",  "uchar",   "uint8",  "short",
-                                        "int16",  "ushort", "uint16", "int",     "int32",
-                                        "uint",   "uint32", "float",  "float32", "double",
-                                        "float64"};
+  const std::vector<std::string> all = {"char",   "int8",    "uchar",  "uint8",  "short", "int16",
+                                        "ushort", "uint16",  "int",    "int32",  "uint",  "uint32",
+                                        "float",  "float32", "double", "float64"};
   // The first 12 spellings are integers: those also serve as list count and index types.
   const auto is_integer_name = [&](const std::string& type) {
     return std::find(all.begin(), all.begin() + 12, type) != all.begin() + 12;
@@ -429,9 +433,8 @@ TEST(PlyReader, NarrowsAsciiDoublesToFloatLikePbrt) {
 
 TEST(PlyReader, ReadsAFileFromDisk) {
   const std::string dir = testing_support::scratch_dir("PlyReader.ReadsAFileFromDisk");
-  const std::string path =
-      testing_support::write_file(dir + "/quad.ply", square_with_faces("binary_little_endian",
-                                                                       {{0, 1, 2, 3}}));
+  const std::string path = testing_support::write_file(
+      dir + "/quad.ply", square_with_faces("binary_little_endian", {{0, 1, 2, 3}}));
   PlyMesh mesh;
   PlyError error;
   ASSERT_TRUE(read_ply(path, &mesh, &error)) << error.message;
@@ -450,7 +453,9 @@ TEST(PlyReader, ReportsAMissingFile) {
 // ---------------------------------------------------------------------------------------------
 // What it refuses
 
-TEST(PlyReader, RejectsEmptyInput) { EXPECT_EQ(parse_error(""), "empty input"); }
+TEST(PlyReader, RejectsEmptyInput) {
+  EXPECT_EQ(parse_error(""), "empty input");
+}
 
 TEST(PlyReader, RejectsMissingMagic) {
   EXPECT_EQ(parse_error("format ascii 1.0\n"), "missing \"ply\" magic at start of file");
@@ -585,8 +590,9 @@ TEST(PlyReader, FailsFastWhenAVertexCountLies) {
   const std::string message = parse_error(text);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  EXPECT_EQ(message, "header: vertex count 1000000000 exceeds what the file can hold (49 bytes "
-                     "left)");
+  EXPECT_EQ(message,
+            "header: vertex count 1000000000 exceeds what the file can hold (49 bytes "
+            "left)");
   EXPECT_LT(seconds, 0.5);  // no allocation or loop sized by the lie
 }
 
@@ -690,8 +696,7 @@ TEST(PlyReader, RejectsOutOfRangeAndNegativeIndices) {
 TEST(PlyReader, RejectsFacesWithFewerThanThreeVertices) {
   for (const std::string& format : kFormats) {
     SCOPED_TRACE(format);
-    EXPECT_EQ(parse_error(square_with_faces(format, {{0, 1, 2}, {0, 1}})),
-              "face 1 has 2 vertices");
+    EXPECT_EQ(parse_error(square_with_faces(format, {{0, 1, 2}, {0, 1}})), "face 1 has 2 vertices");
     EXPECT_EQ(parse_error(square_with_faces(format, {{}})), "face 0 has 0 vertices");
   }
 }
@@ -735,11 +740,21 @@ TEST(PlyReader, SurvivesGarbageAndMutatedFiles) {
     for (int e = 0; e < edits; ++e) {
       const size_t at = rng() % bytes.size();
       switch (rng() % 5) {
-        case 0: bytes[at] = static_cast<char>(rng()); break;
-        case 1: bytes[at] ^= static_cast<char>(1u << (rng() % 8)); break;
-        case 2: bytes.insert(at, 1, static_cast<char>(rng())); break;
-        case 3: bytes.erase(at, 1 + rng() % 8); break;
-        case 4: bytes.resize(std::max<size_t>(at, 1)); break;
+        case 0:
+          bytes[at] = static_cast<char>(rng());
+          break;
+        case 1:
+          bytes[at] ^= static_cast<char>(1u << (rng() % 8));
+          break;
+        case 2:
+          bytes.insert(at, 1, static_cast<char>(rng()));
+          break;
+        case 3:
+          bytes.erase(at, 1 + rng() % 8);
+          break;
+        case 4:
+          bytes.resize(std::max<size_t>(at, 1));
+          break;
       }
       if (bytes.empty()) bytes = "p";
     }
