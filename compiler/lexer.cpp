@@ -211,10 +211,20 @@ bool Lexer::to_float(const Token& tok, float* v) {
 bool Lexer::to_int(const Token& tok, int32_t* v) {
   if (parse_int_token(tok.text, v)) return true;
   float f;
-  if (parse_float_token(tok.text, &f))
-    diag_->error(tok.loc, "expected an integer, got '" + std::string(tok.text) + "'");
-  else
+  if (!parse_float_token(tok.text, &f)) {
     diag_->error(tok.loc, "malformed number '" + std::string(tok.text) + "'");
+    return false;
+  }
+  // A whole number spelled as a float ("2.0", "1e3") is still an integer.
+  bool whole = std::isfinite(f) && std::floor(f) == f;
+  if (whole && f >= -2147483648.0f && f < 2147483648.0f) {
+    *v = int32_t(f);
+    return true;
+  }
+  if (whole || !std::isfinite(f))
+    diag_->error(tok.loc, "integer '" + std::string(tok.text) + "' is out of range");
+  else
+    diag_->error(tok.loc, "expected an integer, got '" + std::string(tok.text) + "'");
   return false;
 }
 

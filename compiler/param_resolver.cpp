@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -28,30 +29,9 @@ std::string param_desc(const ParsedParam& p) {
   return "\"" + std::string(p.type_name) + " " + std::string(p.name) + "\"";
 }
 
-// Which data array a kind lives in.
-enum class Store { kFloats, kInts, kStrings };
-Store store_of(Kind k) {
-  switch (k) {
-    case Kind::kInt:
-    case Kind::kBool: return Store::kInts;
-    case Kind::kString: return Store::kStrings;
-    default: return Store::kFloats;
-  }
-}
-
-// Floats per element of a kind.
-int width_of(Kind k) {
-  switch (k) {
-    case Kind::kPoint2:
-    case Kind::kVector2: return 2;
-    case Kind::kPoint3:
-    case Kind::kVector3:
-    case Kind::kNormal3:
-    case Kind::kRgb:
-    case Kind::kSpectrumTex: return 3;
-    default: return 1;
-  }
-}
+using Store = pbrta::KindStore;
+constexpr Store store_of(Kind k) { return pbrta::kind_store(k); }
+constexpr int width_of(Kind k) { return pbrta::kind_width(k); }
 
 size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -161,16 +141,16 @@ bool ParamResolver::begin(Category c, std::string_view type, Loc loc, Entity* e)
     if (ps.arity == 0 || (ps.flags & pbrta::kParamRequired)) continue;  // no default array
     int n = ps.arity;
     switch (store_of(ps.kind)) {
-      case Store::kInts:
+      case Store::kInt:
         v.offset = uint32_t(e->ints.size());
         for (int k = 0; k < n; ++k) e->ints.push_back(int32_t(ps.def.v[k]));
         break;
-      case Store::kStrings:
+      case Store::kString:
         v.offset = uint32_t(e->strings.size());
         e->strings.push_back(ps.def.s ? ps.def.s : "");
         n = 1;
         break;
-      case Store::kFloats: {
+      case Store::kFloat: {
         v.offset = uint32_t(e->floats.size());
         int w = width_of(ps.kind);
         if (n == 1)
@@ -201,8 +181,10 @@ bool ParamResolver::spectrum_to_rgb(const ParsedParam& p, const ParamList& param
     case ParamType::kBlackbody:
       for (uint32_t i = 0; i < p.count; i += 2) {
         if (f[i] <= 0) {
-          diag_->error(p.value_loc, "blackbody temperature must be positive, got " +
-                                        std::to_string(f[i]) + " K");
+          char kelvin[32];
+          std::snprintf(kelvin, sizeof kelvin, "%g", double(f[i]));
+          diag_->error(p.value_loc,
+                       "blackbody temperature must be positive, got " + std::string(kelvin) + " K");
           return false;
         }
         Rgb c = rgb_from_blackbody(f[i], f[i + 1]);
@@ -306,7 +288,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
       return false;
     }
     elems = uint32_t(rgb.size() / 3);
-  } else if (store_of(k) == Store::kFloats) {
+  } else if (store_of(k) == Store::kFloat) {
     int w = width_of(k);
     if (p.count % w != 0) {
       diag_->error(p.value_loc, "parameter " + param_desc(p) + " needs " + std::to_string(w) +
@@ -326,11 +308,11 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
     return false;
   }
   switch (store_of(k)) {
-    case Store::kInts:
+    case Store::kInt:
       v.offset = uint32_t(e->ints.size());
       e->ints.insert(e->ints.end(), params.ints_of(p), params.ints_of(p) + p.count);
       break;
-    case Store::kStrings:
+    case Store::kString:
       v.offset = uint32_t(e->strings.size());
       for (uint32_t i = 0; i < p.count; ++i) {
         std::string s(params.strings[p.offset + i]);
@@ -347,7 +329,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
         e->strings.push_back(std::move(s));
       }
       break;
-    case Store::kFloats:
+    case Store::kFloat:
       v.offset = uint32_t(e->floats.size());
       if (!rgb.empty())
         e->floats.insert(e->floats.end(), rgb.begin(), rgb.end());

@@ -183,6 +183,13 @@ class Parser {
   }
 
   bool expect_string(const Token& dir, const char* what, std::string* out) {
+    const Token& next_token = tpeek();
+    if (next_token.kind == TokenKind::kWord || next_token.kind == TokenKind::kEnd) {
+      // Most likely the next directive: leave it to be read as one.
+      error(next_token.loc, std::string(dir.text) + " needs a quoted " + what + ", got " +
+                                token_desc(next_token));
+      return false;
+    }
     Token t = tnext();
     if (t.kind != TokenKind::kString) {
       if (t.kind == TokenKind::kLBracket) {
@@ -228,13 +235,14 @@ class Parser {
   }
 
   bool expect_matrix(const Token& dir, std::array<double, 16>* out) {
-    Token open = tnext();
-    if (open.kind != TokenKind::kLBracket) {
-      error(open.loc, std::string(dir.text) + " needs 16 numbers in [ ], got " +
-                                 token_desc(open));
-      recover();
+    const Token& next_token = tpeek();
+    if (next_token.kind != TokenKind::kLBracket) {
+      error(next_token.loc, std::string(dir.text) + " needs 16 numbers in [ ], got " +
+                                token_desc(next_token));
+      recover();  // leaves a following directive in place
       return false;
     }
+    Token open = tnext();
     scratch_.clear();
     if (!lx().read_numbers(&scratch_)) {
       recover();
@@ -516,6 +524,14 @@ class Parser {
       case Dir::kWorldBegin: target_->WorldBegin(t.loc); return;
       case Dir::kWorldEnd: target_->WorldEnd(t.loc); return;
       case Dir::kActiveTransform: {
+        const Token& next_token = tpeek();
+        Dir unused;
+        if (next_token.kind == TokenKind::kEnd ||
+            (next_token.kind == TokenKind::kWord && find_directive(next_token.text, &unused))) {
+          error(next_token.loc, "ActiveTransform needs StartTime, EndTime or All, got " +
+                                    token_desc(next_token));
+          return;
+        }
         Token a = tnext();
         if (a.kind == TokenKind::kWord && a.text == "StartTime")
           target_->ActiveTransformDirective(t.loc, ActiveTransform::kStart);

@@ -1,37 +1,106 @@
 // pbrtc — the pbrt-v3 scene compiler's command line.
 //
-// pbrtc --check FILE...   parse and validate, print a summary per scene.
+//   pbrtc scene.pbrt [-o scene.pbrta]   compile to an archive
+//   pbrtc --check scene.pbrt...         parse and validate only, print a summary
+//   pbrtc --info scene.pbrta            describe an archive
+//   pbrtc --verify scene.pbrta          load and check an archive as pbrtrun does
+//   pbrtc --print-schema                the parameter schema as Markdown
+//
 // Diagnostics go to stderr as "path:line:col: error: message"; the exit code
-// is 0 only if every file compiled without errors.
+// is 0 only if everything succeeded, and a failed compile writes nothing.
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <iostream>
 
+#include "compiler/archive_builder.h"
+#include "compiler/archive_info.h"
 #include "compiler/diagnostics.h"
+#include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "compiler/summary.h"
+#include "format/scene_archive.h"
+
+namespace {
+
+std::string default_output(const std::string& input) {
+  if (input == "-") return "stdin.pbrta";
+  std::string base = input.substr(input.find_last_of('/') + 1);
+  if (base.size() > 5 && base.compare(base.size() - 5, 5, ".pbrt") == 0)
+    base.resize(base.size() - 5);
+  return base + ".pbrta";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives"};
+  CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives (.pbrta)"};
   std::vector<std::string> inputs;
-  bool check = false, werror = false, quiet = false;
-  int max_errors = 20;
-  app.add_option("scene", inputs, "pbrt-v3 scene files (\"-\" or none: standard input)");
+  std::string outfile, codec = "zstd";
+  bool check = false, info = false, verify = false, print_schema = false;
+  bool werror = false, quiet = false;
+  int max_errors = 20, zstd_level = 6, nthreads = 0;
+  app.add_option("files", inputs, "pbrt-v3 scene files (\"-\" or none: standard input), or "
+                                  "archives with --info/--verify");
+  app.add_option("-o,--outfile", outfile, "archive to write (default: the scene's name with "
+                                          ".pbrta, in the current directory)");
   app.add_flag("--check", check, "parse and validate only; print a summary of each scene");
+  app.add_flag("--info", info, "describe archives: version, effects, sections, counts");
+  app.add_flag("--verify", verify, "load archives exactly as pbrtrun does; exit 0 only if sound");
+  app.add_flag("--print-schema", print_schema, "print the parameter schema as Markdown");
+  app.add_option("--codec", codec, "section compression: zstd (default) or none (usable in place)")
+      ->check(CLI::IsMember({"zstd", "none"}));
+  app.add_option("--zstd-level", zstd_level, "zstd level, 1-19 (default 6)")
+      ->check(CLI::Range(1, 19));
+  app.add_option("--nthreads", nthreads, "threads for compression and loading (default: all)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--Werror", werror, "treat warnings as errors");
   app.add_flag("-q,--quiet", quiet, "print only errors and warnings");
   app.add_option("--max-errors", max_errors, "stop after this many errors (default 20)")
       ->check(CLI::PositiveNumber);
-  app.set_version_flag("--version", "pbrtc 0.1.0");
+  app.set_version_flag("--version", "pbrtc 0.1.0 (archive format 1.0)");
   CLI11_PARSE(app, argc, argv);
 
+  if (print_schema) {
+    pbrtc::print_schema_markdown(std::cout);
+    return 0;
+  }
+  if (info || verify) {
+    if (inputs.empty()) {
+      std::cerr << "pbrtc: error: --info and --verify need an archive\n";
+      return 2;
+    }
+    bool ok = true;
+    for (const std::string& path : inputs) {
+      auto t0 = std::chrono::steady_clock::now();
+      pbrta::SceneArchive archive;
+      std::string error;
+      if (!archive.load(path, nthreads, &error)) {
+        std::cerr << "pbrtc: error: " << error << "\n";
+        ok = false;
+        continue;
+      }
+      if (info) pbrtc::print_archive_info(std::cout, path, archive);
+      if (verify && !quiet)
+        std::cout << path << ": ok (" << archive.reader().section_count()
+                  << " sections verified in " << seconds_since(t0) << " s)\n";
+    }
+    return ok ? 0 : 1;
+  }
+
   if (inputs.empty()) inputs.push_back("-");
-  if (!check) {
-    std::cerr << "pbrtc: error: writing archives is not implemented yet; use --check\n";
+  if (!outfile.empty() && inputs.size() > 1) {
+    std::cerr << "pbrtc: error: -o names one archive but " << inputs.size()
+              << " scenes were given\n";
     return 2;
   }
   bool all_ok = true;
   for (const std::string& path : inputs) {
+    auto t0 = std::chrono::steady_clock::now();
     pbrtc::SourceFiles files;
     pbrtc::Diagnostics diag(&files, &std::cerr);
     diag.werror = werror;
@@ -44,10 +113,37 @@ int main(int argc, char** argv) {
       all_ok = false;
       std::cerr << path << ": " << diag.error_count() << " error"
                 << (diag.error_count() == 1 ? "" : "s") << ", " << diag.warning_count()
-                << " warning" << (diag.warning_count() == 1 ? "" : "s") << "\n";
+                << " warning" << (diag.warning_count() == 1 ? "" : "s")
+                << (check ? "" : "; no archive written") << "\n";
       continue;
     }
-    if (!quiet) pbrtc::print_summary(std::cout, path, scene);
+    if (check) {
+      if (!quiet) pbrtc::print_summary(std::cout, path, scene);
+      continue;
+    }
+    double parse_s = seconds_since(t0);
+    std::string out = outfile.empty() ? default_output(path) : outfile;
+    pbrtc::ArchiveOptions opt;
+    opt.compress = codec != "none";
+    opt.zstd_level = zstd_level;
+    opt.threads = nthreads;
+    pbrtc::ArchiveStats stats;
+    std::string error;
+    if (!pbrtc::write_archive(scene, files, path == "-" ? "" : pbrtc::directory_of(path), out, opt,
+                              &stats, &error)) {
+      std::cerr << "pbrtc: error: " << error << "\n";
+      all_ok = false;
+      continue;
+    }
+    if (!quiet) {
+      pbrtc::SceneCounts c = pbrtc::count_scene(scene);
+      std::fprintf(stderr,
+                   "pbrtc: %s: %zu shapes (%zu triangles), %zu lights, %zu materials -> %s "
+                   "(%.2f MiB of %.2f MiB raw, %u sections); parse %.3f s, total %.3f s\n",
+                   path.c_str(), c.shapes, c.triangles, c.lights + c.area_lights, c.materials,
+                   out.c_str(), double(stats.file_size) / (1 << 20),
+                   double(stats.raw_size) / (1 << 20), stats.sections, parse_s, seconds_since(t0));
+    }
   }
   return all_ok ? 0 : 1;
 }

@@ -1,6 +1,8 @@
 #include "compiler/scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <unordered_map>
 #include <unordered_set>
@@ -93,6 +95,7 @@ struct SceneBuilder::State {
   bool world_ended = false;
   bool saw_world_begin = false;
   Loc camera_medium_loc;
+  Loc first_medium_interface;  // the first MediumInterface naming a medium
   std::string camera_medium;
   bool film_given = false, filter_given = false, sampler_given = false, integrator_given = false,
        accel_given = false;
@@ -477,18 +480,29 @@ void SceneBuilder::Film(Loc loc, std::string_view type, const ParamList& params)
                                                   std::to_string(s_->scene->film.get_int(r)));
     }
   }
-  uint32_t n = 0;
-  const float* crop = s_->scene->film.get_floats("cropwindow", &n);
-  if (crop && n == 4) {
+  Entity& film = s_->scene->film;
+  int slot = film.slot("cropwindow");
+  if (slot >= 0 && film.values[size_t(slot)].given && film.values[size_t(slot)].count == 4) {
+    float* crop = film.floats.data() + film.values[size_t(slot)].offset;
     const ParsedParam* p = params.find("cropwindow");
-    for (uint32_t i = 0; i < 4; ++i)
-      if (crop[i] < 0 || crop[i] > 1) {
-        s_->diag->error(p ? p->value_loc : loc, "film cropwindow values must lie in [0, 1]");
-        break;
-      }
-    if (crop[0] >= crop[1] || crop[2] >= crop[3])
-      s_->diag->error(p ? p->value_loc : loc,
-                      "film cropwindow [x0 x1 y0 y1] is empty (needs x0 < x1 and y0 < y1)");
+    Loc where = p ? p->value_loc : loc;
+    // pbrt-v3 orders each pair and clamps it to [0, 1] without a word.
+    auto clamp01 = [](float v) { return std::min(std::max(v, 0.0f), 1.0f); };
+    float c[4] = {clamp01(std::min(crop[0], crop[1])), clamp01(std::max(crop[0], crop[1])),
+                  clamp01(std::min(crop[2], crop[3])), clamp01(std::max(crop[2], crop[3]))};
+    if (!std::equal(c, c + 4, crop)) {
+      auto list = [](const float* v) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "[%g %g %g %g]", double(v[0]), double(v[1]),
+                      double(v[2]), double(v[3]));
+        return std::string(buf);
+      };
+      s_->diag->warning(where, "film cropwindow " + list(crop) + " is read as " + list(c) +
+                                   " (pbrt-v3 orders each pair and clamps it to [0, 1])");
+      std::copy(c, c + 4, crop);
+    }
+    if (c[0] >= c[1] || c[2] >= c[3])
+      s_->diag->error(where, "film cropwindow [x0 x1 y0 y1] is empty (needs x0 < x1 and y0 < y1)");
   }
 }
 
@@ -539,6 +553,8 @@ void SceneBuilder::MediumInterface(Loc loc, std::string_view inside, std::string
   s_->gs.inside_medium = std::string(inside);
   s_->gs.outside_medium = std::string(outside);
   s_->gs.medium_loc = loc;
+  if (!s_->first_medium_interface.valid() && (!inside.empty() || !outside.empty()))
+    s_->first_medium_interface = loc;
 }
 
 void SceneBuilder::WorldBegin(Loc loc) {
@@ -559,9 +575,10 @@ void SceneBuilder::WorldBegin(Loc loc) {
 
 void SceneBuilder::WorldEnd(Loc loc) {
   if (!s_->world_only(loc, "WorldEnd")) return;
+  // pbrt-v3 warns and closes them: the scene is complete, so this is no error.
   for (const Block& b : s_->stack)
-    s_->diag->error(b.loc, std::string(block_begin_name(b.kind)) + " is not closed before the "
-                           "WorldEnd at " + s_->files->format(loc));
+    s_->diag->warning(b.loc, std::string(block_begin_name(b.kind)) + " is not closed before the "
+                             "WorldEnd at " + s_->files->format(loc));
   s_->stack.clear();
   s_->in_world = false;
   s_->world_ended = true;
@@ -587,6 +604,14 @@ void SceneBuilder::EndOfInput(Loc loc) {
   if (!s_->integrator_given) s_->default_entity(Category::kIntegrator, "path", &sc->integrator);
   if (!s_->accel_given) s_->default_entity(Category::kAccelerator, "bvh", &sc->accelerator);
   if (!sc->camera.given) s_->default_entity(Category::kCamera, "perspective", &sc->camera.params);
+  // pbrt-v3 warns about media the integrator cannot simulate (and ignores them).
+  std::string_view integrator = sc->integrator.type_name();
+  if (loc.valid() && s_->first_medium_interface.valid() && integrator != "volpath" &&
+      integrator != "bdpt" && integrator != "mlt")
+    s_->diag->warning(s_->integrator_given ? sc->integrator.loc : s_->first_medium_interface,
+                      "the scene has participating media, but the " + std::string(integrator) +
+                          " integrator ignores them (pbrt-v3 simulates media only with volpath, "
+                          "bdpt and mlt)");
   // pbrt-v3 looks the camera's medium up when it builds the camera, after the
   // whole scene is read.
   sc->camera.medium = s_->lookup_medium(s_->camera_medium, s_->camera_medium_loc);
@@ -750,11 +775,13 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
   // current material does make a new material for this shape.
   int32_t material = s_->default_material();
   {
-    const MaterialDesc& cur = s_->scene->materials[size_t(material)];
+    // The schema entry is static; a reference into materials would dangle
+    // once the override is appended.
+    const pbrta::TypeSpec& material_spec = s_->scene->materials[size_t(material)].params.spec();
     MaterialDesc* over = nullptr;
     for (const ParsedParam& p : params.params) {
       if (p.looked_up) continue;
-      int slot = cur.params.slot(p.name);
+      int slot = pbrta::find_param(material_spec, p.name);
       if (slot < 0) continue;
       if (!over) {
         s_->scene->materials.push_back(s_->scene->materials[size_t(material)]);
@@ -823,7 +850,11 @@ bool build_scene_from_string(const std::string& display_path, std::string text,
                              SceneDesc* scene) {
   int before = diag->error_count();
   SceneBuilder builder(scene, diag, files, base_dir);
+  size_t first_file = files->size();
   parse_string(display_path, std::move(text), base_dir, files, diag, &builder);
+  // The text itself is no file, but what it Included is.
+  for (size_t i = first_file + 1; i < files->size(); ++i)
+    scene->input_files.push_back(files->display_path(uint32_t(i)));
   return diag->error_count() == before;
 }
 

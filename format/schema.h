@@ -119,6 +119,23 @@ int find_type(Category c, std::string_view name);
 // Finds a parameter of a type by name or alias; returns its index or -1.
 int find_param(const TypeSpec& t, std::string_view name);
 
+// Where a resolved value of a kind is kept, and how many 32-bit words (or
+// floats) one element takes: an Entity stores ints and bools as int32,
+// strings as text (in an archive: a string index), everything else as floats.
+enum class KindStore : uint8_t { kFloat, kInt, kString };
+constexpr KindStore kind_store(Kind k) {
+  return k == Kind::kInt || k == Kind::kBool ? KindStore::kInt
+         : k == Kind::kString                ? KindStore::kString
+                                             : KindStore::kFloat;
+}
+constexpr int kind_width(Kind k) {
+  return k == Kind::kPoint2 || k == Kind::kVector2 ? 2
+         : k == Kind::kPoint3 || k == Kind::kVector3 || k == Kind::kNormal3 || k == Kind::kRgb ||
+                 k == Kind::kSpectrumTex
+             ? 3
+             : 1;
+}
+
 // Names for messages.
 std::string_view kind_name(Kind k);
 std::string_view category_name(Category c);

@@ -11,6 +11,8 @@ packages=(
   clang libclang-rt-14-dev
   # compiler front end
   libfast-float-dev libcli11-dev
+  # the archive: section compression, checksums, parallel loading
+  libzstd-dev libxxhash-dev libtbb-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

@@ -4,7 +4,7 @@
 # The seeds are copied to a scratch directory (the shared corpus is read-only
 # and libFuzzer writes new inputs into its first corpus directory).
 set -euo pipefail
-bin=$1; seconds=$2; shift 2
+bin=$(realpath "$1"); seconds=$2; shift 2
 if [ ! -x "$bin" ]; then
   echo "FAIL: fuzz binary $bin not built (tools/run-tests.sh builds the build-fuzz tree)" >&2
   exit 1

@@ -1,0 +1,337 @@
+#include "compiler/archive_builder.h"
+
+#include <cstring>
+#include <unordered_map>
+
+#include "format/archive_writer.h"
+
+namespace pbrtc {
+
+namespace {
+
+using pbrta::kNoIndex;
+
+uint32_t idx(int32_t i) { return i < 0 ? kNoIndex : uint32_t(i); }
+
+template <class T>
+void append(std::vector<uint8_t>* out, const T& v) {
+  size_t n = out->size();
+  out->resize(n + sizeof(T));
+  std::memcpy(out->data() + n, &v, sizeof(T));
+}
+
+template <class T>
+std::vector<uint8_t> bytes_of(const std::vector<T>& v) {
+  std::vector<uint8_t> out(v.size() * sizeof(T));
+  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
+  return out;
+}
+
+class Builder {
+ public:
+  Builder(const SceneDesc& scene, const SourceFiles& files, const std::string& base_dir)
+      : scene_(scene), files_(files), base_dir_(base_dir) {
+    string("");  // string 0 is the empty string
+  }
+
+  // Paths are stored relative to the top-level scene's directory.
+  std::string relative(const std::string& path) const {
+    if (base_dir_.empty()) return path;
+    std::string prefix = base_dir_.back() == '/' ? base_dir_ : base_dir_ + "/";
+    if (path.compare(0, prefix.size(), prefix) == 0) return path.substr(prefix.size());
+    return path;
+  }
+
+  uint32_t string(const std::string& s) {
+    auto it = string_index_.find(s);
+    if (it != string_index_.end()) return it->second;
+    uint32_t i = uint32_t(strings_.size());
+    strings_.push_back(s);
+    string_index_.emplace(s, i);
+    return i;
+  }
+
+  uint32_t transform(const AnimatedTransform& t) {
+    pbrta::TransformRecord r;
+    std::memcpy(r.start, t.start.m.data(), sizeof r.start);
+    std::memcpy(r.end, t.end.m.data(), sizeof r.end);
+    r.start_time = t.start_time;
+    r.end_time = t.end_time;
+    std::string key(reinterpret_cast<const char*>(&r), sizeof r);
+    auto it = transform_index_.find(key);
+    if (it != transform_index_.end()) return it->second;
+    uint32_t i = uint32_t(transforms_.size());
+    transforms_.push_back(r);
+    transform_index_.emplace(std::move(key), i);
+    return i;
+  }
+  uint32_t transform(const Matrix4& m) {
+    AnimatedTransform t;
+    t.start = t.end = m;
+    return transform(t);
+  }
+
+  void provenance(Loc loc) {
+    pbrta::ProvenanceRecord p{0, 0};
+    if (loc.valid()) {
+      p.file = string(relative(files_.display_path(loc.file)));
+      p.line = files_.line_col(loc).line;
+    }
+    provenance_.push_back(p);
+  }
+
+  uint32_t entity(const Entity& e) {
+    pbrta::EntityRecord r{};
+    r.category = uint8_t(e.category);
+    r.type = uint16_t(e.type);
+    r.first_value = uint32_t(values_.size());
+    r.num_values = uint32_t(e.values.size());
+    const pbrta::TypeSpec& ts = e.spec();
+    for (size_t i = 0; i < e.values.size(); ++i) {
+      const Value& v = e.values[i];
+      pbrta::Kind k = ts.params[i].kind;
+      pbrta::ValueRecord out{};
+      out.offset = uint32_t(words_.size());
+      out.count = v.count;
+      out.texture = idx(v.texture);
+      out.flags = v.given ? uint32_t(pbrta::kValueGiven) : 0u;
+      switch (pbrta::kind_store(k)) {
+        case pbrta::KindStore::kInt:
+          for (uint32_t j = 0; j < v.count; ++j) words_.push_back(uint32_t(e.ints[v.offset + j]));
+          break;
+        case pbrta::KindStore::kString:
+          for (uint32_t j = 0; j < v.count; ++j) {
+            const std::string& s = e.strings[v.offset + j];
+            words_.push_back(string((ts.params[i].flags & pbrta::kParamFilename) ? relative(s) : s));
+          }
+          break;
+        case pbrta::KindStore::kFloat: {
+          uint32_t n = v.count * uint32_t(pbrta::kind_width(k));
+          for (uint32_t j = 0; j < n; ++j) {
+            uint32_t w;
+            std::memcpy(&w, &e.floats[v.offset + j], 4);
+            words_.push_back(w);
+          }
+          break;
+        }
+      }
+      values_.push_back(out);
+    }
+    entities_.push_back(r);
+    provenance(e.loc);
+    return uint32_t(entities_.size() - 1);
+  }
+
+  void build(pbrta::ArchiveWriter* w, const ArchiveOptions& opt) {
+    const SceneDesc& s = scene_;
+    pbrta::SceneRecord sr{};
+    sr.camera = entity(s.camera.params);
+    sr.camera_transform = transform(s.camera.camera_from_world);
+    sr.camera_medium = idx(s.camera.medium);
+    sr.film = entity(s.film);
+    sr.filter = entity(s.filter);
+    sr.sampler = entity(s.sampler);
+    sr.integrator = entity(s.integrator);
+    sr.accelerator = entity(s.accelerator);
+
+    std::vector<pbrta::TextureRecord> textures;
+    for (const TextureDesc& t : s.textures)
+      textures.push_back({entity(t.params), string(t.name), transform(t.world_from_texture),
+                          kNoIndex});
+    std::vector<pbrta::MaterialRecord> materials;
+    for (const MaterialDesc& m : s.materials)
+      materials.push_back({entity(m.params), string(m.name), {idx(m.mix[0]), idx(m.mix[1])}});
+    std::vector<pbrta::MediumRecord> media;
+    for (const MediumDesc& m : s.media)
+      media.push_back({entity(m.params), string(m.name), transform(m.world_from_medium), 0});
+    std::vector<pbrta::LightRecord> lights;
+    for (const LightDesc& l : s.lights)
+      lights.push_back({entity(l.params), transform(l.world_from_light), idx(l.medium), kNoIndex});
+    std::vector<uint32_t> area_lights;
+    for (const Entity& a : s.area_lights) area_lights.push_back(entity(a));
+    std::vector<pbrta::ShapeRecord> shapes;
+    for (const ShapeDesc& sh : s.shapes) {
+      pbrta::ShapeRecord r{};
+      r.entity = entity(sh.params);
+      r.mesh = idx(sh.mesh);
+      r.material = idx(sh.material);
+      r.area_light = idx(sh.area_light);
+      r.inside_medium = idx(sh.inside_medium);
+      r.outside_medium = idx(sh.outside_medium);
+      r.transform = transform(s.transforms[size_t(sh.transform)]);
+      r.object = idx(sh.object);
+      r.flags = (sh.reverse_orientation ? uint32_t(pbrta::kShapeReverseOrientation) : 0u) |
+                (sh.transform_swaps_handedness ? uint32_t(pbrta::kShapeSwapsHandedness) : 0u);
+      shapes.push_back(r);
+    }
+    std::vector<pbrta::ObjectRecord> objects;
+    std::vector<uint32_t> object_shapes;
+    for (const ObjectDesc& o : s.objects) {
+      objects.push_back({string(o.name), uint32_t(object_shapes.size()),
+                         uint32_t(o.shapes.size()), uint32_t(provenance_.size())});
+      provenance(o.loc);
+      for (int32_t sh : o.shapes) object_shapes.push_back(uint32_t(sh));
+    }
+    std::vector<pbrta::InstanceRecord> instances;
+    for (const InstanceDesc& i : s.instances) {
+      instances.push_back({uint32_t(i.object), transform(s.transforms[size_t(i.transform)]),
+                           uint32_t(provenance_.size()), 0});
+      provenance(i.loc);
+    }
+
+    // Geometry: meshes packed into chunks; the records name their section,
+    // which is only known once the earlier sections are added, so the
+    // geometry sections come last in the table.
+    std::vector<pbrta::MeshRecord> meshes;
+    std::vector<std::vector<uint8_t>> chunks;
+    std::vector<uint32_t> chunk_counts;
+    std::vector<uint32_t> mesh_chunk;
+    for (const TriangleMesh& m : s.meshes) {
+      uint64_t need = 16 * 6 + (m.P.size() + m.N.size() + m.S.size() + m.uv.size()) * 4 +
+                      m.indices.size() * 4 + m.face_indices.size() * 4;
+      if (chunks.empty() ||
+          (chunks.back().size() + need > opt.geometry_chunk_bytes && !chunks.back().empty())) {
+        chunks.emplace_back();
+        chunk_counts.push_back(0);
+      }
+      std::vector<uint8_t>& c = chunks.back();
+      ++chunk_counts.back();
+      auto put = [&c](const void* data, size_t bytes) -> uint64_t {
+        c.resize((c.size() + 15) & ~size_t(15), 0);
+        uint64_t at = c.size();
+        c.resize(at + bytes);
+        if (bytes) std::memcpy(c.data() + at, data, bytes);
+        return at;
+      };
+      pbrta::MeshRecord r{};
+      r.num_vertices = uint32_t(m.num_vertices());
+      r.num_triangles = uint32_t(m.num_triangles());
+      r.positions = put(m.P.data(), m.P.size() * 4);
+      if (!m.N.empty()) r.flags |= pbrta::kMeshNormals, r.normals = put(m.N.data(), m.N.size() * 4);
+      if (!m.S.empty()) r.flags |= pbrta::kMeshTangents, r.tangents = put(m.S.data(), m.S.size() * 4);
+      if (!m.uv.empty()) r.flags |= pbrta::kMeshUV, r.uv = put(m.uv.data(), m.uv.size() * 4);
+      r.indices = put(m.indices.data(), m.indices.size() * 4);
+      if (!m.face_indices.empty())
+        r.flags |= pbrta::kMeshFaceIndices,
+            r.face_indices = put(m.face_indices.data(), m.face_indices.size() * 4);
+      r.source_shape = kNoIndex;
+      mesh_chunk.push_back(uint32_t(chunks.size() - 1));
+      meshes.push_back(r);
+    }
+
+    // Strings: count, offsets, data.
+    std::vector<uint8_t> strings;
+    append(&strings, uint32_t(strings_.size()));
+    uint32_t off = 0;
+    append(&strings, off);
+    for (const std::string& str : strings_) {
+      off += uint32_t(str.size());
+      append(&strings, off);
+    }
+    for (const std::string& str : strings_) strings.insert(strings.end(), str.begin(), str.end());
+
+    sr.num_entities = uint32_t(entities_.size());
+    sr.num_values = uint32_t(values_.size());
+    sr.num_words = uint32_t(words_.size());
+    sr.num_strings = uint32_t(strings_.size());
+    sr.num_transforms = uint32_t(transforms_.size());
+    sr.num_textures = uint32_t(textures.size());
+    sr.num_materials = uint32_t(materials.size());
+    sr.num_media = uint32_t(media.size());
+    sr.num_lights = uint32_t(lights.size());
+    sr.num_area_lights = uint32_t(area_lights.size());
+    sr.num_shapes = uint32_t(shapes.size());
+    sr.num_objects = uint32_t(objects.size());
+    sr.num_object_shapes = uint32_t(object_shapes.size());
+    sr.num_instances = uint32_t(instances.size());
+    sr.num_meshes = uint32_t(meshes.size());
+    sr.num_images = 0;
+
+    using K = pbrta::SectionKind;
+    pbrta::Codec plain = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone;
+    pbrta::Codec shuffled = opt.compress ? pbrta::Codec::kZstdShuffle4 : pbrta::Codec::kNone;
+    std::vector<uint8_t> scene_bytes;
+    append(&scene_bytes, sr);
+    w->add_section(K::kScene, std::move(scene_bytes), 1, plain);
+    w->add_section(K::kStrings, std::move(strings), uint32_t(strings_.size()), plain);
+    w->add_section(K::kEntities, bytes_of(entities_), uint32_t(entities_.size()), plain);
+    w->add_section(K::kValues, bytes_of(values_), uint32_t(values_.size()), plain);
+    w->add_section(K::kWords, bytes_of(words_), uint32_t(words_.size()), shuffled);
+    w->add_section(K::kTransforms, bytes_of(transforms_), uint32_t(transforms_.size()), plain);
+    if (!textures.empty())
+      w->add_section(K::kTextures, bytes_of(textures), uint32_t(textures.size()), plain);
+    if (!materials.empty())
+      w->add_section(K::kMaterials, bytes_of(materials), uint32_t(materials.size()), plain);
+    if (!media.empty()) w->add_section(K::kMedia, bytes_of(media), uint32_t(media.size()), plain);
+    if (!lights.empty())
+      w->add_section(K::kLights, bytes_of(lights), uint32_t(lights.size()), plain);
+    if (!area_lights.empty())
+      w->add_section(K::kAreaLights, bytes_of(area_lights), uint32_t(area_lights.size()), plain);
+    if (!shapes.empty())
+      w->add_section(K::kShapes, bytes_of(shapes), uint32_t(shapes.size()), plain);
+    if (!objects.empty())
+      w->add_section(K::kObjects, bytes_of(objects), uint32_t(objects.size()), plain);
+    if (!object_shapes.empty())
+      w->add_section(K::kObjectShapes, bytes_of(object_shapes), uint32_t(object_shapes.size()),
+                     plain);
+    if (!instances.empty())
+      w->add_section(K::kInstances, bytes_of(instances), uint32_t(instances.size()), plain);
+    uint32_t last = w->add_section(K::kProvenance, bytes_of(provenance_),
+                                   uint32_t(provenance_.size()), plain);
+    // Meshes name their geometry section by table index: the meshes section
+    // goes in now, the geometry chunks right after it.
+    uint32_t first_geometry = last + 1 + (meshes.empty() ? 0 : 1);
+    for (size_t i = 0; i < meshes.size(); ++i) meshes[i].section = first_geometry + mesh_chunk[i];
+    if (!meshes.empty())
+      w->add_section(K::kMeshes, bytes_of(meshes), uint32_t(meshes.size()), plain);
+    for (size_t c = 0; c < chunks.size(); ++c)
+      w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], shuffled);
+  }
+
+ private:
+  const SceneDesc& scene_;
+  const SourceFiles& files_;
+  std::string base_dir_;
+  std::vector<std::string> strings_;
+  std::unordered_map<std::string, uint32_t> string_index_;
+  std::vector<pbrta::TransformRecord> transforms_;
+  std::unordered_map<std::string, uint32_t> transform_index_;
+  std::vector<pbrta::EntityRecord> entities_;
+  std::vector<pbrta::ValueRecord> values_;
+  std::vector<uint32_t> words_;
+  std::vector<pbrta::ProvenanceRecord> provenance_;
+};
+
+uint64_t effect_bits(const Effects& fx) {
+  uint64_t b = 0;
+  if (fx.media) b |= pbrta::kEffectMedia;
+  if (fx.motion_blur) b |= pbrta::kEffectMotionBlur;
+  if (fx.textures) b |= pbrta::kEffectTextures;
+  if (fx.area_lights) b |= pbrta::kEffectAreaLights;
+  if (fx.infinite_lights) b |= pbrta::kEffectInfiniteLights;
+  if (fx.subsurface) b |= pbrta::kEffectSubsurface;
+  if (fx.instancing) b |= pbrta::kEffectInstancing;
+  if (fx.alpha) b |= pbrta::kEffectAlpha;
+  return b;
+}
+
+}  // namespace
+
+bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::string& base_dir,
+                   const std::string& path, const ArchiveOptions& options, ArchiveStats* stats,
+                   std::string* error) {
+  pbrta::ArchiveWriter writer;
+  Builder builder(scene, files, base_dir);
+  builder.build(&writer, options);
+  if (!writer.write(path, effect_bits(scene.effects), options.zstd_level, options.threads, error))
+    return false;
+  if (stats) {
+    stats->file_size = writer.last_file_size();
+    stats->sections = uint32_t(writer.table().size());
+    stats->raw_size = 0;
+    for (const pbrta::SectionEntry& e : writer.table()) stats->raw_size += e.raw_size;
+  }
+  return true;
+}
+
+}  // namespace pbrtc

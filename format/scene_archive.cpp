@@ -1,0 +1,533 @@
+#include "format/scene_archive.h"
+
+#include <cstring>
+
+#include "format/archive_names.h"
+
+namespace pbrta {
+
+namespace {
+
+// Collects the first failure with its section; checks read as sentences.
+class Checker {
+ public:
+  Checker(const std::string& path, const ArchiveReader& r) : path_(path), r_(r) {}
+
+  // Sets the section later failures are reported against.
+  void in(int section) { section_ = section; }
+
+  bool fail(const std::string& what) {
+    if (!failed_) {
+      failed_ = true;
+      message_ = path_ + ": ";
+      if (section_ >= 0)
+        message_ += "section '" +
+                    std::string(section_kind_name(SectionKind(r_.entry(uint32_t(section_)).kind))) +
+                    "' (#" + std::to_string(section_) + "): ";
+      message_ += what;
+    }
+    return false;
+  }
+  // index < count, or NONE when allowed.
+  bool index(uint32_t i, uint32_t count, const char* record, uint32_t at, const char* field,
+             const char* array, bool none_ok) {
+    if (i == kNoIndex && none_ok) return true;
+    if (i < count) return true;
+    return fail(std::string(record) + " " + std::to_string(at) + ": " + field + " " +
+                (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
+                (i == kNoIndex ? "" : " out of range (" + std::to_string(count) + " " + array + ")"));
+  }
+  bool failed() const { return failed_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  const std::string& path_;
+  const ArchiveReader& r_;
+  int section_ = -1;
+  bool failed_ = false;
+  std::string message_;
+};
+
+}  // namespace
+
+std::string_view SceneArchive::string(uint32_t i) const {
+  if (i >= num_strings_) return {};
+  return std::string_view(string_data_ + string_offsets_[i],
+                          string_offsets_[i + 1] - string_offsets_[i]);
+}
+
+const TypeSpec& SceneArchive::type_of(uint32_t entity) const {
+  const EntityRecord& e = entities[entity];
+  return category_spec(Category(e.category)).types[e.type];
+}
+
+std::string_view SceneArchive::type_name(uint32_t entity) const { return type_of(entity).name; }
+
+const ValueRecord* SceneArchive::value(uint32_t entity, std::string_view name) const {
+  int p = find_param(type_of(entity), name);
+  if (p < 0) return nullptr;
+  return &values[entities[entity].first_value + uint32_t(p)];
+}
+
+const float* SceneArchive::floats(const ValueRecord& v) const {
+  return reinterpret_cast<const float*>(words.data + v.offset);
+}
+
+float SceneArchive::get_float(uint32_t entity, std::string_view name, float fallback) const {
+  const ValueRecord* v = value(entity, name);
+  return v && v->count ? floats(*v)[0] : fallback;
+}
+
+int32_t SceneArchive::get_int(uint32_t entity, std::string_view name, int32_t fallback) const {
+  const ValueRecord* v = value(entity, name);
+  return v && v->count ? int32_t(words[v->offset]) : fallback;
+}
+
+std::string_view SceneArchive::get_string(uint32_t entity, std::string_view name) const {
+  const ValueRecord* v = value(entity, name);
+  return v && v->count ? string(words[v->offset]) : std::string_view();
+}
+
+namespace {
+template <class T>
+const T* at(const ArchiveReader& r, uint32_t section, uint64_t offset) {
+  return reinterpret_cast<const T*>(r.section_data(section) + offset);
+}
+}  // namespace
+
+const float* SceneArchive::positions(uint32_t m) const {
+  return at<float>(reader_, meshes[m].section, meshes[m].positions);
+}
+const float* SceneArchive::normals(uint32_t m) const {
+  return meshes[m].flags & kMeshNormals ? at<float>(reader_, meshes[m].section, meshes[m].normals)
+                                        : nullptr;
+}
+const float* SceneArchive::tangents(uint32_t m) const {
+  return meshes[m].flags & kMeshTangents
+             ? at<float>(reader_, meshes[m].section, meshes[m].tangents)
+             : nullptr;
+}
+const float* SceneArchive::uvs(uint32_t m) const {
+  return meshes[m].flags & kMeshUV ? at<float>(reader_, meshes[m].section, meshes[m].uv) : nullptr;
+}
+const uint32_t* SceneArchive::indices(uint32_t m) const {
+  return at<uint32_t>(reader_, meshes[m].section, meshes[m].indices);
+}
+const int32_t* SceneArchive::face_indices(uint32_t m) const {
+  return meshes[m].flags & kMeshFaceIndices
+             ? at<int32_t>(reader_, meshes[m].section, meshes[m].face_indices)
+             : nullptr;
+}
+
+std::string SceneArchive::where(uint32_t entity) const {
+  if (entity >= provenance.size) return "?";
+  const ProvenanceRecord& p = provenance[entity];
+  if (p.line == 0) return "default";
+  return std::string(string(p.file)) + ":" + std::to_string(p.line);
+}
+
+bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
+  path_ = path;
+  if (!reader_.open(path, error)) return false;
+  if (!reader_.load_sections(threads, error)) return false;
+  return validate(error);
+}
+
+bool SceneArchive::validate(std::string* error) {
+  Checker c(path_, reader_);
+  const ArchiveReader& r = reader_;
+  // Which section holds each kind (once, except geometry and texels).
+  int where_kind[uint32_t(SectionKind::kCount)];
+  for (int& w : where_kind) w = -1;
+  for (uint32_t i = 0; i < r.section_count(); ++i) {
+    uint32_t k = r.entry(i).kind;
+    if (k == 0 || k >= uint32_t(SectionKind::kCount)) continue;  // newer minor: ignored
+    if (k == uint32_t(SectionKind::kGeometry) || k == uint32_t(SectionKind::kTexels)) continue;
+    if (where_kind[k] >= 0) {
+      c.in(int(i));
+      c.fail("appears twice (first as #" + std::to_string(where_kind[k]) + ")");
+      *error = c.message();
+      return false;
+    }
+    where_kind[k] = int(i);
+  }
+  auto sec = [&](SectionKind k) { return where_kind[uint32_t(k)]; };
+  if (sec(SectionKind::kScene) < 0 || sec(SectionKind::kStrings) < 0) {
+    *error = path_ + ": no " +
+             std::string(sec(SectionKind::kScene) < 0 ? "scene" : "strings") + " section";
+    return false;
+  }
+  // The scene record.
+  c.in(sec(SectionKind::kScene));
+  {
+    uint32_t s = uint32_t(sec(SectionKind::kScene));
+    if (r.section_size(s) != sizeof(SceneRecord) || r.entry(s).count != 1) {
+      c.fail("size " + std::to_string(r.section_size(s)) + " is not one SceneRecord (" +
+             std::to_string(sizeof(SceneRecord)) + " bytes)");
+      *error = c.message();
+      return false;
+    }
+    std::memcpy(&scene_, r.section_data(s), sizeof scene_);
+    for (uint32_t v : scene_.reserved)
+      if (v != 0) {
+        c.fail("reserved field is not zero");
+        *error = c.message();
+        return false;
+      }
+  }
+  // Strings.
+  {
+    uint32_t s = uint32_t(sec(SectionKind::kStrings));
+    c.in(int(s));
+    const uint8_t* d = r.section_data(s);
+    uint64_t size = r.section_size(s);
+    uint32_t n = 0;
+    if (size >= 4) std::memcpy(&n, d, 4);
+    uint64_t head = 4 + (uint64_t(n) + 1) * 4;
+    if (size < 4 || head > size) {
+      c.fail("string table header does not fit (" + std::to_string(size) + " bytes)");
+    } else if (n != scene_.num_strings || n != r.entry(s).count || n == 0) {
+      c.fail("string count " + std::to_string(n) + " does not match the scene's " +
+             std::to_string(scene_.num_strings));
+    } else {
+      // Offsets must be aligned in memory to read them as uint32: they start
+      // at byte 4 of a 16-byte aligned section.
+      string_offsets_ = reinterpret_cast<const uint32_t*>(d + 4);
+      string_data_ = reinterpret_cast<const char*>(d + head);
+      uint64_t data_size = size - head;
+      if (string_offsets_[0] != 0) c.fail("first string offset is not 0");
+      for (uint32_t i = 0; i < n && !c.failed(); ++i)
+        if (string_offsets_[i + 1] < string_offsets_[i])
+          c.fail("string offsets decrease at string " + std::to_string(i));
+      if (!c.failed() && string_offsets_[n] != data_size)
+        c.fail("string data is " + std::to_string(data_size) + " bytes, offsets say " +
+               std::to_string(string_offsets_[n]));
+      if (!c.failed() && string_offsets_[1] != 0) c.fail("string 0 is not empty");
+      num_strings_ = n;
+    }
+    if (c.failed()) {
+      *error = c.message();
+      return false;
+    }
+  }
+  // Typed arrays: size and count agree with the scene record.
+  auto array = [&](SectionKind k, auto* span, uint32_t expected, bool required) -> bool {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(span->data)>>;
+    int s = sec(k);
+    if (s < 0) {
+      if (expected != 0 || required) {
+        c.in(-1);
+        return c.fail("no " + std::string(section_kind_name(k)) + " section, but the scene has " +
+                      std::to_string(expected) + " of them");
+      }
+      span->data = nullptr;
+      span->size = 0;
+      return true;
+    }
+    c.in(s);
+    uint32_t count = r.entry(uint32_t(s)).count;
+    if (count != expected)
+      return c.fail("holds " + std::to_string(count) + " records, the scene says " +
+                    std::to_string(expected));
+    if (r.section_size(uint32_t(s)) != uint64_t(count) * sizeof(T))
+      return c.fail("size " + std::to_string(r.section_size(uint32_t(s))) + " is not " +
+                    std::to_string(count) + " records of " + std::to_string(sizeof(T)) + " bytes");
+    span->data = reinterpret_cast<const T*>(r.section_data(uint32_t(s)));
+    span->size = count;
+    return true;
+  };
+  const SceneRecord& sr = scene_;
+  bool ok = array(SectionKind::kEntities, &entities, sr.num_entities, true) &&
+            array(SectionKind::kValues, &values, sr.num_values, false) &&
+            array(SectionKind::kWords, &words, sr.num_words, false) &&
+            array(SectionKind::kTransforms, &transforms, sr.num_transforms, true) &&
+            array(SectionKind::kTextures, &textures, sr.num_textures, false) &&
+            array(SectionKind::kMaterials, &materials, sr.num_materials, false) &&
+            array(SectionKind::kMedia, &media, sr.num_media, false) &&
+            array(SectionKind::kLights, &lights, sr.num_lights, false) &&
+            array(SectionKind::kAreaLights, &area_lights, sr.num_area_lights, false) &&
+            array(SectionKind::kShapes, &shapes, sr.num_shapes, false) &&
+            array(SectionKind::kObjects, &objects, sr.num_objects, false) &&
+            array(SectionKind::kObjectShapes, &object_shapes, sr.num_object_shapes, false) &&
+            array(SectionKind::kInstances, &instances, sr.num_instances, false) &&
+            array(SectionKind::kMeshes, &meshes, sr.num_meshes, false) &&
+            array(SectionKind::kImages, &images, sr.num_images, false);
+  if (ok) {
+    int s = sec(SectionKind::kProvenance);
+    uint32_t expected = sr.num_entities + sr.num_objects + sr.num_instances;
+    ok = array(SectionKind::kProvenance, &provenance,
+               s >= 0 ? r.entry(uint32_t(s)).count : expected, true);
+    if (ok && provenance.size < expected)
+      ok = c.fail("has " + std::to_string(provenance.size) + " records, needs " +
+                  std::to_string(expected));
+  }
+  if (!ok) {
+    *error = c.message();
+    return false;
+  }
+
+  // Entities and their values.
+  c.in(sec(SectionKind::kEntities));
+  for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
+    const EntityRecord& e = entities[i];
+    std::string at = "entity " + std::to_string(i) + ": ";
+    if (e.category >= uint8_t(Category::kCount)) {
+      c.fail(at + "category " + std::to_string(e.category) + " unknown");
+      break;
+    }
+    const CategorySpec& cs = category_spec(Category(e.category));
+    if (e.type >= cs.num_types) {
+      c.fail(at + std::string(cs.name) + " type " + std::to_string(e.type) + " unknown (" +
+             std::to_string(cs.num_types) + " types)");
+      break;
+    }
+    const TypeSpec& ts = cs.types[e.type];
+    if (e.reserved0 || e.reserved1) {
+      c.fail(at + "reserved field is not zero");
+      break;
+    }
+    if (e.num_values != ts.num_params) {
+      c.fail(at + std::string(ts.name) + " has " + std::to_string(ts.num_params) +
+             " parameters, the record " + std::to_string(e.num_values));
+      break;
+    }
+    if (uint64_t(e.first_value) + e.num_values > values.size) {
+      c.fail(at + "values " + std::to_string(e.first_value) + "+" + std::to_string(e.num_values) +
+             " out of range (" + std::to_string(values.size) + " values)");
+      break;
+    }
+    for (uint32_t p = 0; p < e.num_values; ++p) {
+      const ValueRecord& v = values[e.first_value + p];
+      const ParamSpec& ps = ts.params[p];
+      std::string vat = at + std::string(ts.name) + " \"" + std::string(ps.name) + "\": ";
+      uint64_t width = uint64_t(kind_width(ps.kind));
+      if (v.flags & ~uint32_t(kValueGiven)) {
+        c.fail(vat + "unknown value flags");
+        break;
+      }
+      if (uint64_t(v.offset) + uint64_t(v.count) * width > words.size) {
+        c.fail(vat + "words out of range");
+        break;
+      }
+      if (ps.arity > 0 && v.count != 0 && v.count != ps.arity) {
+        c.fail(vat + std::to_string(v.count) + " values, the schema says " +
+               std::to_string(ps.arity));
+        break;
+      }
+      if (v.texture != kNoIndex) {
+        bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
+        if (!tex_kind) {
+          c.fail(vat + "a texture on a parameter that takes none");
+          break;
+        }
+        if (v.texture >= textures.size) {
+          c.fail(vat + "texture " + std::to_string(v.texture) + " out of range (" +
+                 std::to_string(textures.size) + " textures)");
+          break;
+        }
+      }
+      if (ps.kind == Kind::kString)
+        for (uint32_t k = 0; k < v.count; ++k)
+          if (words[v.offset + k] >= num_strings_) {
+            c.fail(vat + "string " + std::to_string(words[v.offset + k]) + " out of range");
+            break;
+          }
+    }
+  }
+  // Render options point at entities of the right category.
+  c.in(sec(SectionKind::kScene));
+  auto entity_of = [&](uint32_t e, Category cat, const char* record, uint32_t at,
+                       const char* field) {
+    if (!c.index(e, entities.size, record, at, field, "entities", false)) return false;
+    if (entities[e].category != uint8_t(cat))
+      return c.fail(std::string(record) + " " + std::to_string(at) + ": " + field + " entity " +
+                    std::to_string(e) + " is a " +
+                    std::string(category_name(Category(entities[e].category))) + ", not a " +
+                    std::string(category_name(cat)));
+    return true;
+  };
+  if (!c.failed()) {
+    entity_of(sr.camera, Category::kCamera, "scene", 0, "camera") &&
+        entity_of(sr.film, Category::kFilm, "scene", 0, "film") &&
+        entity_of(sr.filter, Category::kFilter, "scene", 0, "filter") &&
+        entity_of(sr.sampler, Category::kSampler, "scene", 0, "sampler") &&
+        entity_of(sr.integrator, Category::kIntegrator, "scene", 0, "integrator") &&
+        entity_of(sr.accelerator, Category::kAccelerator, "scene", 0, "accelerator") &&
+        c.index(sr.camera_transform, transforms.size, "scene", 0, "camera transform",
+                "transforms", false) &&
+        c.index(sr.camera_medium, media.size, "scene", 0, "camera medium", "media", true);
+  }
+  c.in(sec(SectionKind::kTextures));
+  for (uint32_t i = 0; i < textures.size && !c.failed(); ++i) {
+    const TextureRecord& t = textures[i];
+    if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) break;
+    uint8_t cat = entities[t.entity].category;
+    if (cat != uint8_t(Category::kFloatTexture) && cat != uint8_t(Category::kSpectrumTexture)) {
+      c.fail("texture " + std::to_string(i) + ": entity is not a texture");
+      break;
+    }
+    c.index(t.name, num_strings_, "texture", i, "name", "strings", false) &&
+        c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
+        c.index(t.image, images.size, "texture", i, "image", "images", true);
+  }
+  // Texture bindings must match the parameter's class.
+  c.in(sec(SectionKind::kValues));
+  for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
+    const EntityRecord& e = entities[i];
+    const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
+    for (uint32_t p = 0; p < e.num_values; ++p) {
+      const ValueRecord& v = values[e.first_value + p];
+      if (v.texture == kNoIndex) continue;
+      Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
+                                                          : Category::kSpectrumTexture;
+      if (entities[textures[v.texture].entity].category != uint8_t(want)) {
+        c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
+               "\": texture " + std::to_string(v.texture) + " is not a " +
+               std::string(category_name(want)));
+        break;
+      }
+    }
+  }
+  c.in(sec(SectionKind::kMaterials));
+  for (uint32_t i = 0; i < materials.size && !c.failed(); ++i) {
+    const MaterialRecord& m = materials[i];
+    entity_of(m.entity, Category::kMaterial, "material", i, "entity") &&
+        c.index(m.name, num_strings_, "material", i, "name", "strings", false) &&
+        c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
+        c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
+  }
+  c.in(sec(SectionKind::kMedia));
+  for (uint32_t i = 0; i < media.size && !c.failed(); ++i) {
+    const MediumRecord& m = media[i];
+    entity_of(m.entity, Category::kMedium, "medium", i, "entity") &&
+        c.index(m.name, num_strings_, "medium", i, "name", "strings", false) &&
+        c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
+        (m.reserved == 0 || c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
+  }
+  c.in(sec(SectionKind::kLights));
+  for (uint32_t i = 0; i < lights.size && !c.failed(); ++i) {
+    const LightRecord& l = lights[i];
+    entity_of(l.entity, Category::kLight, "light", i, "entity") &&
+        c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
+        c.index(l.medium, media.size, "light", i, "medium", "media", true) &&
+        c.index(l.image, images.size, "light", i, "image", "images", true);
+  }
+  c.in(sec(SectionKind::kAreaLights));
+  for (uint32_t i = 0; i < area_lights.size && !c.failed(); ++i)
+    entity_of(area_lights[i], Category::kAreaLight, "area light", i, "entity");
+  c.in(sec(SectionKind::kShapes));
+  for (uint32_t i = 0; i < shapes.size && !c.failed(); ++i) {
+    const ShapeRecord& s = shapes[i];
+    entity_of(s.entity, Category::kShape, "shape", i, "entity") &&
+        c.index(s.mesh, meshes.size, "shape", i, "mesh", "meshes", true) &&
+        c.index(s.material, materials.size, "shape", i, "material", "materials", false) &&
+        c.index(s.area_light, area_lights.size, "shape", i, "area light", "area lights", true) &&
+        c.index(s.inside_medium, media.size, "shape", i, "inside medium", "media", true) &&
+        c.index(s.outside_medium, media.size, "shape", i, "outside medium", "media", true) &&
+        c.index(s.transform, transforms.size, "shape", i, "transform", "transforms", false) &&
+        c.index(s.object, objects.size, "shape", i, "object", "objects", true) &&
+        ((s.flags & ~uint32_t(kShapeReverseOrientation | kShapeSwapsHandedness)) == 0 ||
+         c.fail("shape " + std::to_string(i) + ": unknown flags")) &&
+        (s.reserved == 0 || c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
+  }
+  c.in(sec(SectionKind::kObjects));
+  for (uint32_t i = 0; i < objects.size && !c.failed(); ++i) {
+    const ObjectRecord& o = objects[i];
+    c.index(o.name, num_strings_, "object", i, "name", "strings", false) &&
+        c.index(o.provenance, provenance.size, "object", i, "provenance", "records", false) &&
+        (uint64_t(o.first_shape) + o.num_shapes <= object_shapes.size ||
+         c.fail("object " + std::to_string(i) + ": shapes out of range"));
+  }
+  c.in(sec(SectionKind::kObjectShapes));
+  for (uint32_t i = 0; i < object_shapes.size && !c.failed(); ++i)
+    c.index(object_shapes[i], shapes.size, "entry", i, "shape", "shapes", false);
+  c.in(sec(SectionKind::kInstances));
+  for (uint32_t i = 0; i < instances.size && !c.failed(); ++i) {
+    const InstanceRecord& in = instances[i];
+    c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
+        c.index(in.transform, transforms.size, "instance", i, "transform", "transforms", false) &&
+        c.index(in.provenance, provenance.size, "instance", i, "provenance", "records", false) &&
+        (in.reserved == 0 || c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
+  }
+  c.in(sec(SectionKind::kProvenance));
+  for (uint32_t i = 0; i < provenance.size && !c.failed(); ++i)
+    c.index(provenance[i].file, num_strings_, "record", i, "file", "strings", false);
+  c.in(sec(SectionKind::kMeshes));
+  for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
+    const MeshRecord& m = meshes[i];
+    std::string at = "mesh " + std::to_string(i) + ": ";
+    if (m.section >= r.section_count() || r.entry(m.section).kind != uint32_t(SectionKind::kGeometry)) {
+      c.fail(at + "section " + std::to_string(m.section) + " is not a geometry section");
+      break;
+    }
+    if (m.flags & ~uint32_t(kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices)) {
+      c.fail(at + "unknown flags");
+      break;
+    }
+    uint64_t size = r.section_size(m.section);
+    auto array_ok = [&](bool present, uint64_t offset, uint64_t elems, uint64_t elem_bytes,
+                        const char* name) {
+      if (!present) return offset == 0 || c.fail(at + name + " offset set but flag clear");
+      if (offset % 16 != 0) return c.fail(at + name + " offset is not 16-byte aligned");
+      if (offset > size || elems * elem_bytes > size - offset)
+        return c.fail(at + name + " (" + std::to_string(elems * elem_bytes) + " bytes at " +
+                      std::to_string(offset) + ") lies outside its section (" +
+                      std::to_string(size) + " bytes)");
+      return true;
+    };
+    uint64_t nv = m.num_vertices, nt = m.num_triangles;
+    if (!(array_ok(true, m.positions, nv, 12, "positions") &&
+          array_ok(m.flags & kMeshNormals, m.normals, nv, 12, "normals") &&
+          array_ok(m.flags & kMeshTangents, m.tangents, nv, 12, "tangents") &&
+          array_ok(m.flags & kMeshUV, m.uv, nv, 8, "uv") &&
+          array_ok(true, m.indices, nt, 12, "indices") &&
+          array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
+          c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true)))
+      break;
+    const uint32_t* idx = indices(i);
+    for (uint64_t k = 0; k < nt * 3; ++k)
+      if (idx[k] >= nv) {
+        c.fail(at + "triangle " + std::to_string(k / 3) + " has vertex index " +
+               std::to_string(idx[k]) + " (" + std::to_string(nv) + " vertices)");
+        break;
+      }
+  }
+  c.in(sec(SectionKind::kImages));
+  for (uint32_t i = 0; i < images.size && !c.failed(); ++i) {
+    const ImageRecord& im = images[i];
+    std::string at = "image " + std::to_string(i) + ": ";
+    if (im.section >= r.section_count() || r.entry(im.section).kind != uint32_t(SectionKind::kTexels)) {
+      c.fail(at + "section is not a texels section");
+      break;
+    }
+    if ((im.channels != 1 && im.channels != 3) || im.levels == 0 || im.levels > 32 ||
+        im.format > uint32_t(PixelFormat::kUnorm8) || im.wrap > 2 || im.width == 0 ||
+        im.height == 0 || im.reserved != 0) {
+      c.fail(at + "malformed header");
+      break;
+    }
+    uint64_t bytes_per = im.format == uint32_t(PixelFormat::kFloat32) ? 4
+                         : im.format == uint32_t(PixelFormat::kHalf16) ? 2 : 1;
+    uint64_t off = im.offset, size = r.section_size(im.section);
+    for (uint32_t l = 0; l < im.levels && !c.failed(); ++l) {
+      uint64_t w = std::max<uint64_t>(1, uint64_t(im.width) >> l);
+      uint64_t h = std::max<uint64_t>(1, uint64_t(im.height) >> l);
+      uint64_t bytes = w * h * im.channels * bytes_per;
+      if (off % 16 != 0 || off > size || bytes > size - off) {
+        c.fail(at + "level " + std::to_string(l) + " lies outside its section");
+        break;
+      }
+      off = (off + bytes + 15) & ~uint64_t(15);
+    }
+    if (!c.failed())
+      c.index(im.distribution, images.size, "image", i, "distribution", "images", true) &&
+          c.index(im.source, num_strings_, "image", i, "source", "strings", false);
+  }
+  if (c.failed()) {
+    *error = c.message();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace pbrta

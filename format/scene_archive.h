@@ -1,0 +1,97 @@
+// format/scene_archive.h — a loaded, fully validated scene archive.
+//
+// SceneArchive::load() opens a .pbrta with ArchiveReader (header, table,
+// checksums, decoding, in parallel), then checks every record as
+// ARCHIVE.md section 10 requires: each index below the count of the array it
+// names, each entity's category, type and value range known to this reader's
+// schema, each value's words in range, the string table well formed, every
+// mesh array inside its geometry section and every triangle index below its
+// mesh's vertex count. Only after load() returns true may anything read the
+// arrays; from then on the object is read-only and may be shared between
+// threads. pbrtc --verify and pbrtrun both load through this one path.
+//
+// Errors name the file, the section and the reason:
+//   "scene.pbrta: section 'shapes' (#11): shape 3: material 9 out of range (4 materials)".
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "format/archive.h"
+#include "format/archive_reader.h"
+#include "format/schema.h"
+
+namespace pbrta {
+
+template <class T>
+struct Span {
+  const T* data = nullptr;
+  uint32_t size = 0;
+  const T& operator[](uint32_t i) const { return data[i]; }
+  const T* begin() const { return data; }
+  const T* end() const { return data + size; }
+};
+
+class SceneArchive {
+ public:
+  [[nodiscard]] bool load(const std::string& path, int threads, std::string* error);
+
+  const ArchiveReader& reader() const { return reader_; }
+  const Header& header() const { return reader_.header(); }
+  const SceneRecord& scene() const { return scene_; }
+
+  Span<EntityRecord> entities;
+  Span<ValueRecord> values;
+  Span<uint32_t> words;
+  Span<TransformRecord> transforms;
+  Span<TextureRecord> textures;
+  Span<MaterialRecord> materials;
+  Span<MediumRecord> media;
+  Span<LightRecord> lights;
+  Span<uint32_t> area_lights;
+  Span<ShapeRecord> shapes;
+  Span<ObjectRecord> objects;
+  Span<uint32_t> object_shapes;
+  Span<InstanceRecord> instances;
+  Span<MeshRecord> meshes;
+  Span<ImageRecord> images;
+  Span<ProvenanceRecord> provenance;
+
+  uint32_t num_strings() const { return num_strings_; }
+  std::string_view string(uint32_t i) const;
+
+  // Entity access by schema parameter name (cold paths: loading, tools).
+  const TypeSpec& type_of(uint32_t entity) const;
+  std::string_view type_name(uint32_t entity) const;
+  // The value of parameter `name`, or nullptr if the type has none.
+  const ValueRecord* value(uint32_t entity, std::string_view name) const;
+  float get_float(uint32_t entity, std::string_view name, float fallback = 0) const;
+  int32_t get_int(uint32_t entity, std::string_view name, int32_t fallback = 0) const;
+  std::string_view get_string(uint32_t entity, std::string_view name) const;
+  // Words of a value as floats (point3, rgb, ... are consecutive floats).
+  const float* floats(const ValueRecord& v) const;
+
+  // A mesh's arrays (nullptr when absent).
+  const float* positions(uint32_t mesh) const;
+  const float* normals(uint32_t mesh) const;
+  const float* tangents(uint32_t mesh) const;
+  const float* uvs(uint32_t mesh) const;
+  const uint32_t* indices(uint32_t mesh) const;
+  const int32_t* face_indices(uint32_t mesh) const;
+
+  // "file:line" of an entity, for messages such as "not supported yet".
+  std::string where(uint32_t entity) const;
+
+ private:
+  bool validate(std::string* error);
+
+  ArchiveReader reader_;
+  std::string path_;
+  SceneRecord scene_{};
+  const uint32_t* string_offsets_ = nullptr;
+  const char* string_data_ = nullptr;
+  uint32_t num_strings_ = 0;
+};
+
+}  // namespace pbrta
