@@ -1,0 +1,148 @@
+// format/archive_reader.h — opens a scene archive (.pbrta) and decodes its sections.
+//
+// The generic container layer of the archive (format/archive.h describes the layout): the reader
+// maps the file read-only, validates the header, the section table and the layout of every
+// section, then load_sections() verifies each section's checksum and decodes it, in parallel over
+// sections. Uncompressed (kNone) sections are used in place from the mapping, 16-byte aligned and
+// followed by 16 bytes of padding; compressed ones are decoded into owned 16-byte aligned buffers
+// with 16 zero bytes after the data. What the sections mean is the caller's business.
+//
+// Ownership: the reader owns the mapping (or, for open_memory, borrows the caller's bytes) and the
+// decoded buffers; every pointer it hands out lives until the reader is destroyed or moved from.
+// Thread safety: open and load_sections run once, from one thread; afterwards every const member
+// may be called concurrently from any number of threads.
+//
+// Failure: the file is untrusted. No number read from it is used before it is checked (all size
+// arithmetic is overflow-checked in uint64), and no allocation exceeds the bounds below, so a
+// damaged or hostile file fails with a message instead of crashing, hanging or exhausting memory.
+// Every member returning bool returns false with one message in *error, which starts with the
+// path: "<path>: <reason>" for the header and table, "<path>: section '<name>' (#<index>):
+// <reason>" for one section. The exception is a file truncated by another process while mapped:
+// touching the lost pages raises SIGBUS, as with any memory-mapped reader.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "format/archive.h"
+
+namespace pbrta {
+
+// Bounds on a section's decoded size, shared with the writer so that everything it writes can
+// be read. A compressed section may claim at most kMaxZstdRatio times its stored size plus
+// kZstdRatioSlack (a zip-bomb guard: the buffer is allocated before decoding), and all sections
+// together at most kMaxZstdRatio times the file size plus kTotalRatioSlack (so a file of many tiny
+// sections cannot multiply the per-section slack).
+inline constexpr uint64_t kMaxRawSize = uint64_t{1} << 40;
+inline constexpr uint64_t kMaxZstdRatio = 64;
+inline constexpr uint64_t kZstdRatioSlack = uint64_t{1} << 20;
+inline constexpr uint64_t kTotalRatioSlack = uint64_t{64} << 20;
+
+// True when a section of this codec with these stored and raw sizes is within the bounds above
+// (for kNone: raw == stored). Codecs outside the enum are not plausible.
+bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_size);
+
+// The most decoded bytes, over all sections, an archive of file_size bytes may hold.
+uint64_t max_total_raw_size(uint64_t file_size);
+
+namespace archive_detail {
+// Frees a decode buffer: munmap for the large ones (mapped_size > 0), aligned delete else.
+struct BufferFree {
+  uint64_t mapped_size = 0;
+  void operator()(uint8_t* p) const;
+};
+}  // namespace archive_detail
+
+class ArchiveReader {
+ public:
+  ArchiveReader();
+  ~ArchiveReader();
+  ArchiveReader(ArchiveReader&& other) noexcept;
+  ArchiveReader& operator=(ArchiveReader&& other) noexcept;
+  ArchiveReader(const ArchiveReader&) = delete;
+  ArchiveReader& operator=(const ArchiveReader&) = delete;
+
+  // Maps the file at path and validates the container (see validate order in the .cpp). On
+  // failure the reader is left empty.
+  [[nodiscard]] bool open(const std::string& path, std::string* error);
+
+  // Same, on an archive image in memory, named `name` in messages (for tests and fuzzers). The
+  // bytes are used in place when 16-byte aligned (copied otherwise) and must then outlive the
+  // reader.
+  [[nodiscard]] bool open_memory(std::string_view bytes, std::string_view name, std::string* error);
+
+  // Verifies every section's checksum and decodes it, with up to `threads` threads (<= 0: all
+  // cores). Sections of kinds this reader does not know (allowed in a newer minor version) are
+  // skipped. On failure the message is that of the lowest-numbered failing section.
+  [[nodiscard]] bool load_sections(int threads, std::string* error);
+
+  // The archive as opened. header() and the entries are copies of the validated file structures.
+  const Header& header() const { return header_; }
+  const std::string& path() const { return path_; }
+  uint64_t file_size() const { return size_; }
+  uint32_t section_count() const { return static_cast<uint32_t>(entries_.size()); }
+  const SectionEntry& entry(uint32_t index) const { return entries_[index]; }
+
+  // The index of the first section of this kind, or -1.
+  int find_section(SectionKind kind) const;
+
+  // True for a section of a kind unknown to this reader (only possible in a newer minor version).
+  bool skipped(uint32_t index) const { return sections_[index].skipped; }
+
+  // After load_sections: the decoded bytes (16-byte aligned, followed by 16 readable bytes) and
+  // their count (the entry's raw_size). nullptr for a skipped section or before loading.
+  const uint8_t* section_data(uint32_t index) const { return sections_[index].data; }
+  uint64_t section_size(uint32_t index) const { return entries_[index].raw_size; }
+
+  // True when section_data points into the mapped file (kNone sections), not into a copy.
+  bool in_place(uint32_t index) const { return sections_[index].in_place; }
+
+  // The section as an array of entry(section).count elements of T: checks that the section
+  // exists and is loaded, that raw_size == count * sizeof(T) and that the data is aligned for T.
+  template <class T>
+  [[nodiscard]] bool typed_array(uint32_t section, const T** out, uint32_t* count,
+                                 std::string* error) const {
+    static_assert(std::is_trivially_copyable_v<T>, "archive records are plain data");
+    const void* data = nullptr;
+    if (!typed_array_bytes(section, sizeof(T), alignof(T), &data, count, error)) return false;
+    *out = static_cast<const T*>(data);
+    return true;
+  }
+
+  // "<path>: section '<name>' (#<index>): <reason>", for callers that validate contents.
+  std::string section_error(uint32_t index, std::string_view reason) const;
+
+ private:
+  using Buffer = std::unique_ptr<uint8_t[], archive_detail::BufferFree>;
+  static Buffer allocate(uint64_t bytes);
+  struct Section {
+    const uint8_t* data = nullptr;
+    Buffer owned;
+    bool in_place = false;
+    bool skipped = false;
+  };
+
+  bool validate(std::string* error);
+  bool load_one(uint32_t index, void* dctx, std::string* error);
+  bool typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align, const void** out,
+                         uint32_t* count, std::string* error) const;
+  std::string fail(std::string_view reason) const;
+  void reset();
+
+  std::string path_;
+  void* map_ = nullptr;  // the mmap'ed file, or nullptr
+  size_t map_size_ = 0;
+  Buffer copy_;  // open_memory of unaligned bytes
+  const uint8_t* base_ = nullptr;
+  uint64_t size_ = 0;
+  Header header_{};
+  std::vector<SectionEntry> entries_;
+  std::vector<Section> sections_;
+};
+
+}  // namespace pbrta

@@ -1,0 +1,68 @@
+// format/archive_writer.h — writes a scene archive (.pbrta) from a list of sections.
+//
+// The generic container layer of the archive (format/archive.h describes the layout): the caller
+// adds sections (kind, raw bytes, element count, codec) in table order; write() compresses them
+// in parallel over sections, checksums them, lays out the file (64-byte header, the table, each
+// section 16-byte aligned and followed by at least 16 zero bytes) and writes it atomically. The
+// output depends only on the sections, the effects and the zstd level: every section is
+// compressed by its own single-threaded zstd context, so the thread count never changes a byte.
+//
+// A compressed section whose decoded size would exceed the reader's zip-bomb bounds
+// (format/archive_reader.h: 64x + 1 MiB per section, 64x + 64 MiB in all) is stored with codec
+// kNone instead, so that every archive written can be read; table() tells which codec was used.
+//
+// Ownership: the writer owns copies of (or the moved-in) section bytes until it is destroyed.
+// Thread safety: one thread drives a writer; write() uses oneTBB internally.
+// Failure: write() returns false with one message ("cannot write 'x.pbrta': No space left on
+// device") and leaves no file behind: it writes path + ".tmp-<pid>" in the same directory, syncs
+// it and renames it over path, removing the temporary on any failure, so an existing file at path
+// is either replaced whole or left as it was.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "format/archive.h"
+
+namespace pbrta {
+
+class ArchiveWriter {
+ public:
+  // Appends a section; returns its index in the table. count is stored as given.
+  uint32_t add_section(SectionKind kind, std::vector<uint8_t> raw, uint32_t count, Codec codec);
+  uint32_t add_section(SectionKind kind, const void* data, size_t size, uint32_t count,
+                       Codec codec);
+
+  uint32_t section_count() const { return static_cast<uint32_t>(sections_.size()); }
+
+  // Writes the archive to path (see above). zstd_level is clamped to zstd's range; threads <= 0
+  // means all cores. May be called more than once; the sections are kept.
+  [[nodiscard]] bool write(const std::string& path, uint64_t effects, int zstd_level, int threads,
+                           std::string* error);
+
+  // After a successful write: the file's size, its header and its table (offsets, stored sizes,
+  // codecs actually used), for reports.
+  uint64_t last_file_size() const { return header_.file_size; }
+  const Header& header() const { return header_; }
+  const std::vector<SectionEntry>& table() const { return table_; }
+
+ private:
+  struct Section {
+    SectionKind kind;
+    Codec codec;
+    uint32_t count;
+    std::vector<uint8_t> raw;
+  };
+  std::vector<Section> sections_;
+  Header header_{};
+  std::vector<SectionEntry> table_;
+};
+
+// Byte-shuffles size bytes in 4-byte lanes (Blosc-style): all byte-0s of the 4-byte words, then
+// all byte-1s, then byte-2s, then byte-3s, then the size % 4 tail bytes as they are. The stored
+// form of a kZstdShuffle4 section is one zstd frame of this. dst must not overlap src.
+void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size);
+
+}  // namespace pbrta
