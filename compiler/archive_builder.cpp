@@ -3,6 +3,7 @@
 #include <cstring>
 #include <unordered_map>
 
+#include "compiler/refine.h"
 #include "format/archive_writer.h"
 
 namespace pbrtc {
@@ -31,7 +32,8 @@ class Builder {
  public:
   Builder(const SceneDesc& scene, const SourceFiles& files, const std::string& base_dir)
       : scene_(scene), files_(files), base_dir_(base_dir) {
-    string("");  // string 0 is the empty string
+    string("");   // string 0 is the empty string
+    pstring("");  // in both tables
   }
 
   // Paths are stored relative to the top-level scene's directory.
@@ -71,16 +73,30 @@ class Builder {
     return transform(t);
   }
 
-  void provenance(Loc loc) {
-    pbrta::ProvenanceRecord p{0, 0};
+  // Provenance strings live in their own table inside the provenance section.
+  uint32_t pstring(const std::string& s) {
+    auto it = pstring_index_.find(s);
+    if (it != pstring_index_.end()) return it->second;
+    uint32_t i = uint32_t(pstrings_.size());
+    pstrings_.push_back(s);
+    pstring_index_.emplace(s, i);
+    return i;
+  }
+
+  void provenance(Loc loc, const std::string& name = "", const std::string& path = "") {
+    pbrta::ProvenanceRecord p{0, 0, pstring(name), pstring(path)};
     if (loc.valid()) {
-      p.file = string(relative(files_.display_path(loc.file)));
+      p.file = pstring(relative(files_.display_path(loc.file)));
       p.line = files_.line_col(loc).line;
     }
     provenance_.push_back(p);
   }
 
-  uint32_t entity(const Entity& e) {
+  // Strings that only say where data came from (file names) or that were
+  // resolved to indices (a mix's material names) are kept as provenance and
+  // stored as string 0, so the archive's meaning does not depend on names.
+  uint32_t entity(const Entity& e, const std::string& name = "") {
+    std::string path;
     pbrta::EntityRecord r{};
     r.category = uint8_t(e.category);
     r.type = uint16_t(e.type);
@@ -102,7 +118,11 @@ class Builder {
         case pbrta::KindStore::kString:
           for (uint32_t j = 0; j < v.count; ++j) {
             const std::string& s = e.strings[v.offset + j];
-            words_.push_back(string((ts.params[i].flags & pbrta::kParamFilename) ? relative(s) : s));
+            bool is_path = ts.params[i].flags & pbrta::kParamFilename;
+            bool resolved_name = e.category == pbrta::Category::kMaterial &&
+                                 ts.name == "mix" && ts.params[i].name.substr(0, 13) == "namedmaterial";
+            if (is_path && path.empty()) path = relative(s);
+            words_.push_back(is_path || resolved_name ? 0 : string(s));
           }
           break;
         case pbrta::KindStore::kFloat: {
@@ -118,7 +138,7 @@ class Builder {
       values_.push_back(out);
     }
     entities_.push_back(r);
-    provenance(e.loc);
+    provenance(e.loc, name, path);
     return uint32_t(entities_.size() - 1);
   }
 
@@ -136,17 +156,18 @@ class Builder {
 
     std::vector<pbrta::TextureRecord> textures;
     for (const TextureDesc& t : s.textures)
-      textures.push_back({entity(t.params), string(t.name), transform(t.world_from_texture),
-                          kNoIndex});
+      textures.push_back(
+          {entity(t.params, t.name), 0, transform(t.world_from_texture), idx(t.image)});
     std::vector<pbrta::MaterialRecord> materials;
     for (const MaterialDesc& m : s.materials)
-      materials.push_back({entity(m.params), string(m.name), {idx(m.mix[0]), idx(m.mix[1])}});
+      materials.push_back({entity(m.params, m.name), 0, {idx(m.mix[0]), idx(m.mix[1])}});
     std::vector<pbrta::MediumRecord> media;
     for (const MediumDesc& m : s.media)
-      media.push_back({entity(m.params), string(m.name), transform(m.world_from_medium), 0});
+      media.push_back({entity(m.params, m.name), transform(m.world_from_medium), {0, 0}});
     std::vector<pbrta::LightRecord> lights;
     for (const LightDesc& l : s.lights)
-      lights.push_back({entity(l.params), transform(l.world_from_light), idx(l.medium), kNoIndex});
+      lights.push_back(
+          {entity(l.params), transform(l.world_from_light), idx(l.medium), idx(l.image)});
     std::vector<uint32_t> area_lights;
     for (const Entity& a : s.area_lights) area_lights.push_back(entity(a));
     std::vector<pbrta::ShapeRecord> shapes;
@@ -167,9 +188,9 @@ class Builder {
     std::vector<pbrta::ObjectRecord> objects;
     std::vector<uint32_t> object_shapes;
     for (const ObjectDesc& o : s.objects) {
-      objects.push_back({string(o.name), uint32_t(object_shapes.size()),
-                         uint32_t(o.shapes.size()), uint32_t(provenance_.size())});
-      provenance(o.loc);
+      objects.push_back({0, uint32_t(object_shapes.size()), uint32_t(o.shapes.size()),
+                         uint32_t(provenance_.size())});
+      provenance(o.loc, o.name);
       for (int32_t sh : o.shapes) object_shapes.push_back(uint32_t(sh));
     }
     std::vector<pbrta::InstanceRecord> instances;
@@ -186,6 +207,11 @@ class Builder {
     std::vector<std::vector<uint8_t>> chunks;
     std::vector<uint32_t> chunk_counts;
     std::vector<uint32_t> mesh_chunk;
+    // A refined shape's mesh records the shape it came from.
+    std::vector<uint32_t> mesh_source(s.meshes.size(), kNoIndex);
+    for (size_t i = 0; i < s.shapes.size(); ++i)
+      if (s.shapes[i].mesh != kNone && is_refined_shape(s.shapes[i].params.type_name()))
+        mesh_source[size_t(s.shapes[i].mesh)] = uint32_t(i);
     for (const TriangleMesh& m : s.meshes) {
       uint64_t need = 16 * 6 + (m.P.size() + m.N.size() + m.S.size() + m.uv.size()) * 4 +
                       m.indices.size() * 4 + m.face_indices.size() * 4;
@@ -214,7 +240,8 @@ class Builder {
       if (!m.face_indices.empty())
         r.flags |= pbrta::kMeshFaceIndices,
             r.face_indices = put(m.face_indices.data(), m.face_indices.size() * 4);
-      r.source_shape = kNoIndex;
+      r.refine_level = m.refine_level;
+      r.source_shape = mesh_source[meshes.size()];
       mesh_chunk.push_back(uint32_t(chunks.size() - 1));
       meshes.push_back(r);
     }
@@ -245,7 +272,7 @@ class Builder {
     sr.num_object_shapes = uint32_t(object_shapes.size());
     sr.num_instances = uint32_t(instances.size());
     sr.num_meshes = uint32_t(meshes.size());
-    sr.num_images = 0;
+    sr.num_images = uint32_t(s.images.size());
 
     using K = pbrta::SectionKind;
     pbrta::Codec plain = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone;
@@ -276,16 +303,75 @@ class Builder {
                      plain);
     if (!instances.empty())
       w->add_section(K::kInstances, bytes_of(instances), uint32_t(instances.size()), plain);
-    uint32_t last = w->add_section(K::kProvenance, bytes_of(provenance_),
-                                   uint32_t(provenance_.size()), plain);
     // Meshes name their geometry section by table index: the meshes section
     // goes in now, the geometry chunks right after it.
-    uint32_t first_geometry = last + 1 + (meshes.empty() ? 0 : 1);
+    uint32_t first_geometry = w->section_count() + (meshes.empty() ? 0 : 1);
     for (size_t i = 0; i < meshes.size(); ++i) meshes[i].section = first_geometry + mesh_chunk[i];
     if (!meshes.empty())
       w->add_section(K::kMeshes, bytes_of(meshes), uint32_t(meshes.size()), plain);
     for (size_t c = 0; c < chunks.size(); ++c)
       w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], shuffled);
+    add_images(w, opt, shuffled);
+    // Provenance goes last: an archive recompiled from its own dump then
+    // matches byte for byte up to this section's offset.
+    std::vector<uint8_t> prov;
+    append(&prov, uint32_t(provenance_.size()));
+    append(&prov, uint32_t(pstrings_.size()));
+    for (const pbrta::ProvenanceRecord& p : provenance_) append(&prov, p);
+    uint32_t poff = 0;
+    append(&prov, poff);
+    for (const std::string& str : pstrings_) {
+      poff += uint32_t(str.size());
+      append(&prov, poff);
+    }
+    for (const std::string& str : pstrings_) prov.insert(prov.end(), str.begin(), str.end());
+    w->add_section(K::kProvenance, std::move(prov), uint32_t(provenance_.size()), plain);
+
+  }
+
+  // Images: the records, then texels chunks holding whole images (every level of an image in
+  // one chunk, each level 16-byte aligned), so large scenes decompress in parallel. The records
+  // name their chunk by table index, so the chunks follow the images section.
+  void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt, pbrta::Codec codec) {
+    const std::vector<ImageDesc>& in = scene_.images;
+    if (in.empty()) return;
+    std::vector<pbrta::ImageRecord> images;
+    std::vector<std::vector<uint8_t>> chunks;
+    std::vector<uint32_t> chunk_counts;
+    const uint32_t first_chunk = w->section_count() + 1;
+    for (const ImageDesc& d : in) {
+      const DecodedImage& im = d.image;
+      uint64_t need = 0;
+      for (const std::vector<float>& level : im.levels) need += (level.size() * 4 + 15) & ~15ull;
+      if (chunks.empty() ||
+          (chunks.back().size() + need > opt.texel_chunk_bytes && !chunks.back().empty())) {
+        chunks.emplace_back();
+        chunk_counts.push_back(0);
+      }
+      std::vector<uint8_t>& c = chunks.back();
+      ++chunk_counts.back();
+      pbrta::ImageRecord r{};
+      r.width = im.width;
+      r.height = im.height;
+      r.channels = im.channels;
+      r.levels = uint32_t(im.levels.size());
+      r.format = uint32_t(pbrta::PixelFormat::kFloat32);
+      r.section = first_chunk + uint32_t(chunks.size() - 1);
+      r.wrap = uint32_t(im.wrap);
+      r.distribution = idx(d.distribution);
+      for (size_t l = 0; l < im.levels.size(); ++l) {
+        c.resize((c.size() + 15) & ~size_t(15), 0);
+        if (l == 0) r.offset = c.size();
+        size_t at = c.size(), bytes = im.levels[l].size() * 4;
+        c.resize(at + bytes);
+        if (bytes) std::memcpy(c.data() + at, im.levels[l].data(), bytes);
+      }
+      images.push_back(r);
+    }
+    w->add_section(pbrta::SectionKind::kImages, bytes_of(images), uint32_t(images.size()),
+                   opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone);
+    for (size_t c = 0; c < chunks.size(); ++c)
+      w->add_section(pbrta::SectionKind::kTexels, std::move(chunks[c]), chunk_counts[c], codec);
   }
 
  private:
@@ -300,6 +386,8 @@ class Builder {
   std::vector<pbrta::ValueRecord> values_;
   std::vector<uint32_t> words_;
   std::vector<pbrta::ProvenanceRecord> provenance_;
+  std::vector<std::string> pstrings_;
+  std::unordered_map<std::string, uint32_t> pstring_index_;
 };
 
 uint64_t effect_bits(const Effects& fx) {

@@ -23,6 +23,9 @@ struct ArchiveOptions {
   // Geometry sections hold whole meshes up to this many raw bytes, so a
   // large scene decompresses in parallel.
   uint64_t geometry_chunk_bytes = uint64_t(16) << 20;
+  // Texels sections hold whole images (all levels) up to this many raw bytes; a larger image
+  // has a section of its own.
+  uint64_t texel_chunk_bytes = uint64_t(16) << 20;
 };
 
 struct ArchiveStats {

@@ -53,6 +53,18 @@ bool parse_float_token(std::string_view s, float* v) {
   return true;
 }
 
+bool parse_double_token(std::string_view s, double* v) {
+  const char* b = s.data();
+  const char* e = b + s.size();
+  if (b < e && *b == '+') {
+    ++b;
+    if (b < e && (*b == '+' || *b == '-')) return false;
+  }
+  if (b == e) return false;
+  auto r = fast_float::from_chars(b, e, *v);
+  return r.ec == std::errc() && r.ptr == e;
+}
+
 bool parse_int_token(std::string_view s, int32_t* v) {
   const char* b = s.data();
   const char* e = b + s.size();
@@ -206,6 +218,30 @@ bool Lexer::to_float(const Token& tok, float* v) {
     return false;
   }
   return true;
+}
+
+bool Lexer::to_double(const Token& tok, double* v) {
+  if (!parse_double_token(tok.text, v)) {
+    diag_->error(tok.loc, "malformed number '" + std::string(tok.text) + "'");
+    return false;
+  }
+  // Values that only overflow float are as wrong as they are in the rest of the scene.
+  if (!std::isfinite(*v) || !std::isfinite(float(*v))) {
+    diag_->error(tok.loc, "number '" + std::string(tok.text) + "' is not finite");
+    return false;
+  }
+  return true;
+}
+
+bool Lexer::read_doubles(std::vector<double>* out) {
+  for (;;) {
+    Token t = next();
+    if (t.kind == TokenKind::kRBracket) return true;
+    if (t.kind != TokenKind::kNumber) return bad_array_token(t, "a number", nullptr);
+    double v;
+    if (!to_double(t, &v)) return false;
+    out->push_back(v);
+  }
 }
 
 bool Lexer::to_int(const Token& tok, int32_t* v) {

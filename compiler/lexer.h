@@ -52,6 +52,10 @@ class Lexer {
 
   // Converts a kNumber token. Report errors at tok.loc and return false.
   bool to_float(const Token& tok, float* v);
+  // Transforms are read in double precision, so a transform written by
+  // pbrtc --dump with 17 digits reads back bit for bit.
+  bool to_double(const Token& tok, double* v);
+  bool read_doubles(std::vector<double>* out);
   bool to_int(const Token& tok, int32_t* v);
 
   // True if s points into this lexer's unescape buffer (and so dies at the
@@ -84,6 +88,7 @@ class Lexer {
 
 // Shared number rules, also used by the fuzzer and tests: parses a whole token.
 bool parse_float_token(std::string_view s, float* v);
+bool parse_double_token(std::string_view s, double* v);
 bool parse_int_token(std::string_view s, int32_t* v);
 
 }  // namespace pbrtc

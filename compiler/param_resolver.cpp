@@ -347,7 +347,7 @@ void ParamResolver::assign_all(Entity* e, const ParamList& params, const Texture
   const TypeSpec& ts = e->spec();
   for (const ParsedParam& p : params.params) {
     int slot = pbrta::find_param(ts, p.name);
-    if (slot < 0) continue;
+    if (slot < 0 || (ts.params[slot].flags & pbrta::kParamDerived)) continue;
     if (skip_bulk && (ts.params[slot].flags & pbrta::kParamBulk)) {
       p.looked_up = true;
       if (!type_fits(ts.params[slot], p.type)) {

@@ -224,8 +224,8 @@ class Parser {
         return false;
       }
       Token n = tnext();
-      float v;
-      if (!lx().to_float(n, &v)) {
+      double v;
+      if (!lx().to_double(n, &v)) {
         recover();
         return false;
       }
@@ -244,7 +244,7 @@ class Parser {
     }
     Token open = tnext();
     scratch_.clear();
-    if (!lx().read_numbers(&scratch_)) {
+    if (!lx().read_doubles(&scratch_)) {
       recover();
       return false;
     }
@@ -650,7 +650,7 @@ class Parser {
   std::vector<std::unique_ptr<Lexer>> finished_;
   std::vector<std::string> canonical_;
   ParamList params_;
-  std::vector<float> scratch_;
+  std::vector<double> scratch_;
 };
 
 }  // namespace

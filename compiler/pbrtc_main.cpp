@@ -4,6 +4,7 @@
 //   pbrtc --check scene.pbrt...         parse and validate only, print a summary
 //   pbrtc --info scene.pbrta            describe an archive
 //   pbrtc --verify scene.pbrta          load and check an archive as pbrtrun does
+//   pbrtc --dump scene.pbrta OUTDIR     write an archive back out as a pbrt-v3 scene
 //   pbrtc --print-schema                the parameter schema as Markdown
 //
 // Diagnostics go to stderr as "path:line:col: error: message"; the exit code
@@ -14,6 +15,7 @@
 #include <iostream>
 
 #include "compiler/archive_builder.h"
+#include "compiler/archive_dump.h"
 #include "compiler/archive_info.h"
 #include "compiler/diagnostics.h"
 #include "compiler/parser.h"
@@ -41,7 +43,7 @@ int main(int argc, char** argv) {
   CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives (.pbrta)"};
   std::vector<std::string> inputs;
   std::string outfile, codec = "zstd";
-  bool check = false, info = false, verify = false, print_schema = false;
+  bool check = false, info = false, verify = false, dump = false, print_schema = false;
   bool werror = false, quiet = false;
   int max_errors = 20, zstd_level = 6, nthreads = 0;
   app.add_option("files", inputs, "pbrt-v3 scene files (\"-\" or none: standard input), or "
@@ -51,6 +53,8 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check, "parse and validate only; print a summary of each scene");
   app.add_flag("--info", info, "describe archives: version, effects, sections, counts");
   app.add_flag("--verify", verify, "load archives exactly as pbrtrun does; exit 0 only if sound");
+  app.add_flag("--dump", dump, "write an archive back out as a pbrt-v3 scene: --dump A.pbrta "
+                               "OUTDIR (meshes as PLY beside it)");
   app.add_flag("--print-schema", print_schema, "print the parameter schema as Markdown");
   app.add_option("--codec", codec, "section compression: zstd (default) or none (usable in place)")
       ->check(CLI::IsMember({"zstd", "none"}));
@@ -67,6 +71,27 @@ int main(int argc, char** argv) {
 
   if (print_schema) {
     pbrtc::print_schema_markdown(std::cout);
+    return 0;
+  }
+  if (dump) {
+    if (inputs.size() != 2) {
+      std::cerr << "pbrtc: error: --dump takes an archive and an output directory\n";
+      return 2;
+    }
+    pbrta::SceneArchive archive;
+    std::string error;
+    if (!archive.load(inputs[0], nthreads, &error)) {
+      std::cerr << "pbrtc: error: " << error << "\n";
+      return 1;
+    }
+    std::string base = inputs[0].substr(inputs[0].find_last_of('/') + 1);
+    if (base.size() > 6 && base.compare(base.size() - 6, 6, ".pbrta") == 0)
+      base.resize(base.size() - 6);
+    if (!pbrtc::dump_archive(archive, inputs[1], base + ".pbrt", &error)) {
+      std::cerr << "pbrtc: error: " << error << "\n";
+      return 1;
+    }
+    if (!quiet) std::cerr << "pbrtc: wrote " << inputs[1] << "/" << base << ".pbrt\n";
     return 0;
   }
   if (info || verify) {

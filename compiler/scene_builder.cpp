@@ -7,7 +7,13 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <fstream>
+#include <sstream>
+
 #include "compiler/mesh_builder.h"
+#include "compiler/spectrum.h"
+#include "compiler/refine.h"
+#include "compiler/scene_images.h"
 
 namespace pbrtc {
 
@@ -452,6 +458,38 @@ void SceneBuilder::Camera(Loc loc, std::string_view type, const ParamList& param
       cam.params.floats.push_back(2 * cam.params.get_float("halffov"));
     }
   }
+  // The realistic camera's lens description is read now, so the runtime
+  // opens no file: 4 numbers per element, as pbrt-v3 reads it.
+  if (cam.params.type_name() == "realistic" && cam.params.given("lensfile")) {
+    const std::string& path = cam.params.get_string("lensfile");
+    const ParsedParam* lp = params.find("lensfile");
+    Loc where = lp ? lp->value_loc : loc;
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::vector<float> lens;
+    SpdError err;
+    int line, col, last_line, last_col;
+    if (!in || !parse_float_file(text.str(), &lens, &err, &line, &col, &last_line, &last_col)) {
+      s_->diag->error(where, "lens file \"" + path + "\"" +
+                                 (in ? ":" + std::to_string(err.line) + ":" +
+                                           std::to_string(err.column) + ": " + err.message
+                                     : ": cannot read it"));
+      return;
+    }
+    if (lens.empty() || lens.size() % 4 != 0) {
+      s_->diag->error(where, "lens file \"" + path + "\" has " + std::to_string(lens.size()) +
+                                 " numbers; a lens needs 4 per element (radius, thickness, "
+                                 "index of refraction, aperture)");
+      return;
+    }
+    int slot = cam.params.slot("lensdata");
+    Value& v = cam.params.values[size_t(slot)];
+    v.offset = uint32_t(cam.params.floats.size());
+    v.count = uint32_t(lens.size());
+    v.given = true;
+    cam.params.floats.insert(cam.params.floats.end(), lens.begin(), lens.end());
+  }
   cam.camera_from_world.start = s_->cur.t[0];
   cam.camera_from_world.end = s_->cur.t[1];
   cam.camera_from_world.start_time = s_->times[0];
@@ -808,6 +846,17 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
       return;
     s_->scene->meshes.push_back(std::move(mesh));
     sh.mesh = int32_t(s_->scene->meshes.size() - 1);
+  } else if (is_refined_shape(tn)) {
+    // pbrt-v3 refines these into triangles when it builds the scene; the archive holds the
+    // triangles instead.
+    TriangleMesh mesh;
+    std::string error;
+    if (!refine_shape(sh.params, &mesh, &error)) {
+      s_->diag->error(loc, error);
+      return;
+    }
+    s_->scene->meshes.push_back(std::move(mesh));
+    sh.mesh = int32_t(s_->scene->meshes.size() - 1);
   }
 
   sh.material = material;
@@ -842,6 +891,8 @@ bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
   SceneBuilder builder(scene, diag, files, path == "-" ? "" : directory_of(path));
   parse_file(path, files, diag, &builder);
   for (size_t i = 0; i < files->size(); ++i) scene->input_files.push_back(files->display_path(uint32_t(i)));
+  // Images only once the scene is sound: decoding is the slow part of a compile.
+  if (diag->error_count() == before) decode_scene_images(scene, diag);
   return diag->error_count() == before;
 }
 
@@ -855,6 +906,7 @@ bool build_scene_from_string(const std::string& display_path, std::string text,
   // The text itself is no file, but what it Included is.
   for (size_t i = first_file + 1; i < files->size(); ++i)
     scene->input_files.push_back(files->display_path(uint32_t(i)));
+  if (diag->error_count() == before) decode_scene_images(scene, diag);
   return diag->error_count() == before;
 }
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "compiler/image_decoder.h"
 #include "compiler/source_files.h"
 #include "compiler/transform.h"
 #include "format/schema.h"
@@ -72,6 +73,8 @@ struct TriangleMesh {
   std::vector<float> uv;       // empty or 2 per vertex
   std::vector<uint32_t> indices;       // 3 per triangle
   std::vector<int32_t> face_indices;   // empty or 1 per triangle
+  // Refined shapes (compiler/refine.h): loopsubdiv levels, nurbs grid size; 0 otherwise.
+  uint32_t refine_level = 0;
   size_t num_vertices() const { return P.size() / 3; }
   size_t num_triangles() const { return indices.size() / 3; }
 };
@@ -80,6 +83,7 @@ struct TextureDesc {
   std::string name;
   Entity params;  // kFloatTexture or kSpectrumTexture
   Matrix4 world_from_texture;
+  int32_t image = kNone;  // imagemap: index into SceneDesc::images
 };
 
 struct MaterialDesc {
@@ -98,11 +102,20 @@ struct LightDesc {
   Entity params;
   Matrix4 world_from_light;
   int32_t medium = kNone;  // the outside medium at the light's definition
+  int32_t image = kNone;   // infinite, projection, goniometric "mapname": index into images
+};
+
+// An image decoded at compile time (compiler/scene_images.h): an imagemap texture's or a light's
+// map with its MIP pyramid, or an environment map's sampling distribution.
+struct ImageDesc {
+  std::string source;            // the file decoded, as resolved
+  DecodedImage image;
+  int32_t distribution = kNone;  // environment maps: the image of pbrt-v3's sampling distribution
 };
 
 struct ShapeDesc {
   Entity params;             // bulk mesh arrays are moved to meshes[mesh]
-  int32_t mesh = kNone;      // trianglemesh and plymesh: index into SceneDesc::meshes
+  int32_t mesh = kNone;      // trianglemesh, plymesh, refined shapes: index into meshes
   int32_t material = kNone;  // index into materials
   int32_t area_light = kNone;  // index into area_lights, or kNone
   int32_t inside_medium = kNone, outside_medium = kNone;
@@ -156,6 +169,7 @@ struct SceneDesc {
   std::vector<AnimatedTransform> transforms;
   std::vector<ObjectDesc> objects;
   std::vector<InstanceDesc> instances;
+  std::vector<ImageDesc> images;  // filled by decode_scene_images once the scene is built
   // Every file the compile read (scene files, meshes, spectra), for provenance
   // and cache keys, as display paths.
   std::vector<std::string> input_files;

@@ -175,11 +175,11 @@ Rgb rgb_from_blackbody(float temperature_kelvin, float scale) {
 
 // ---- Spectral data files ----
 
-bool parse_spd(std::string_view text, std::vector<float>* lambda, std::vector<float>* value,
-               SpdError* error) {
-  lambda->clear();
-  value->clear();
-  std::vector<float> numbers;
+bool parse_float_file(std::string_view text, std::vector<float>* out, SpdError* error,
+                      int* end_line, int* end_column, int* last_number_line,
+                      int* last_number_column) {
+  std::vector<float>& numbers = *out;
+  numbers.clear();
   int line = 1, column = 1;
   int last_line = 0, last_column = 0;  // where the most recent number started
   auto fail = [&](int at_line, int at_column, std::string message) {
@@ -231,6 +231,25 @@ bool parse_spd(std::string_view text, std::vector<float>* lambda, std::vector<fl
     }
   }
 
+  *end_line = line;
+  *end_column = column;
+  *last_number_line = last_line;
+  *last_number_column = last_column;
+  return true;
+}
+
+bool parse_spd(std::string_view text, std::vector<float>* lambda, std::vector<float>* value,
+               SpdError* error) {
+  lambda->clear();
+  value->clear();
+  std::vector<float> numbers;
+  int line, column, last_line, last_column;
+  if (!parse_float_file(text, &numbers, error, &line, &column, &last_line, &last_column))
+    return false;
+  auto fail = [&](int at_line, int at_column, std::string message) {
+    if (error != nullptr) *error = SpdError{at_line, at_column, std::move(message)};
+    return false;
+  };
   if (numbers.empty()) {
     return fail(line, column, "no values: expected (wavelength, value) pairs");
   }

@@ -61,6 +61,13 @@ struct SpdError {
 bool parse_spd(std::string_view text, std::vector<float>* lambda, std::vector<float>* value,
                SpdError* error);
 
+// The number reading under parse_spd (pbrt-v3's ReadFloatFile rules, with the strictness above),
+// for other float files such as the realistic camera's lens files. On success also reports where
+// the text ended and where the last number started, for messages about the count.
+bool parse_float_file(std::string_view text, std::vector<float>* numbers, SpdError* error,
+                      int* end_line, int* end_column, int* last_number_line,
+                      int* last_number_column);
+
 // ---- Metal's default ----
 
 // pbrt-v3's metal material default: the measured copper eta and k tables through rgb_from_sampled.

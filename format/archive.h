@@ -154,9 +154,11 @@ struct TransformRecord {
 };
 static_assert(sizeof(TransformRecord) == 272, "TransformRecord is 272 bytes");
 
+// Names and file names are provenance (they say where data came from, not
+// what it is): they live in the provenance section, not in these records.
 struct TextureRecord {
   uint32_t entity;     // kFloatTexture or kSpectrumTexture
-  uint32_t name;       // string
+  uint32_t reserved;
   uint32_t transform;  // world from texture
   uint32_t image;      // decoded image (imagemap), or kNoIndex
 };
@@ -164,16 +166,15 @@ static_assert(sizeof(TextureRecord) == 16, "TextureRecord is 16 bytes");
 
 struct MaterialRecord {
   uint32_t entity;  // kMaterial; type "none" is the interface material ""
-  uint32_t name;    // string (empty for anonymous materials)
+  uint32_t reserved;
   uint32_t mix[2];  // mix: namedmaterial1, namedmaterial2 as material indices
 };
 static_assert(sizeof(MaterialRecord) == 16, "MaterialRecord is 16 bytes");
 
 struct MediumRecord {
   uint32_t entity;
-  uint32_t name;
   uint32_t transform;  // world from medium
-  uint32_t reserved;
+  uint32_t reserved[2];
 };
 static_assert(sizeof(MediumRecord) == 16, "MediumRecord is 16 bytes");
 
@@ -204,7 +205,7 @@ struct ShapeRecord {
 static_assert(sizeof(ShapeRecord) == 40, "ShapeRecord is 40 bytes");
 
 struct ObjectRecord {
-  uint32_t name;
+  uint32_t reserved;
   uint32_t first_shape;  // into the object-shapes array
   uint32_t num_shapes;
   uint32_t provenance;
@@ -242,11 +243,19 @@ struct MeshRecord {
 };
 static_assert(sizeof(MeshRecord) == 72, "MeshRecord is 72 bytes");
 
+// Where a record came from. The provenance section is self-contained:
+//   u32 num_records, u32 num_strings, ProvenanceRecord[num_records],
+//   u32 string_offsets[num_strings + 1], then the characters;
+// its strings are indices into that local table, so the rest of the archive
+// does not depend on file or entity names (an archive recompiled from its
+// own dump is byte-identical outside this section).
 struct ProvenanceRecord {
-  uint32_t file;  // string: the scene file as the user named it
+  uint32_t file;  // local string: the scene file, relative to the top-level scene's directory
   uint32_t line;  // 1-based; 0 for defaults the scene did not write
+  uint32_t name;  // local string: the name given (texture, material, medium, object), or 0
+  uint32_t path;  // local string: the file a file-name parameter named (mesh, image), or 0
 };
-static_assert(sizeof(ProvenanceRecord) == 8, "ProvenanceRecord is 8 bytes");
+static_assert(sizeof(ProvenanceRecord) == 16, "ProvenanceRecord is 16 bytes");
 
 enum class PixelFormat : uint32_t { kFloat32 = 0, kHalf16 = 1, kUnorm8 = 2 };
 
@@ -264,8 +273,7 @@ struct ImageRecord {
   uint32_t wrap;          // 0 repeat, 1 black, 2 clamp
   uint32_t distribution;  // for environment maps: the image index of the sampling
                           // distribution (kNoIndex if none)
-  uint32_t source;        // string: the file it was decoded from
-  uint32_t reserved;
+  uint32_t reserved[2];   // (the file it was decoded from is in the user's provenance)
 };
 static_assert(sizeof(ImageRecord) == 48, "ImageRecord is 48 bytes");
 

@@ -119,11 +119,25 @@ const int32_t* SceneArchive::face_indices(uint32_t m) const {
              : nullptr;
 }
 
-std::string SceneArchive::where(uint32_t entity) const {
-  if (entity >= provenance.size) return "?";
-  const ProvenanceRecord& p = provenance[entity];
+std::string_view SceneArchive::provenance_string(uint32_t i) const {
+  if (i >= num_pstrings_) return {};
+  return std::string_view(pstring_data_ + pstring_offsets_[i],
+                          pstring_offsets_[i + 1] - pstring_offsets_[i]);
+}
+
+std::string SceneArchive::where(uint32_t index) const {
+  if (index >= provenance.size) return "?";
+  const ProvenanceRecord& p = provenance[index];
   if (p.line == 0) return "default";
-  return std::string(string(p.file)) + ":" + std::to_string(p.line);
+  return std::string(provenance_string(p.file)) + ":" + std::to_string(p.line);
+}
+
+std::string_view SceneArchive::name_of(uint32_t index) const {
+  return index < provenance.size ? provenance_string(provenance[index].name) : std::string_view();
+}
+
+std::string_view SceneArchive::path_of(uint32_t index) const {
+  return index < provenance.size ? provenance_string(provenance[index].path) : std::string_view();
 }
 
 bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
@@ -253,13 +267,47 @@ bool SceneArchive::validate(std::string* error) {
             array(SectionKind::kMeshes, &meshes, sr.num_meshes, false) &&
             array(SectionKind::kImages, &images, sr.num_images, false);
   if (ok) {
+    // Provenance: u32 records, u32 strings, records, string offsets, characters.
     int s = sec(SectionKind::kProvenance);
     uint32_t expected = sr.num_entities + sr.num_objects + sr.num_instances;
-    ok = array(SectionKind::kProvenance, &provenance,
-               s >= 0 ? r.entry(uint32_t(s)).count : expected, true);
-    if (ok && provenance.size < expected)
-      ok = c.fail("has " + std::to_string(provenance.size) + " records, needs " +
-                  std::to_string(expected));
+    if (s < 0) {
+      c.in(-1);
+      ok = c.fail("no provenance section");
+    } else {
+      c.in(s);
+      const uint8_t* d = r.section_data(uint32_t(s));
+      uint64_t size = r.section_size(uint32_t(s));
+      uint32_t nrec = 0, nstr = 0;
+      if (size >= 8) {
+        std::memcpy(&nrec, d, 4);
+        std::memcpy(&nstr, d + 4, 4);
+      }
+      uint64_t records_end = 8 + uint64_t(nrec) * sizeof(ProvenanceRecord);
+      uint64_t head = records_end + (uint64_t(nstr) + 1) * 4;
+      if (size < 8 || head > size) {
+        ok = c.fail("provenance tables do not fit (" + std::to_string(size) + " bytes)");
+      } else if (nrec != r.entry(uint32_t(s)).count || nrec < expected || nstr == 0) {
+        ok = c.fail("has " + std::to_string(nrec) + " records, needs " + std::to_string(expected));
+      } else {
+        provenance.data = reinterpret_cast<const ProvenanceRecord*>(d + 8);
+        provenance.size = nrec;
+        pstring_offsets_ = reinterpret_cast<const uint32_t*>(d + records_end);
+        pstring_data_ = reinterpret_cast<const char*>(d + head);
+        num_pstrings_ = nstr;
+        if (pstring_offsets_[0] != 0) ok = c.fail("first string offset is not 0");
+        for (uint32_t i = 0; i < nstr && ok; ++i)
+          if (pstring_offsets_[i + 1] < pstring_offsets_[i])
+            ok = c.fail("string offsets decrease at string " + std::to_string(i));
+        if (ok && pstring_offsets_[nstr] != size - head)
+          ok = c.fail("string data size does not match its offsets");
+        for (uint32_t i = 0; i < nrec && ok; ++i) {
+          const ProvenanceRecord& p = provenance[i];
+          if (p.file >= nstr || p.name >= nstr || p.path >= nstr)
+            ok = c.fail("record " + std::to_string(i) + ": string out of range (" +
+                        std::to_string(nstr) + " strings)");
+        }
+      }
+    }
   }
   if (!ok) {
     *error = c.message();
@@ -366,7 +414,7 @@ bool SceneArchive::validate(std::string* error) {
       c.fail("texture " + std::to_string(i) + ": entity is not a texture");
       break;
     }
-    c.index(t.name, num_strings_, "texture", i, "name", "strings", false) &&
+    (t.reserved == 0 || c.fail("texture " + std::to_string(i) + ": reserved field is not zero")) &&
         c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
         c.index(t.image, images.size, "texture", i, "image", "images", true);
   }
@@ -392,7 +440,7 @@ bool SceneArchive::validate(std::string* error) {
   for (uint32_t i = 0; i < materials.size && !c.failed(); ++i) {
     const MaterialRecord& m = materials[i];
     entity_of(m.entity, Category::kMaterial, "material", i, "entity") &&
-        c.index(m.name, num_strings_, "material", i, "name", "strings", false) &&
+        (m.reserved == 0 || c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
         c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
         c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   }
@@ -400,9 +448,9 @@ bool SceneArchive::validate(std::string* error) {
   for (uint32_t i = 0; i < media.size && !c.failed(); ++i) {
     const MediumRecord& m = media[i];
     entity_of(m.entity, Category::kMedium, "medium", i, "entity") &&
-        c.index(m.name, num_strings_, "medium", i, "name", "strings", false) &&
         c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
-        (m.reserved == 0 || c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
+        ((m.reserved[0] | m.reserved[1]) == 0 ||
+         c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
   }
   c.in(sec(SectionKind::kLights));
   for (uint32_t i = 0; i < lights.size && !c.failed(); ++i) {
@@ -433,7 +481,7 @@ bool SceneArchive::validate(std::string* error) {
   c.in(sec(SectionKind::kObjects));
   for (uint32_t i = 0; i < objects.size && !c.failed(); ++i) {
     const ObjectRecord& o = objects[i];
-    c.index(o.name, num_strings_, "object", i, "name", "strings", false) &&
+    (o.reserved == 0 || c.fail("object " + std::to_string(i) + ": reserved field is not zero")) &&
         c.index(o.provenance, provenance.size, "object", i, "provenance", "records", false) &&
         (uint64_t(o.first_shape) + o.num_shapes <= object_shapes.size ||
          c.fail("object " + std::to_string(i) + ": shapes out of range"));
@@ -449,9 +497,6 @@ bool SceneArchive::validate(std::string* error) {
         c.index(in.provenance, provenance.size, "instance", i, "provenance", "records", false) &&
         (in.reserved == 0 || c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   }
-  c.in(sec(SectionKind::kProvenance));
-  for (uint32_t i = 0; i < provenance.size && !c.failed(); ++i)
-    c.index(provenance[i].file, num_strings_, "record", i, "file", "strings", false);
   c.in(sec(SectionKind::kMeshes));
   for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
     const MeshRecord& m = meshes[i];
@@ -502,7 +547,7 @@ bool SceneArchive::validate(std::string* error) {
     }
     if ((im.channels != 1 && im.channels != 3) || im.levels == 0 || im.levels > 32 ||
         im.format > uint32_t(PixelFormat::kUnorm8) || im.wrap > 2 || im.width == 0 ||
-        im.height == 0 || im.reserved != 0) {
+        im.height == 0 || im.reserved[0] != 0 || im.reserved[1] != 0) {
       c.fail(at + "malformed header");
       break;
     }
@@ -520,8 +565,7 @@ bool SceneArchive::validate(std::string* error) {
       off = (off + bytes + 15) & ~uint64_t(15);
     }
     if (!c.failed())
-      c.index(im.distribution, images.size, "image", i, "distribution", "images", true) &&
-          c.index(im.source, num_strings_, "image", i, "source", "strings", false);
+      c.index(im.distribution, images.size, "image", i, "distribution", "images", true);
   }
   if (c.failed()) {
     *error = c.message();

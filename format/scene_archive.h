@@ -80,8 +80,15 @@ class SceneArchive {
   const uint32_t* indices(uint32_t mesh) const;
   const int32_t* face_indices(uint32_t mesh) const;
 
-  // "file:line" of an entity, for messages such as "not supported yet".
-  std::string where(uint32_t entity) const;
+  // Provenance: where a record came from. index is an entity index, or an
+  // ObjectRecord's / InstanceRecord's provenance field.
+  // "file:line" for messages such as "not supported yet".
+  std::string where(uint32_t index) const;
+  // The name the scene gave (texture, material, medium, object), or "".
+  std::string_view name_of(uint32_t index) const;
+  // The file a file-name parameter named (a PLY mesh, an image), or "".
+  std::string_view path_of(uint32_t index) const;
+  std::string_view provenance_string(uint32_t i) const;
 
  private:
   bool validate(std::string* error);
@@ -92,6 +99,9 @@ class SceneArchive {
   const uint32_t* string_offsets_ = nullptr;
   const char* string_data_ = nullptr;
   uint32_t num_strings_ = 0;
+  const uint32_t* pstring_offsets_ = nullptr;
+  const char* pstring_data_ = nullptr;
+  uint32_t num_pstrings_ = 0;
 };
 
 }  // namespace pbrta

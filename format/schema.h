@@ -71,6 +71,9 @@ enum ParamFlag : uint8_t {
   // Bulk array data (mesh vertices, indices): the compiler moves it to the
   // geometry sections instead of keeping it in the record.
   kParamBulk = 1u << 3,
+  // Derived: filled in by the compiler from a file the scene names (the
+  // realistic camera's lens elements); a scene cannot set it.
+  kParamDerived = 1u << 4,
 };
 
 // A default value. Scalars use v[0]; points, vectors and RGB use v[0..2]; fixed

@@ -107,6 +107,10 @@ constexpr ParamSpec required(ParamSpec p) {
   p.flags |= kParamRequired;
   return p;
 }
+constexpr ParamSpec derived(ParamSpec p) {
+  p.flags |= kParamDerived;
+  return p;
+}
 constexpr ParamSpec computed(ParamSpec p, std::string_view note) {
   p.flags |= kParamComputedDefault;
   p.note = note;
@@ -644,6 +648,10 @@ constexpr ParamSpec kRealistic[] = {
     p_float("aperturediameter", 1),
     p_float("focusdistance", 10),
     p_bool("simpleweighting", true),
+    // Read from "lensfile" at compile time, so the runtime opens no file.
+    noted(derived(p_bulk("lensdata", Kind::kFloat)),
+          "the lens file's elements, 4 floats each: curvature radius, thickness, index of "
+          "refraction, aperture diameter (mm), front to back"),
 };
 constexpr ParamSpec kEnvironment[] = {
     p_float("shutteropen", 0),

@@ -1,5 +1,6 @@
 #include "test_support.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,6 +22,17 @@ std::string shared_dir() {
     std::abort();
   }
   return dir;
+}
+
+std::vector<std::string> shared_entry_scenes() {
+  std::vector<std::string> out;
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(shared_dir() + "/scenes")) {
+    if (!e.is_regular_file() || e.path().extension() != ".pbrt") continue;
+    if (read_file(e.path().string()).find("WorldBegin") != std::string::npos)
+      out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 std::string scratch_dir(const std::string& test_name) {

@@ -6,11 +6,16 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace testing_support {
 
 // The shared corpus directory; aborts the process with a message if absent.
 std::string shared_dir();
+
+// Every entry scene of the shared corpus: the .pbrt files under
+// shared_dir()/scenes that contain "WorldBegin" (the others are Included), sorted.
+std::vector<std::string> shared_entry_scenes();
 
 // A fresh empty directory under the build tree for one test's files.
 std::string scratch_dir(const std::string& test_name);

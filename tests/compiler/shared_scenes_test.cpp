@@ -55,17 +55,6 @@ bool is_missing_file_error(const Diagnostic& d, const std::vector<std::string>& 
   return false;
 }
 
-std::vector<std::string> entry_files(const std::string& scenes) {
-  std::vector<std::string> out;
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(scenes)) {
-    if (!e.is_regular_file() || e.path().extension() != ".pbrt") continue;
-    std::string text = testing_support::read_file(e.path().string());
-    if (text.find("WorldBegin") != std::string::npos) out.push_back(e.path().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 TEST(SharedScenes, EveryEntrySceneCompiles) {
   const std::string scenes = testing_support::shared_dir() + "/scenes";
   const std::vector<std::string> missing =
@@ -75,7 +64,7 @@ TEST(SharedScenes, EveryEntrySceneCompiles) {
                       "pbrt-v3-scenes/dragon/geometry/dragon_remeshed.ply"),
             missing.end());
 
-  const std::vector<std::string> entries = entry_files(scenes);
+  const std::vector<std::string> entries = testing_support::shared_entry_scenes();
   EXPECT_GE(entries.size(), 50u);
 
   std::printf("%-80s %7s %10s %6s %8s  %s\n", "scene", "shapes", "triangles", "warn", "ms",

@@ -1,0 +1,23 @@
+// compiler/scene_images.h — every image a built scene uses, decoded once.
+//
+// pbrt-v3 reads an imagemap texture's file when the Texture directive is met and a light's map
+// when the light is made, and caches textures by file and options. decode_scene_images does
+// that work at compile time for the whole scene: each distinct (file, processing options)
+// pair is decoded once with compiler/image_decoder.h, the distinct images in parallel (oneTBB),
+// and the results are stored in SceneDesc::images in first-use order (textures, then lights), so
+// the output does not depend on the thread count. TextureDesc::image and LightDesc::image name
+// them; an infinite light's image also names its sampling distribution, stored right after it.
+//
+// Failure: an image that cannot be read is an error at the texture's or light's directive,
+// 'cannot read image "x.png": <reason>' (pbrt-v3 would warn and render a constant). Returns
+// false if any error was reported. Not thread-safe on one SceneDesc.
+#pragma once
+
+#include "compiler/diagnostics.h"
+#include "compiler/scene_desc.h"
+
+namespace pbrtc {
+
+bool decode_scene_images(SceneDesc* scene, Diagnostics* diag);
+
+}  // namespace pbrtc

@@ -1,0 +1,207 @@
+// tests/compiler/archive_write_test.cpp — scenes compiled to archives and loaded back.
+//
+// Every shared entry scene that compiles is written as an archive (zstd and
+// uncompressed), loaded through SceneArchive (the path pbrtrun and pbrtc
+// --verify use), and compared with the SceneDesc it came from. Output must not
+// depend on the thread count, and a damaged archive must give an error that
+// names the file, never a crash.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "compiler/archive_builder.h"
+#include "compiler/parser.h"
+#include "compiler/scene_builder.h"
+#include "format/scene_archive.h"
+#include "test_support.h"
+
+namespace pbrtc {
+namespace {
+
+struct Compiled {
+  SourceFiles files;
+  SceneDesc scene;
+  bool ok = false;
+};
+
+void compile(const std::string& path, Compiled* c) {
+  Diagnostics diag(&c->files, nullptr);
+  c->ok = build_scene(path, &c->files, &diag, &c->scene);
+}
+
+std::string write(const Compiled& c, const std::string& scene_path, const std::string& out,
+                  bool compress, int threads) {
+  ArchiveOptions opt;
+  opt.compress = compress;
+  opt.threads = threads;
+  std::string error;
+  EXPECT_TRUE(write_archive(c.scene, c.files, directory_of(scene_path), out, opt, nullptr, &error))
+      << error;
+  return testing_support::read_file(out);
+}
+
+// The archive holds what the SceneDesc holds.
+void expect_matches(const SceneDesc& s, const pbrta::SceneArchive& a, const std::string& name) {
+  SCOPED_TRACE(name);
+  const pbrta::SceneRecord& r = a.scene();
+  EXPECT_EQ(r.num_shapes, s.shapes.size());
+  EXPECT_EQ(r.num_materials, s.materials.size());
+  EXPECT_EQ(r.num_textures, s.textures.size());
+  EXPECT_EQ(r.num_lights, s.lights.size());
+  EXPECT_EQ(r.num_area_lights, s.area_lights.size());
+  EXPECT_EQ(r.num_media, s.media.size());
+  EXPECT_EQ(r.num_objects, s.objects.size());
+  EXPECT_EQ(r.num_instances, s.instances.size());
+  ASSERT_EQ(r.num_meshes, s.meshes.size());
+  EXPECT_EQ(a.type_name(r.camera), s.camera.params.type_name());
+  EXPECT_EQ(a.get_int(r.film, "xresolution"), s.film.get_int("xresolution"));
+  EXPECT_EQ(a.type_name(r.integrator), s.integrator.type_name());
+  for (uint32_t i = 0; i < r.num_shapes; ++i) {
+    const ShapeDesc& sh = s.shapes[i];
+    const pbrta::ShapeRecord& rec = a.shapes[i];
+    EXPECT_EQ(a.type_name(rec.entity), sh.params.type_name());
+    EXPECT_EQ(rec.material, uint32_t(sh.material));
+    EXPECT_EQ(rec.mesh, sh.mesh < 0 ? pbrta::kNoIndex : uint32_t(sh.mesh));
+    // The transform survives bit for bit (double in both).
+    const AnimatedTransform& t = s.transforms[size_t(sh.transform)];
+    EXPECT_EQ(0, std::memcmp(a.transforms[rec.transform].start, t.start.m.data(), 128));
+  }
+  for (uint32_t m = 0; m < r.num_meshes; ++m) {
+    const TriangleMesh& mesh = s.meshes[m];
+    ASSERT_EQ(a.meshes[m].num_vertices, mesh.num_vertices());
+    ASSERT_EQ(a.meshes[m].num_triangles, mesh.num_triangles());
+    EXPECT_EQ(0, std::memcmp(a.positions(m), mesh.P.data(), mesh.P.size() * 4));
+    EXPECT_EQ(0, std::memcmp(a.indices(m), mesh.indices.data(), mesh.indices.size() * 4));
+    EXPECT_EQ(a.normals(m) != nullptr, !mesh.N.empty());
+    if (!mesh.N.empty()) {
+      EXPECT_EQ(0, std::memcmp(a.normals(m), mesh.N.data(), mesh.N.size() * 4));
+    }
+    EXPECT_EQ(a.uvs(m) != nullptr, !mesh.uv.empty());
+  }
+  // Every entity's given values come back with the same numbers.
+  auto same_entity = [&](uint32_t e, const Entity& d) {
+    const pbrta::EntityRecord& er = a.entities[e];
+    ASSERT_EQ(er.num_values, d.values.size());
+    for (uint32_t p = 0; p < er.num_values; ++p) {
+      const pbrta::ValueRecord& v = a.values[er.first_value + p];
+      EXPECT_EQ(bool(v.flags & pbrta::kValueGiven), d.values[p].given);
+      EXPECT_EQ(v.count, d.values[p].count);
+      EXPECT_EQ(v.texture, d.values[p].texture < 0 ? pbrta::kNoIndex : uint32_t(d.values[p].texture));
+      pbrta::Kind k = d.spec().params[p].kind;
+      if (pbrta::kind_store(k) == pbrta::KindStore::kFloat && d.values[p].count) {
+        EXPECT_EQ(0, std::memcmp(a.floats(v), d.floats.data() + d.values[p].offset,
+                                 d.values[p].count * pbrta::kind_width(k) * 4))
+            << d.spec().params[p].name;
+      }
+    }
+  };
+  for (uint32_t i = 0; i < r.num_materials; ++i) same_entity(a.materials[i].entity, s.materials[i].params);
+  for (uint32_t i = 0; i < r.num_shapes; ++i) same_entity(a.shapes[i].entity, s.shapes[i].params);
+  for (uint32_t i = 0; i < r.num_lights; ++i) same_entity(a.lights[i].entity, s.lights[i].params);
+  same_entity(r.camera, s.camera.params);
+  same_entity(r.film, s.film);
+  same_entity(r.sampler, s.sampler);
+}
+
+TEST(ArchiveWrite, EverySharedSceneRoundTripsThroughTheArchive) {
+  std::string dir = testing_support::scratch_dir("archive_write_all");
+  int compiled = 0;
+  for (const std::string& path : testing_support::shared_entry_scenes()) {
+    Compiled c;
+    compile(path, &c);
+    if (!c.ok) continue;  // the scenes with a missing corpus file (see shared_scenes_test)
+    ++compiled;
+    for (bool compress : {true, false}) {
+      std::string out = dir + "/scene" + std::to_string(compiled) + (compress ? ".z" : ".raw") +
+                        ".pbrta";
+      write(c, path, out, compress, 0);
+      pbrta::SceneArchive a;
+      std::string error;
+      ASSERT_TRUE(a.load(out, 2, &error)) << path << ": " << error;
+      expect_matches(c.scene, a, path);
+      if (!compress) {  // sections are used in place from the mapping
+        for (uint32_t i = 0; i < a.reader().section_count(); ++i) {
+          EXPECT_TRUE(a.reader().in_place(i)) << path << " section " << i;
+        }
+      }
+    }
+  }
+  EXPECT_GE(compiled, 60);
+}
+
+TEST(ArchiveWrite, BytesDoNotDependOnThreadsOrRuns) {
+  std::string dir = testing_support::scratch_dir("archive_determinism");
+  for (const char* rel : {"/scenes/v3-killeroo-simple/killeroo-simple.pbrt",
+                          "/scenes/rs-teapot-area-light/teapot-area-light.pbrt",
+                          "/scenes/hm-instances/pbrt-v3-rs/scenes/objects/instances.pbrt"}) {
+    std::string path = testing_support::shared_dir() + rel;
+    Compiled a, b;
+    compile(path, &a);
+    compile(path, &b);  // a second, independent compile
+    ASSERT_TRUE(a.ok && b.ok) << path;
+    std::string one = write(a, path, dir + "/one.pbrta", true, 1);
+    std::string two = write(b, path, dir + "/two.pbrta", true, 2);
+    EXPECT_FALSE(one.empty());
+    EXPECT_TRUE(one == two) << path << ": archive bytes differ between runs/thread counts";
+    // No absolute path leaks into the archive.
+    EXPECT_EQ(write(a, path, dir + "/one.pbrta", false, 1).find("/work/"), std::string::npos)
+        << path;
+  }
+}
+
+TEST(ArchiveWrite, FailedWriteLeavesNoFile) {
+  std::string dir = testing_support::scratch_dir("archive_failed_write");
+  Compiled c;
+  compile(PBRTC_SOURCE_DIR "/tools/default-scene/scene.pbrt", &c);
+  ASSERT_TRUE(c.ok);
+  std::string error;
+  ArchiveOptions opt;
+  EXPECT_FALSE(write_archive(c.scene, c.files, "", dir + "/missing-dir/x.pbrta", opt, nullptr,
+                             &error));
+  EXPECT_NE(error.find("missing-dir/x.pbrta"), std::string::npos) << error;
+  EXPECT_TRUE(testing_support::read_file(dir + "/missing-dir/x.pbrta").empty());
+}
+
+// Flipping sampled bytes of a real archive: every load either succeeds with the
+// same meaning (a flip in padding) or fails with a message naming the file.
+TEST(ArchiveWrite, DamagedSceneArchivesFailCleanly) {
+  std::string dir = testing_support::scratch_dir("archive_damage");
+  std::string path = testing_support::shared_dir() + "/scenes/rs-cornell-box/cornell_box.pbrt";
+  Compiled c;
+  compile(path, &c);
+  ASSERT_TRUE(c.ok);
+  for (bool compress : {true, false}) {
+    std::string good = write(c, path, dir + "/good.pbrta", compress, 1);
+    std::mt19937 rng(7);
+    int failures = 0, trials = 600;
+    for (int t = 0; t < trials; ++t) {
+      std::string bad = good;
+      size_t at = rng() % bad.size();
+      bad[at] = char(bad[at] ^ (1 + rng() % 255));
+      std::string file = dir + "/bad.pbrta";
+      testing_support::write_file(file, bad);
+      pbrta::SceneArchive a;
+      std::string error;
+      if (a.load(file, 1, &error)) continue;
+      ++failures;
+      ASSERT_EQ(error.compare(0, file.size(), file), 0) << error;
+    }
+    // Almost every byte is covered by a checksum; only padding may change silently.
+    EXPECT_GT(failures, trials * 8 / 10);
+    // Truncation anywhere fails.
+    for (size_t cut = 0; cut < good.size(); cut += 1 + good.size() / 97) {
+      std::string file = dir + "/cut.pbrta";
+      testing_support::write_file(file, good.substr(0, cut));
+      pbrta::SceneArchive a;
+      std::string error;
+      EXPECT_FALSE(a.load(file, 1, &error)) << "cut at " << cut;
+      EXPECT_EQ(error.compare(0, file.size(), file), 0) << error;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pbrtc

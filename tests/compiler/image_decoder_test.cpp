@@ -1,0 +1,468 @@
+// tests/compiler/image_decoder_test.cpp — images decoded at compile time as pbrt-v3 does.
+//
+// Small images are written with OpenImageIO into a scratch directory and decoded: the sRGB curve
+// and scale on 8-bit files, half rounding of EXR, resampling of a non-power-of-two image, the box
+// pyramid, deduplication and error locations in scenes; then the shared corpus's textured scenes
+// and environment maps compile into archives that load as pbrtrun loads them.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "compiler/archive_builder.h"
+#include "compiler/diagnostics.h"
+#include "compiler/image_decoder.h"
+#include "compiler/parser.h"
+#include "compiler/scene_builder.h"
+#include "format/scene_archive.h"
+#include "test_support.h"
+
+namespace pbrtc {
+namespace {
+
+void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc format,
+                 const void* pixels) {
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  OIIO::ImageSpec spec(w, h, channels, format);
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // write the bytes given, not unpremultiplied
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+  ASSERT_TRUE(out->write_image(format, pixels)) << out->geterror();
+  ASSERT_TRUE(out->close());
+}
+
+// The sRGB curve as the standard states it, in double.
+double srgb_to_linear(double v) {
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+ImageOptions texture_options(const std::string& path, bool float_texture = false) {
+  return ImageOptions::for_texture(path, float_texture, "repeat", 1.f, false, false);
+}
+
+TEST(ImageDecoder, PngUndoesTheSrgbCurveByDefault) {
+  const std::string dir = testing_support::scratch_dir("image_png_gamma");
+  // 4 x 2 RGB, already powers of two: level 0 is the converted file.
+  const uint8_t px[2][4][3] = {{{0, 10, 128}, {255, 64, 200}, {1, 2, 3}, {90, 90, 90}},
+                               {{128, 128, 128}, {0, 0, 255}, {40, 41, 42}, {250, 5, 100}}};
+  const std::string png = dir + "/t.png";
+  write_image(png, 4, 2, 3, OIIO::TypeDesc::UINT8, px);
+
+  DecodedImage im;
+  std::string error;
+  ASSERT_TRUE(decode_image(png, texture_options(png), &im, &error)) << error;
+  EXPECT_EQ(im.width, 4u);
+  EXPECT_EQ(im.height, 2u);
+  EXPECT_EQ(im.channels, 3u);
+  ASSERT_EQ(im.levels.size(), 3u);  // 4x2, 2x1, 1x1
+  // Rows are stored top to bottom as in the file (pbrt-v3's flip is undone for storage).
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(im.levels[0][size_t((y * 4 + x) * 3 + k)], srgb_to_linear(px[y][x][k] / 255.0),
+                    2e-6)
+            << x << "," << y << "," << k;
+  EXPECT_NEAR(im.levels[0][2], 0.2158605, 1e-6);  // 128 -> 0.21586
+  EXPECT_NEAR(im.levels[0][1], 10 / 255.0 / 12.92, 1e-8);  // the linear toe
+
+  // gamma false: v / 255, times scale.
+  ImageOptions raw = ImageOptions::for_texture(png, false, "repeat", 2.f, true, false);
+  ASSERT_TRUE(decode_image(png, raw, &im, &error)) << error;
+  EXPECT_FLOAT_EQ(im.levels[0][2], 2 * (128 / 255.f));
+  EXPECT_FLOAT_EQ(im.levels[0][3], 2.f);
+
+  // A float texture keeps pbrt-v3's one channel: the curve applied to the luminance.
+  ASSERT_TRUE(decode_image(png, texture_options(png, true), &im, &error)) << error;
+  EXPECT_EQ(im.channels, 1u);
+  ASSERT_EQ(im.levels[0].size(), 8u);
+  double y = 0.212671 * 255 / 255 + 0.715160 * 64 / 255 + 0.072169 * 200 / 255;
+  EXPECT_NEAR(im.levels[0][1], srgb_to_linear(y), 2e-6);
+}
+
+TEST(ImageDecoder, EightBitFilesAreReadAsLodepngAndTargaRead) {
+  const std::string dir = testing_support::scratch_dir("image_8bit");
+  DecodedImage im;
+  std::string error;
+  // Alpha is dropped, not multiplied in.
+  const uint8_t rgba[1][2][4] = {{{200, 100, 50, 0}, {10, 20, 30, 128}}};
+  write_image(dir + "/a.png", 2, 1, 4, OIIO::TypeDesc::UINT8, rgba);
+  ASSERT_TRUE(decode_image(dir + "/a.png", ImageOptions{}, &im, &error)) << error;
+  EXPECT_EQ(im.levels[0], (std::vector<float>{200 / 255.f, 100 / 255.f, 50 / 255.f, 10 / 255.f,
+                                              20 / 255.f, 30 / 255.f}));
+  // 16-bit PNG samples keep their high byte (lodepng's 24-bit decode).
+  const uint16_t wide[1][1][3] = {{{0x80FF, 0xFFFF, 0x0100}}};
+  write_image(dir + "/w.png", 1, 1, 3, OIIO::TypeDesc::UINT16, wide);
+  ASSERT_TRUE(decode_image(dir + "/w.png", ImageOptions{}, &im, &error)) << error;
+  EXPECT_EQ(im.levels[0], (std::vector<float>{128 / 255.f, 1.f, 1 / 255.f}));
+  // TGA: gamma by default too; rows top first whatever the file's origin.
+  const uint8_t rgb[2][1][3] = {{{255, 0, 128}}, {{0, 255, 0}}};
+  write_image(dir + "/t.tga", 1, 2, 3, OIIO::TypeDesc::UINT8, rgb);
+  ImageOptions o = texture_options(dir + "/T.TGA");  // extensions in any case
+  EXPECT_TRUE(o.gamma);
+  ASSERT_TRUE(decode_image(dir + "/t.tga", o, &im, &error)) << error;
+  ASSERT_EQ(im.levels[0].size(), 6u);
+  EXPECT_EQ(im.levels[0][0], 1.f);
+  EXPECT_NEAR(im.levels[0][2], 0.2158605, 1e-6);
+  EXPECT_EQ(im.levels[0][4], 1.f);
+}
+
+// The resampling written out from its description, in double: four taps of Lanczos (tau 2) at
+// the old texel centres around each new centre, normalized; out-of-range taps wrapped, clamped,
+// or dropped (black); s first, then t; negative results clamped to 0.
+std::vector<double> reference_resample(const std::vector<float>& in, int w, int h, int W, int H,
+                                       ImageWrap wrap) {
+  auto lanczos = [](double x) {
+    x = std::abs(x);
+    if (x < 1e-5) return 1.0;
+    if (x > 1) return 0.0;
+    return std::sin(2 * M_PI * x) / (2 * M_PI * x) * std::sin(M_PI * x) / (M_PI * x);
+  };
+  auto tap = [&](int i, int n) {
+    if (wrap == ImageWrap::kRepeat) return ((i % n) + n) % n;
+    if (wrap == ImageWrap::kClamp) return std::clamp(i, 0, n - 1);
+    return i >= 0 && i < n ? i : -1;
+  };
+  auto resample_1d = [&](const std::vector<double>& src, int n, int N, int count, bool rows) {
+    std::vector<double> out(size_t(N) * size_t(count));
+    for (int i = 0; i < N; ++i) {
+      double center = (i + .5) * n / N;
+      int first = int(std::floor(center - 2 + .5));
+      double wt[4], sum = 0;
+      for (int j = 0; j < 4; ++j) sum += wt[j] = lanczos((first + j + .5 - center) / 2);
+      for (int c = 0; c < count; ++c) {
+        double acc = 0;
+        for (int j = 0; j < 4; ++j) {
+          int k = tap(first + j, n);
+          if (k >= 0) acc += wt[j] / sum * src[rows ? size_t(c * n + k) : size_t(k * count + c)];
+        }
+        out[rows ? size_t(c * N + i) : size_t(i * count + c)] = acc;
+      }
+    }
+    return out;
+  };
+  std::vector<double> src(in.begin(), in.end());
+  std::vector<double> s = resample_1d(src, w, W, h, true);  // each of the h rows to W wide
+  std::vector<double> t = resample_1d(s, h, H, W, false);   // each of the W columns to H high
+  for (double& v : t) v = std::max(v, 0.0);
+  return t;
+}
+
+TEST(ImageDecoder, ResamplingMatchesItsDescription) {
+  std::vector<float> in(15);
+  for (int i = 0; i < 15; ++i) in[size_t(i)] = float((i * 7) % 5) + (i == 7 ? 10.f : 0.f);
+  for (ImageWrap wrap : {ImageWrap::kRepeat, ImageWrap::kBlack, ImageWrap::kClamp}) {
+    uint32_t W = 0, H = 0;
+    auto levels = build_mip_pyramid(in, 3, 5, 1, wrap, &W, &H);
+    ASSERT_EQ(W, 4u);
+    ASSERT_EQ(H, 8u);
+    std::vector<double> ref = reference_resample(in, 3, 5, 4, 8, wrap);
+    ASSERT_EQ(levels[0].size(), ref.size());
+    for (size_t i = 0; i < ref.size(); ++i)
+      EXPECT_NEAR(levels[0][i], ref[i], 2e-5) << "wrap " << int(wrap) << " texel " << i;
+  }
+}
+
+TEST(ImageDecoder, ExrIsReadAsPbrtV3ReadsIt) {
+  const std::string dir = testing_support::scratch_dir("image_exr");
+  const float px[2][2][3] = {{{0.1f, 1000.5f, -2.f}, {1e-3f, 0.5f, 3.25f}},
+                             {{7.f, 8.f, 9.f}, {0.33333f, 65000.f, 2.f}}};
+  const std::string exr = dir + "/t.exr";
+  write_image(exr, 2, 2, 3, OIIO::TypeDesc::FLOAT, px);
+  DecodedImage im;
+  std::string error;
+  ImageOptions o = texture_options(exr);
+  EXPECT_FALSE(o.gamma);  // gamma defaults to true only for .png and .tga
+  ASSERT_TRUE(decode_image(exr, o, &im, &error)) << error;
+  ASSERT_EQ(im.levels[0].size(), 12u);
+  // Imf::RgbaInputFile hands pbrt-v3 half floats.
+  EXPECT_EQ(im.levels[0][0], 0.0999755859375f);
+  EXPECT_EQ(im.levels[0][1], 1000.5f);
+  EXPECT_EQ(im.levels[0][2], -2.f);  // powers of two: no resampling, so no clamp either
+  EXPECT_EQ(im.levels[0][9], 0.333251953125f);
+  EXPECT_EQ(im.levels[0][10], 64992.f);
+  // The 1x1 top level is the box average of the four texels.
+  ASSERT_EQ(im.levels.size(), 2u);
+  EXPECT_FLOAT_EQ(im.levels[1][2], .25f * (-2.f + 3.25f + 9.f + 2.f));
+}
+
+TEST(ImageDecoder, NonPowerOfTwoIsResampledUpWithoutNegatives) {
+  const std::string dir = testing_support::scratch_dir("image_npot");
+  // 3 x 5 with hard edges, so Lanczos rings below zero before the clamp.
+  uint8_t px[5][3];
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 3; ++x) px[y][x] = ((x + y) % 2) ? 255 : 0;
+  const std::string png = dir + "/t.png";
+  write_image(png, 3, 5, 1, OIIO::TypeDesc::UINT8, px);
+  for (const char* wrap : {"repeat", "black", "clamp"}) {
+    DecodedImage im;
+    std::string error;
+    ImageOptions o = ImageOptions::for_texture(png, true, wrap, 1.f, true, false);
+    ASSERT_TRUE(decode_image(png, o, &im, &error)) << error;
+    EXPECT_EQ(im.source_width, 3u);
+    EXPECT_EQ(im.source_height, 5u);
+    EXPECT_EQ(im.width, 4u);
+    EXPECT_EQ(im.height, 8u);
+    ASSERT_EQ(im.levels.size(), 4u) << wrap;  // 4x8, 2x4, 1x2, 1x1
+    const uint32_t sizes[4][2] = {{4, 8}, {2, 4}, {1, 2}, {1, 1}};
+    for (size_t l = 0; l < 4; ++l) EXPECT_EQ(im.levels[l].size(), sizes[l][0] * sizes[l][1]);
+    double in_mean = 0, out_mean = 0;
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 3; ++x) in_mean += px[y][x] / 255.0 / 15;
+    for (float v : im.levels[0]) {
+      EXPECT_GE(v, 0.f) << wrap;
+      out_mean += v / 32.0;
+    }
+    // The windowed sinc keeps the mean (up to its ringing and, for black, the dark border).
+    EXPECT_NEAR(out_mean, in_mean, std::string(wrap) == "black" ? 0.15 : 0.05) << wrap;
+  }
+}
+
+TEST(ImageDecoder, ResamplingAConstantImageKeepsItConstant) {
+  // The weights are normalized, so with repeat or clamp a constant stays (nearly) constant, and
+  // the dimension that already is a power of two is left (nearly) alone.
+  std::vector<float> texels(size_t(4 * 3 * 3), 0.75f);
+  uint32_t w = 0, h = 0;
+  for (ImageWrap wrap : {ImageWrap::kRepeat, ImageWrap::kClamp}) {
+    auto levels = build_mip_pyramid(texels, 4, 3, 3, wrap, &w, &h);
+    EXPECT_EQ(w, 4u);
+    EXPECT_EQ(h, 4u);
+    for (const auto& level : levels)
+      for (float v : level) EXPECT_NEAR(v, 0.75f, 1e-6f);
+  }
+}
+
+TEST(ImageDecoder, PyramidLevelsAreBoxAverages) {
+  std::vector<float> texels(16);
+  for (int i = 0; i < 16; ++i) texels[size_t(i)] = float(i * i);
+  uint32_t w = 0, h = 0;
+  auto levels = build_mip_pyramid(texels, 4, 4, 1, ImageWrap::kRepeat, &w, &h);
+  ASSERT_EQ(levels.size(), 3u);
+  EXPECT_EQ(levels[0], texels);
+  ASSERT_EQ(levels[1].size(), 4u);
+  auto at = [&](int x, int y) { return float((y * 4 + x) * (y * 4 + x)); };
+  for (int t = 0; t < 2; ++t)
+    for (int s = 0; s < 2; ++s)
+      EXPECT_FLOAT_EQ(levels[1][size_t(t * 2 + s)],
+                      .25f * (at(2 * s, 2 * t) + at(2 * s + 1, 2 * t) + at(2 * s, 2 * t + 1) +
+                              at(2 * s + 1, 2 * t + 1)));
+  ASSERT_EQ(levels[2].size(), 1u);
+  float mean = 0;
+  for (float v : texels) mean += v / 16;
+  EXPECT_FLOAT_EQ(levels[2][0], mean);
+
+  // A level one texel thin averages four lookups: pbrt-v3's wrap mode supplies the neighbour
+  // (repeat: the same row again; black: zeros).
+  const std::vector<float> row = {1, 2, 3, 4};
+  auto rep = build_mip_pyramid(row, 4, 1, 1, ImageWrap::kRepeat, &w, &h);
+  ASSERT_EQ(rep.size(), 3u);
+  EXPECT_EQ(rep[1], (std::vector<float>{1.5f, 3.5f}));
+  EXPECT_EQ(rep[2], (std::vector<float>{2.5f}));
+  auto black = build_mip_pyramid(row, 4, 1, 1, ImageWrap::kBlack, &w, &h);
+  EXPECT_EQ(black[1], (std::vector<float>{0.75f, 1.75f}));
+  EXPECT_EQ(black[2], (std::vector<float>{0.625f}));
+}
+
+TEST(ImageDecoder, EnvironmentDistributionIsLuminanceTimesSinTheta) {
+  DecodedImage map;
+  map.width = 4;
+  map.height = 2;
+  uint32_t w = 0, h = 0;
+  map.levels = build_mip_pyramid(std::vector<float>(4 * 2 * 3, 2.f), 4, 2, 3, ImageWrap::kRepeat,
+                                 &w, &h);
+  const float L[3] = {1.f, 0.5f, 0.f};
+  DecodedImage d = environment_distribution(map, L);
+  ASSERT_EQ(d.width, 8u);
+  ASSERT_EQ(d.height, 4u);
+  ASSERT_EQ(d.channels, 1u);
+  ASSERT_EQ(d.levels.size(), 1u);
+  const double y = 2 * (0.212671 * 1 + 0.715160 * 0.5);
+  for (int v = 0; v < 4; ++v)
+    for (int u = 0; u < 8; ++u)
+      EXPECT_NEAR(d.levels[0][size_t(v * 8 + u)], y * std::sin(M_PI * (v + .5) / 4), 1e-5);
+}
+
+TEST(ImageDecoder, UnsupportedAndBrokenFilesSayWhy) {
+  const std::string dir = testing_support::scratch_dir("image_broken");
+  DecodedImage im;
+  std::string error;
+  const std::string jpg = testing_support::write_file(dir + "/t.jpg", "x");
+  EXPECT_FALSE(decode_image(jpg, texture_options(jpg), &im, &error));
+  EXPECT_EQ(error, "unsupported image format \".jpg\" (pbrt-v3 reads .exr, .png, .tga and .pfm; "
+                   "pbrtc also .hdr)");
+  const std::string png = testing_support::write_file(dir + "/t.png", "not a png at all");
+  EXPECT_FALSE(decode_image(png, texture_options(png), &im, &error));
+  EXPECT_FALSE(error.empty());
+}
+
+// A scene in dir naming files there; returns the diagnostics' messages.
+struct Built {
+  SourceFiles files;
+  Diagnostics diag{&files};
+  SceneDesc scene;
+  bool ok = false;
+};
+
+void build(const std::string& dir, const std::string& world, Built* b) {
+  const std::string path = testing_support::write_file(
+      dir + "/scene.pbrt", "Camera \"perspective\"\nWorldBegin\n" + world + "WorldEnd\n");
+  b->ok = build_scene(path, &b->files, &b->diag, &b->scene);
+}
+
+TEST(SceneImages, SameFileAndOptionsDecodeOnce) {
+  const std::string dir = testing_support::scratch_dir("image_dedup");
+  const uint8_t px[2][2][3] = {{{0, 10, 128}, {255, 64, 200}}, {{1, 2, 3}, {90, 90, 90}}};
+  write_image(dir + "/a.png", 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+  Built b;
+  build(dir,
+        "Texture \"t1\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\"\n"
+        "Texture \"t2\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\" "
+        "\"float maxanisotropy\" 4\n"
+        "Texture \"t3\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\" \"float scale\" 2\n"
+        "Texture \"t4\" \"float\" \"imagemap\" \"string filename\" \"a.png\"\n"
+        "LightSource \"projection\" \"string mapname\" \"a.png\"\n"
+        "LightSource \"goniometric\" \"string mapname\" \"a.png\"\n",
+        &b);
+  ASSERT_TRUE(b.ok) << (b.diag.all().empty() ? "" : b.diag.all()[0].text);
+  ASSERT_EQ(b.scene.textures.size(), 4u);
+  EXPECT_EQ(b.scene.textures[0].image, 0);
+  EXPECT_EQ(b.scene.textures[1].image, 0);  // filtering options do not change the texels
+  EXPECT_EQ(b.scene.textures[2].image, 1);  // scale does
+  EXPECT_EQ(b.scene.textures[3].image, 2);  // so does the float conversion
+  ASSERT_EQ(b.scene.lights.size(), 2u);
+  EXPECT_EQ(b.scene.lights[0].image, 3);  // lights: no gamma, no flip
+  EXPECT_EQ(b.scene.lights[1].image, 3);
+  ASSERT_EQ(b.scene.images.size(), 4u);
+  EXPECT_EQ(b.scene.images[3].image.levels[0][0], 0.f);
+  EXPECT_EQ(b.scene.images[3].image.levels[0][2], 128 / 255.f);
+  for (const ImageDesc& im : b.scene.images) EXPECT_EQ(im.distribution, kNone);
+}
+
+// A little-endian colour PFM; rows[0] is the top row (the file stores the bottom row first).
+void write_pfm(const std::string& path, int w, int h, const std::vector<float>& rows) {
+  std::string bytes = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
+  for (int y = h - 1; y >= 0; --y)
+    bytes.append(reinterpret_cast<const char*>(&rows[size_t(y * w * 3)]), size_t(w * 3 * 4));
+  testing_support::write_file(path, bytes);
+}
+
+TEST(ImageDecoder, PfmRowsArePbrtV3s) {
+  const std::string dir = testing_support::scratch_dir("image_pfm");
+  std::vector<float> rows(4 * 2 * 3, 1.f);
+  for (int i = 0; i < 12; ++i) rows[size_t(i)] = 2.f;  // the top row
+  write_pfm(dir + "/t.pfm", 4, 2, rows);
+  DecodedImage im;
+  std::string error;
+  ASSERT_TRUE(decode_image(dir + "/t.pfm", ImageOptions{}, &im, &error)) << error;
+  EXPECT_EQ(im.levels[0], rows);  // a light's map: pbrt-v3's rows are the file's, top first
+  ASSERT_TRUE(decode_image(dir + "/t.pfm", texture_options(dir + "/t.pfm"), &im, &error));
+  EXPECT_EQ(im.levels[0], rows);  // a texture's flip is undone for storage
+}
+
+TEST(SceneImages, EnvironmentMapGetsItsDistribution) {
+  const std::string dir = testing_support::scratch_dir("image_env");
+  write_pfm(dir + "/sky.pfm", 8, 3, std::vector<float>(8 * 3 * 3, 1.f));  // resampled to 8 x 4
+  Built b;
+  build(dir, "LightSource \"infinite\" \"string mapname\" \"sky.pfm\" \"rgb L\" [2 2 2]\n", &b);
+  ASSERT_TRUE(b.ok) << (b.diag.all().empty() ? "" : b.diag.all()[0].text);
+  ASSERT_EQ(b.scene.images.size(), 2u);
+  EXPECT_EQ(b.scene.lights[0].image, 0);
+  EXPECT_EQ(b.scene.images[0].distribution, 1);
+  EXPECT_EQ(b.scene.images[0].image.width, 8u);
+  EXPECT_EQ(b.scene.images[0].image.height, 4u);
+  EXPECT_EQ(b.scene.images[1].image.width, 16u);
+  EXPECT_EQ(b.scene.images[1].image.height, 8u);
+  // The map itself does not carry L: the runtime multiplies it.
+  EXPECT_NEAR(b.scene.images[0].image.levels[0][0], 1.f, 1e-5);
+}
+
+TEST(SceneImages, UnreadableImageIsAnErrorAtItsDirective) {
+  const std::string dir = testing_support::scratch_dir("image_unreadable");
+  testing_support::write_file(dir + "/bad.png", "this is no PNG");
+  Built b;
+  build(dir,
+        "Material \"matte\"\n"
+        "  Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"bad.png\"\n",
+        &b);
+  EXPECT_FALSE(b.ok);
+  ASSERT_EQ(b.diag.all().size(), 1u);
+  const Diagnostic& d = b.diag.all()[0];
+  EXPECT_EQ(d.severity, Severity::kError);
+  const std::string prefix = "cannot read image \"" + dir + "/bad.png\": ";
+  EXPECT_EQ(d.message.substr(0, prefix.size()), prefix) << d.message;
+  EXPECT_GT(d.message.size(), prefix.size());
+  EXPECT_EQ(b.files.line_col(d.loc).line, 4u);
+  EXPECT_EQ(b.files.line_col(d.loc).column, 3u);
+}
+
+// The corpus scenes with images compile, and their archives load as pbrtrun loads them, with the
+// image records pointing at the decoded texels.
+TEST(SceneImages, SharedTexturedScenesCompileAndVerify) {
+  const std::string scenes = testing_support::shared_dir() + "/scenes/";
+  const std::string out = testing_support::scratch_dir("image_shared");
+  const char* paths[] = {
+      "hm-textures/pbrt-v3-rs/scenes/textures/ewa-filtering.pbrt",
+      "hm-textures/pbrt-v3-rs/scenes/textures/trilinear-filtering.pbrt",
+      "rs-anim-bluespheres/anim-bluespheres.pbrt",
+      "v3-figures/f10-1ac.pbrt",
+  };
+  std::printf("%-64s %7s %9s %10s %10s\n", "scene", "images", "build ms", "raw MiB", "file MiB");
+  for (size_t n = 0; n < sizeof paths / sizeof paths[0]; ++n) {
+    const char* rel = paths[n];
+    const std::string path = scenes + rel;
+    SourceFiles files;
+    Diagnostics diag(&files);
+    SceneDesc scene;
+    auto t0 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(build_scene(path, &files, &diag, &scene))
+        << rel << ": " << (diag.all().empty() ? "" : diag.all()[0].text);
+    double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_FALSE(scene.images.empty()) << rel;
+    const std::string archive_path = out + "/" + std::to_string(n) + ".pbrta";
+    ArchiveStats stats;
+    std::string error;
+    ASSERT_TRUE(write_archive(scene, files, directory_of(path), archive_path, ArchiveOptions{},
+                              &stats, &error))
+        << error;
+    std::printf("%-64s %7zu %9.0f %10.2f %10.2f\n", rel, scene.images.size(), ms,
+                stats.raw_size / 1048576.0, stats.file_size / 1048576.0);
+
+    pbrta::SceneArchive archive;
+    ASSERT_TRUE(archive.load(archive_path, 0, &error)) << error;
+    ASSERT_EQ(archive.images.size, scene.images.size());
+    for (uint32_t i = 0; i < archive.images.size; ++i) {
+      const pbrta::ImageRecord& r = archive.images[i];
+      const DecodedImage& im = scene.images[i].image;
+      EXPECT_EQ(r.width, im.width);
+      EXPECT_EQ(r.levels, im.levels.size());
+      // Level 0's first and last texels are where the record says.
+      const float* texels = reinterpret_cast<const float*>(
+          archive.reader().section_data(r.section) + r.offset);
+      EXPECT_EQ(texels[0], im.levels[0][0]);
+      EXPECT_EQ(texels[im.levels[0].size() - 1], im.levels[0].back());
+    }
+    for (uint32_t t = 0; t < archive.textures.size; ++t) {
+      if (archive.type_name(archive.textures[t].entity) == "imagemap") {
+        EXPECT_NE(archive.textures[t].image, pbrta::kNoIndex) << rel;
+      }
+    }
+    bool env = false;
+    for (uint32_t l = 0; l < archive.lights.size; ++l)
+      if (archive.type_name(archive.lights[l].entity) == "infinite" &&
+          archive.lights[l].image != pbrta::kNoIndex) {
+        env = true;
+        EXPECT_NE(archive.images[archive.lights[l].image].distribution, pbrta::kNoIndex);
+      }
+    if (std::string(rel).find("textures/") == std::string::npos) {
+      EXPECT_TRUE(env) << rel;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace pbrtc
