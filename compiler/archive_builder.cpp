@@ -359,6 +359,8 @@ class Builder {
       r.section = first_chunk + uint32_t(chunks.size() - 1);
       r.wrap = uint32_t(im.wrap);
       r.distribution = idx(d.distribution);
+      r.source_width = im.source_width;
+      r.source_height = im.source_height;
       for (size_t l = 0; l < im.levels.size(); ++l) {
         c.resize((c.size() + 15) & ~size_t(15), 0);
         if (l == 0) r.offset = c.size();

@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <tbb/parallel_for.h>
+
 #include <fstream>
 #include <sstream>
 
@@ -96,6 +98,29 @@ struct SceneBuilder::State {
   // Transforms are deduplicated by hash; a colliding different pair simply
   // gets its own entry without being indexed (correct, merely not shared).
   std::unordered_map<uint64_t, int32_t> transform_index;
+
+  struct PendingPly {
+    std::string path;
+    Loc loc;
+    int32_t mesh;
+  };
+  std::vector<PendingPly> pending_ply;
+
+  // Reads every pending PLY file in parallel; errors are reported in scene
+  // order afterwards, so messages do not depend on thread timing.
+  void load_pending_ply() {
+    std::vector<std::string> errors(pending_ply.size());
+    tbb::parallel_for(size_t(0), pending_ply.size(), [&](size_t i) {
+      const PendingPly& p = pending_ply[i];
+      SourceFiles none;
+      Diagnostics local(&none, nullptr);
+      if (!load_plymesh(p.path, Loc{}, &local, &scene->meshes[size_t(p.mesh)]))
+        errors[i] = local.all().empty() ? "cannot read PLY file" : local.all()[0].message;
+    });
+    for (size_t i = 0; i < pending_ply.size(); ++i)
+      if (!errors[i].empty()) diag->error(pending_ply[i].loc, errors[i]);
+    pending_ply.clear();
+  }
 
   bool in_world = false;
   bool world_ended = false;
@@ -635,6 +660,7 @@ void SceneBuilder::EndOfInput(Loc loc) {
       s_->diag->error(loc, "missing WorldEnd at end of input");
   }
   s_->stack.clear();
+  s_->load_pending_ply();
   SceneDesc* sc = s_->scene;
   if (!s_->film_given) s_->default_entity(Category::kFilm, "image", &sc->film);
   if (!s_->filter_given) s_->default_entity(Category::kFilter, "box", &sc->filter);
@@ -840,12 +866,11 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
     s_->scene->meshes.push_back(std::move(mesh));
     sh.mesh = int32_t(s_->scene->meshes.size() - 1);
   } else if (tn == "plymesh") {
-    TriangleMesh mesh;
+    // PLY files are read after the whole scene is parsed, in parallel.
     const ParsedParam* fp = params.find("filename");
-    if (!load_plymesh(sh.params.get_string("filename"), fp ? fp->value_loc : loc, s_->diag, &mesh))
-      return;
-    s_->scene->meshes.push_back(std::move(mesh));
+    s_->scene->meshes.emplace_back();
     sh.mesh = int32_t(s_->scene->meshes.size() - 1);
+    s_->pending_ply.push_back({sh.params.get_string("filename"), fp ? fp->value_loc : loc, sh.mesh});
   } else if (is_refined_shape(tn)) {
     // pbrt-v3 refines these into triangles when it builds the scene; the archive holds the
     // triangles instead.

@@ -273,7 +273,9 @@ struct ImageRecord {
   uint32_t wrap;          // 0 repeat, 1 black, 2 clamp
   uint32_t distribution;  // for environment maps: the image index of the sampling
                           // distribution (kNoIndex if none)
-  uint32_t reserved[2];   // (the file it was decoded from is in the user's provenance)
+  // The decoded file's own size, before resampling to powers of two: the
+  // projection light takes its aspect ratio from it, as pbrt-v3 does.
+  uint32_t source_width, source_height;
 };
 static_assert(sizeof(ImageRecord) == 48, "ImageRecord is 48 bytes");
 

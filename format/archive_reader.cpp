@@ -384,7 +384,7 @@ bool ArchiveReader::validate(std::string* error) {
     if (!section_sizes_plausible(codec, e.stored_size, e.raw_size))
       return bad("raw size " + std::to_string(e.raw_size) + " is implausible for " +
                  std::to_string(e.stored_size) + " bytes of " + std::string(codec_name(codec)) +
-                 " (at most 64x + 1 MiB)");
+                 " (at most " + std::to_string(kMaxZstdRatio) + "x + 1 MiB)");
     total_raw += e.raw_size;  // n < 2^32 sections of < 2^40 bytes: no overflow
   }
 
@@ -418,7 +418,7 @@ bool ArchiveReader::validate(std::string* error) {
   if (total_raw > max_total_raw_size(size_)) {
     *error = fail("the sections decode to " + std::to_string(total_raw) +
                   " bytes in all, implausible for a file of " + std::to_string(size_) +
-                  " bytes (at most 64x + 64 MiB)");
+                  " bytes (at most " + std::to_string(kMaxZstdRatio) + "x + 64 MiB)");
     return false;
   }
 

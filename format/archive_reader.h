@@ -37,9 +37,12 @@ namespace pbrta {
 // be read. A compressed section may claim at most kMaxZstdRatio times its stored size plus
 // kZstdRatioSlack (a zip-bomb guard: the buffer is allocated before decoding), and all sections
 // together at most kMaxZstdRatio times the file size plus kTotalRatioSlack (so a file of many tiny
-// sections cannot multiply the per-section slack).
+// sections cannot multiply the per-section slack). The ratio is the most the zstd format itself
+// can express (a 4-byte RLE block stands for 128 KiB), so nothing zstd produces is refused: a
+// flat texture's MIP pyramid really does compress that far. Large buffers are mapped lazily, so
+// a lying size costs address space, not memory.
 inline constexpr uint64_t kMaxRawSize = uint64_t{1} << 40;
-inline constexpr uint64_t kMaxZstdRatio = 64;
+inline constexpr uint64_t kMaxZstdRatio = 32768;
 inline constexpr uint64_t kZstdRatioSlack = uint64_t{1} << 20;
 inline constexpr uint64_t kTotalRatioSlack = uint64_t{64} << 20;
 

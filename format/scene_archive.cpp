@@ -547,7 +547,7 @@ bool SceneArchive::validate(std::string* error) {
     }
     if ((im.channels != 1 && im.channels != 3) || im.levels == 0 || im.levels > 32 ||
         im.format > uint32_t(PixelFormat::kUnorm8) || im.wrap > 2 || im.width == 0 ||
-        im.height == 0 || im.reserved[0] != 0 || im.reserved[1] != 0) {
+        im.height == 0 || im.source_width == 0 || im.source_height == 0) {
       c.fail(at + "malformed header");
       break;
     }

@@ -333,8 +333,11 @@ TEST(ArchiveContainer, WriterKeepsWithinTheReadersBounds) {
   w.add_section(SectionKind::kGeometry, std::vector<uint8_t>(1 << 20, 0), 0, Codec::kZstd);
   std::string error;
   ASSERT_TRUE(w.write(dir + "/big.pbrta", 0, 3, 2, &error)) << error;
-  EXPECT_EQ(w.table()[0].codec, static_cast<uint32_t>(Codec::kNone));
-  EXPECT_EQ(w.table()[1].codec, static_cast<uint32_t>(Codec::kZstd));  // within 1 MiB slack
+  // The bound is the zstd format's own limit, so even all-zero data stays compressed (a flat
+  // texture's pyramid must), and the reader accepts it.
+  EXPECT_EQ(w.table()[0].codec, static_cast<uint32_t>(Codec::kZstd));
+  EXPECT_LT(w.table()[0].stored_size, w.table()[0].raw_size / 1000);
+  EXPECT_EQ(w.table()[1].codec, static_cast<uint32_t>(Codec::kZstd));
   ArchiveReader r;
   ASSERT_TRUE(r.open(dir + "/big.pbrta", &error) && r.load_sections(2, &error)) << error;
 
@@ -342,9 +345,10 @@ TEST(ArchiveContainer, WriterKeepsWithinTheReadersBounds) {
   for (int i = 0; i < 70; ++i)
     many.add_section(SectionKind::kTexels, std::vector<uint8_t>(1 << 20, 0), 0, Codec::kZstd);
   ASSERT_TRUE(many.write(dir + "/many.pbrta", 0, 1, 2, &error)) << error;
+  // Many compressible sections all stay compressed: the total bound never binds first.
   int raw_sections = 0;
   for (const SectionEntry& e : many.table()) raw_sections += e.codec == 0;
-  EXPECT_EQ(raw_sections, 1);
+  EXPECT_EQ(raw_sections, 0);
   ArchiveReader r2;
   ASSERT_TRUE(r2.open(dir + "/many.pbrta", &error) && r2.load_sections(2, &error)) << error;
 }
@@ -618,12 +622,12 @@ TEST_F(ArchiveRejection, UnknownCodecAndReservedEntryField) {
 TEST_F(ArchiveRejection, RawSizeBounds) {
   std::string b = good_;
   SectionEntry e = get_entry(b, 1);  // zstd strings
-  e.raw_size = e.stored_size * 64 + (1 << 20) + 1;
+  e.raw_size = e.stored_size * kMaxZstdRatio + (1 << 20) + 1;
   put_entry(&b, 1, e);
   reseal(&b);
   EXPECT_EQ(reject(b), p() + ": section 'strings' (#1): raw size " + std::to_string(e.raw_size) +
                            " is implausible for " + std::to_string(e.stored_size) +
-                           " bytes of zstd (at most 64x + 1 MiB)");
+                           " bytes of zstd (at most 32768x + 1 MiB)");
   e.raw_size = (uint64_t{1} << 40) + 1;
   put_entry(&b, 1, e);
   reseal(&b);
@@ -655,27 +659,9 @@ TEST_F(ArchiveRejection, FileSizeField) {
                            std::to_string(b.size() - 3) + " in the padding after the section");
 }
 
-TEST_F(ArchiveRejection, TotalDecodedSizeBound) {
-  // Many small zstd sections each within the per-section slack, together beyond the total bound.
-  const std::string dir = testing_support::scratch_dir("ArchiveRejection.TotalSrc");
-  ArchiveWriter w;
-  for (int i = 0; i < 80; ++i)
-    w.add_section(SectionKind::kTexels, std::vector<uint8_t>(1000, 0), 0, Codec::kZstd);
-  std::string error;
-  ASSERT_TRUE(w.write(dir + "/a.pbrta", 0, 3, 1, &error)) << error;
-  std::string b = testing_support::read_file(dir + "/a.pbrta");
-  uint64_t total = 0;
-  for (uint32_t i = 0; i < 80; ++i) {
-    SectionEntry e = get_entry(b, i);
-    e.raw_size = 1 << 20;  // claims within the per-section bound
-    total += e.raw_size;
-    put_entry(&b, i, e);
-  }
-  reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": the sections decode to " + std::to_string(total) +
-                           " bytes in all, implausible for a file of " + std::to_string(b.size()) +
-                           " bytes (at most 64x + 64 MiB)");
-}
+// (No test reaches the total bound with entries that each pass the per-section bound: every
+// section adds at least 64 bytes of table and padding to the file, worth 2 MiB of total
+// allowance, more than the per-section slack of 1 MiB. The total bound stays as a second line.)
 
 TEST_F(ArchiveRejection, NonzeroPadding) {
   std::string b = good_;
