@@ -1,10 +1,16 @@
 #include "compiler/archive_builder.h"
 
+#include <chrono>
 #include <cstring>
 #include <unordered_map>
 
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
 #include "compiler/refine.h"
+#include "format/archive_reader.h"
 #include "format/archive_writer.h"
+#include "format/draco_codec.h"
 
 namespace pbrtc {
 
@@ -19,6 +25,68 @@ void append(std::vector<uint8_t>* out, const T& v) {
   size_t n = out->size();
   out->resize(n + sizeof(T));
   std::memcpy(out->data() + n, &v, sizeof(T));
+}
+
+// A mesh stored with Draco: its stream, the geometry section it decodes to, and its record.
+struct DracoMesh {
+  bool tried = false, used = false;
+  std::vector<uint8_t> stored, raw;
+  pbrta::MeshRecord record{};
+  DracoMeshStats stats;
+};
+
+bool draco_eligible(const TriangleMesh& m, const ArchiveOptions& opt) {
+  if (opt.draco_bits <= 0 || !opt.compress || !m.S.empty() ||
+      m.num_triangles() < opt.draco_min_triangles)
+    return false;
+  for (size_t v = 0; v < m.N.size(); v += 3)
+    if (m.N[v] == 0 && m.N[v + 1] == 0 && m.N[v + 2] == 0) return false;
+  return true;
+}
+
+// Encodes the mesh, then decodes the stream exactly as the archive reader will, so the section's
+// raw layout and the record match what a reader gets. False (the mesh stays lossless) if Draco
+// fails, if it dropped triangles (edgebreaker drops degenerate ones, which would change, say,
+// how many lights an area-light mesh is) or if the result exceeds the reader's size bounds.
+bool draco_compress(const TriangleMesh& m, uint32_t index, const ArchiveOptions& opt,
+                    DracoMesh* out) {
+  using clock = std::chrono::steady_clock;
+  pbrta::MeshArrays in;
+  in.positions = m.P.data();
+  in.normals = m.N.empty() ? nullptr : m.N.data();
+  in.uv = m.uv.empty() ? nullptr : m.uv.data();
+  in.indices = m.indices.data();
+  in.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
+  in.num_vertices = m.num_vertices();
+  in.num_triangles = m.num_triangles();
+  pbrta::DracoOptions o;
+  o.position_bits = opt.draco_bits;
+  o.sequential = opt.draco_sequential;
+  std::string error;
+  const auto t0 = clock::now();
+  if (!pbrta::draco_encode(in, o, &out->stored, &error)) return false;
+  const auto t1 = clock::now();
+  pbrta::DecodedMesh decoded;
+  if (!pbrta::draco_decode(out->stored.data(), out->stored.size(), &decoded, &error) ||
+      decoded.num_triangles() != in.num_triangles)
+    return false;
+  pbrta::draco_geometry_section(decoded, &out->record, &out->raw);
+  const auto t2 = clock::now();
+  if (!pbrta::section_sizes_plausible(pbrta::Codec::kDraco, out->stored.size(), out->raw.size()))
+    return false;
+  DracoMeshStats& st = out->stats;
+  st.mesh = index;
+  st.triangles = decoded.num_triangles();
+  st.stored_bytes = out->stored.size();
+  st.raw_bytes = out->raw.size();
+  st.bound = pbrta::draco_position_bound(in.positions, in.num_vertices, o.position_bits);
+  st.slack = pbrta::draco_position_slack(in.positions, in.num_vertices);
+  st.displacement = pbrta::draco_max_displacement(
+      in, decoded.view(), st.bound, o.sequential && decoded.num_vertices() == in.num_vertices);
+  st.encode_seconds = std::chrono::duration<double>(t1 - t0).count();
+  st.decode_seconds = std::chrono::duration<double>(t2 - t1).count();
+  out->used = true;
+  return true;
 }
 
 template <class T>
@@ -212,16 +280,46 @@ class Builder {
     for (size_t i = 0; i < s.shapes.size(); ++i)
       if (s.shapes[i].mesh != kNone && is_refined_shape(s.shapes[i].params.type_name()))
         mesh_source[size_t(s.shapes[i].mesh)] = uint32_t(i);
+    // Draco meshes are encoded (and decoded back) in parallel first; each gets a section of its
+    // own, the other meshes share chunks as before.
+    std::vector<DracoMesh> draco(s.meshes.size());
+    if (opt.draco_bits > 0) {
+      tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+      arena.execute([&] {
+        tbb::parallel_for(size_t(0), s.meshes.size(), [&](size_t i) {
+          draco[i].tried = draco_eligible(s.meshes[i], opt);
+          if (draco[i].tried) draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
+        });
+      });
+    }
+    std::vector<std::vector<uint8_t>> draco_streams;  // per chunk; empty for lossless chunks
+    int open_chunk = -1;  // the lossless chunk meshes are being added to
     for (const TriangleMesh& m : s.meshes) {
+      const size_t mi = meshes.size();
+      if (draco[mi].tried && !draco[mi].used) ++draco_kept_lossless_;
+      if (draco[mi].used) {
+        pbrta::MeshRecord r = draco[mi].record;
+        r.refine_level = m.refine_level;
+        r.source_shape = mesh_source[mi];
+        chunks.push_back(std::move(draco[mi].raw));
+        chunk_counts.push_back(1);
+        draco_streams.resize(chunks.size());
+        draco_streams.back() = std::move(draco[mi].stored);
+        draco_stats_.push_back(draco[mi].stats);
+        mesh_chunk.push_back(uint32_t(chunks.size() - 1));
+        meshes.push_back(r);
+        continue;
+      }
       uint64_t need = 16 * 6 + (m.P.size() + m.N.size() + m.S.size() + m.uv.size()) * 4 +
                       m.indices.size() * 4 + m.face_indices.size() * 4;
-      if (chunks.empty() ||
-          (chunks.back().size() + need > opt.geometry_chunk_bytes && !chunks.back().empty())) {
+      if (open_chunk < 0 || (chunks[size_t(open_chunk)].size() + need > opt.geometry_chunk_bytes &&
+                             !chunks[size_t(open_chunk)].empty())) {
         chunks.emplace_back();
         chunk_counts.push_back(0);
+        open_chunk = int(chunks.size() - 1);
       }
-      std::vector<uint8_t>& c = chunks.back();
-      ++chunk_counts.back();
+      std::vector<uint8_t>& c = chunks[size_t(open_chunk)];
+      ++chunk_counts[size_t(open_chunk)];
       auto put = [&c](const void* data, size_t bytes) -> uint64_t {
         c.resize((c.size() + 15) & ~size_t(15), 0);
         uint64_t at = c.size();
@@ -242,7 +340,7 @@ class Builder {
             r.face_indices = put(m.face_indices.data(), m.face_indices.size() * 4);
       r.refine_level = m.refine_level;
       r.source_shape = mesh_source[meshes.size()];
-      mesh_chunk.push_back(uint32_t(chunks.size() - 1));
+      mesh_chunk.push_back(uint32_t(open_chunk));
       meshes.push_back(r);
     }
 
@@ -309,8 +407,14 @@ class Builder {
     for (size_t i = 0; i < meshes.size(); ++i) meshes[i].section = first_geometry + mesh_chunk[i];
     if (!meshes.empty())
       w->add_section(K::kMeshes, bytes_of(meshes), uint32_t(meshes.size()), plain);
-    for (size_t c = 0; c < chunks.size(); ++c)
-      w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], shuffled);
+    draco_streams.resize(chunks.size());
+    for (size_t c = 0; c < chunks.size(); ++c) {
+      if (!draco_streams[c].empty())
+        w->add_encoded_section(K::kGeometry, std::move(chunks[c]), std::move(draco_streams[c]),
+                               chunk_counts[c], pbrta::Codec::kDraco);
+      else
+        w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], shuffled);
+    }
     add_images(w, opt, shuffled);
     // Provenance goes last: an archive recompiled from its own dump then
     // matches byte for byte up to this section's offset.
@@ -361,6 +465,7 @@ class Builder {
       r.distribution = idx(d.distribution);
       r.source_width = im.source_width;
       r.source_height = im.source_height;
+      r.source_image = idx(d.source_image);
       for (size_t l = 0; l < im.levels.size(); ++l) {
         c.resize((c.size() + 15) & ~size_t(15), 0);
         if (l == 0) r.offset = c.size();
@@ -376,6 +481,9 @@ class Builder {
       w->add_section(pbrta::SectionKind::kTexels, std::move(chunks[c]), chunk_counts[c], codec);
   }
 
+  const std::vector<DracoMeshStats>& draco_stats() const { return draco_stats_; }
+  uint32_t draco_kept_lossless() const { return draco_kept_lossless_; }
+
  private:
   const SceneDesc& scene_;
   const SourceFiles& files_;
@@ -390,6 +498,8 @@ class Builder {
   std::vector<pbrta::ProvenanceRecord> provenance_;
   std::vector<std::string> pstrings_;
   std::unordered_map<std::string, uint32_t> pstring_index_;
+  std::vector<DracoMeshStats> draco_stats_;
+  uint32_t draco_kept_lossless_ = 0;
 };
 
 uint64_t effect_bits(const Effects& fx) {
@@ -418,6 +528,8 @@ bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::
   if (stats) {
     stats->file_size = writer.last_file_size();
     stats->sections = uint32_t(writer.table().size());
+    stats->draco = builder.draco_stats();
+    stats->draco_kept_lossless = builder.draco_kept_lossless();
     stats->raw_size = 0;
     for (const pbrta::SectionEntry& e : writer.table()) stats->raw_size += e.raw_size;
   }

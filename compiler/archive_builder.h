@@ -9,6 +9,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "compiler/scene_desc.h"
 #include "compiler/source_files.h"
@@ -26,12 +27,35 @@ struct ArchiveOptions {
   // Texels sections hold whole images (all levels) up to this many raw bytes; a larger image
   // has a section of its own.
   uint64_t texel_chunk_bytes = uint64_t(16) << 20;
+  // Lossy mesh compression (format/draco_codec.h): 0 off, else the position quantization bits
+  // (8..30). Every mesh of at least draco_min_triangles triangles goes into a geometry section
+  // of its own with codec kDraco, unless it has tangents (Draco cannot carry them) or a
+  // zero-length normal (Draco would make it a unit vector, and pbrt-v3 treats a zero shading
+  // normal as absent). Needs compress.
+  int draco_bits = 0;
+  bool draco_sequential = false;  // keep vertex and triangle order (larger)
+  uint32_t draco_min_triangles = 64;
+};
+
+// One mesh stored with Draco: sizes, the displacement measured against the original vertices
+// (largest per-axis distance to the nearest original), the bound the bits imply and the float
+// rounding Draco may add to it (format/draco_codec.h), all in object space.
+struct DracoMeshStats {
+  uint32_t mesh = 0;
+  uint64_t triangles = 0;
+  uint64_t stored_bytes = 0, raw_bytes = 0;
+  double displacement = 0, bound = 0, slack = 0;
+  double encode_seconds = 0, decode_seconds = 0;
 };
 
 struct ArchiveStats {
   uint64_t file_size = 0;
   uint64_t raw_size = 0;
   uint32_t sections = 0;
+  std::vector<DracoMeshStats> draco;  // in mesh order
+  // Meshes Draco could take but that stayed lossless: Draco failed, dropped degenerate
+  // triangles, or compressed beyond the reader's bounds.
+  uint32_t draco_kept_lossless = 0;
 };
 
 // Writes scene to path. base_dir is the top-level scene file's directory

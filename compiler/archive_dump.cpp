@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -18,6 +19,12 @@ namespace {
 using pbrta::Category;
 using pbrta::Kind;
 using pbrta::kNoIndex;
+
+bool make_dir(const std::string& d, std::string* error) {
+  if (::mkdir(d.c_str(), 0777) == 0 || errno == EEXIST) return true;
+  *error = "cannot create directory '" + d + "': " + std::strerror(errno);
+  return false;
+}
 
 std::string fmt_float(float v) {
   char b[32];
@@ -85,9 +92,18 @@ class Dumper {
             break;
           case pbrta::KindStore::kString:
             if (word == 0 && (ps.flags & pbrta::kParamFilename)) {
-              // File data must come from the archive: meshes and lens files so far.
+              // File data must come from the archive: meshes, lens files and images.
               if (ts.name == "realistic" && name == "lensfile") {
                 if (!write_lens(entity, &vals)) return false;
+                break;
+              }
+              if ((ts.name == "imagemap" && name == "filename") || name == "mapname") {
+                if (image_ == kNoIndex) {
+                  error_ = "cannot dump " + std::string(ts.name) + " \"" + name +
+                           "\": the archive holds no image for it";
+                  return false;
+                }
+                if (!write_image(&vals)) return false;
                 break;
               }
               if (!(e.category == uint8_t(Category::kShape) && ts.name == "plymesh")) {
@@ -133,6 +149,35 @@ class Dumper {
     if (!out.flush()) {
       error_ = "cannot write '" + outdir_ + "/" + name + "'";
       return false;
+    }
+    *vals += quoted(name);
+    return true;
+  }
+
+  // The image of the texture or light being written (image_), as images/imageN.pfm: its texels
+  // as decoded (the source image, or level 0 when it was not resampled), which compile back to
+  // the same pyramid. The entity's gamma and scale already describe these texels (ARCHIVE.md).
+  bool write_image(std::string* vals) {
+    std::string name = "images/image" + std::to_string(image_) + ".pfm";
+    if (written_images_.insert(image_).second) {
+      const pbrta::ImageRecord& top = a_.images[image_];
+      uint32_t src = top.source_image == kNoIndex ? image_ : top.source_image;
+      const pbrta::ImageRecord& r = a_.images[src];
+      if (r.width != top.source_width || r.height != top.source_height) {
+        error_ = "cannot dump image " + std::to_string(image_) +
+                 ": it was resampled and the archive does not hold its decoded texels";
+        return false;
+      }
+      if (r.format != uint32_t(pbrta::PixelFormat::kFloat32)) {
+        error_ = "cannot dump image " + std::to_string(src) + ": texel format " +
+                 std::to_string(r.format) + " is not f32";
+        return false;
+      }
+      const float* texels =
+          reinterpret_cast<const float*>(a_.reader().section_data(r.section) + r.offset);
+      if (!make_dir(outdir_ + "/images", &error_) ||
+          !write_pfm(outdir_ + "/" + name, texels, r.width, r.height, r.channels, &error_))
+        return false;
     }
     *vals += quoted(name);
     return true;
@@ -201,6 +246,7 @@ class Dumper {
     for (uint32_t i = 0; i < a_.textures.size; ++i) {
       const pbrta::TextureRecord& t = a_.textures[i];
       std::string p;
+      image_ = t.image;
       if (!params(t.entity, &p)) return false;
       o += "TransformBegin\n";
       transform(a_.transforms[t.transform], &o);
@@ -220,6 +266,7 @@ class Dumper {
     for (uint32_t i = 0; i < a_.lights.size; ++i) {
       const pbrta::LightRecord& l = a_.lights[i];
       std::string p;
+      image_ = l.image;
       if (!params(l.entity, &p)) return false;
       o += "AttributeBegin\n";
       transform(a_.transforms[l.transform], &o);
@@ -372,15 +419,41 @@ class Dumper {
   std::string error_;
   std::string ply_name_;
   uint32_t mix_[2] = {kNoIndex, kNoIndex};
+  uint32_t image_ = kNoIndex;        // the image of the texture or light being written
+  std::set<uint32_t> written_images_;  // images shared by several users are written once
 };
 
-bool make_dir(const std::string& d, std::string* error) {
-  if (::mkdir(d.c_str(), 0777) == 0 || errno == EEXIST) return true;
-  *error = "cannot create directory '" + d + "': " + std::strerror(errno);
-  return false;
-}
-
 }  // namespace
+
+bool write_pfm(const std::string& path, const float* texels, uint32_t width, uint32_t height,
+               uint32_t channels, std::string* error) {
+  if (channels != 1 && channels != 3) {
+    *error = "cannot write '" + path + "': PFM holds 1 or 3 channels, not " +
+             std::to_string(channels);
+    return false;
+  }
+  // A negative scale says little-endian; PFM stores the bottom row first.
+  std::string bytes = std::string(channels == 3 ? "PF" : "Pf") + "\n" + std::to_string(width) +
+                      " " + std::to_string(height) + "\n-1\n";
+  const size_t row = size_t(width) * channels;
+  const size_t header = bytes.size();
+  bytes.resize(header + row * height * 4);
+  char* out = bytes.data() + header;
+  for (uint32_t y = height; y-- > 0;) {
+    for (size_t k = 0; k < row; ++k) {
+      uint32_t bits;
+      std::memcpy(&bits, &texels[size_t(y) * row + k], 4);
+      for (int b = 0; b < 4; ++b) *out++ = char((bits >> (8 * b)) & 0xFF);
+    }
+  }
+  std::ofstream f(path, std::ios::binary);
+  f.write(bytes.data(), std::streamsize(bytes.size()));
+  if (!f.flush()) {
+    *error = "cannot write '" + path + "'";
+    return false;
+  }
+  return true;
+}
 
 bool dump_archive(const pbrta::SceneArchive& archive, const std::string& outdir,
                   const std::string& scene_name, std::string* error) {

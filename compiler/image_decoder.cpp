@@ -131,9 +131,10 @@ LevelView level_view(const DecodedImage& im, int level) {
           std::max(1, int(im.height >> level)), int(im.channels), im.wrap};
 }
 
-// Reads the file as pbrt-v3's ReadImage does: RGB floats, rows top to bottom.
+// Reads the file as pbrt-v3's ReadImage does: RGB floats, rows top to bottom. *float_grey is set
+// for a one-channel PFM, whose floats a float texture takes as they are.
 bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
-              uint32_t* height, std::string* error) {
+              uint32_t* height, bool* float_grey, std::string* error) {
   const std::string ext = lower_extension(path);
   const bool exr = ext == ".exr", eight_bit = ext == ".png" || ext == ".tga";
   if (!exr && !eight_bit && ext != ".pfm" && ext != ".hdr") {
@@ -216,6 +217,7 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
     for (int k = 0; k < 3; ++k) (*rgb)[i * 3 + size_t(k)] = all[i * size_t(nch) + size_t(src[k])];
   *width = uint32_t(spec.width);
   *height = uint32_t(spec.height);
+  *float_grey = ext == ".pfm" && nch == 1;
   return true;
 }
 
@@ -365,7 +367,8 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
                   std::string* error) {
   std::vector<float> rgb;
   uint32_t w = 0, h = 0;
-  if (!read_rgb(path, &rgb, &w, &h, error)) return false;
+  bool float_grey = false;
+  if (!read_rgb(path, &rgb, &w, &h, &float_grey, error)) return false;
   if (options.flip) flip_rows(&rgb, w, h, 3);
 
   // pbrt-v3's ImageTexture::convertIn (identity for lights: scale 1, no gamma).
@@ -374,7 +377,9 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
   if (options.channels == 1) {
     texels.resize(n);
     for (size_t i = 0; i < n; ++i) {
-      float y = luminance(&rgb[i * 3]);
+      // A one-channel PFM is what pbrtc --dump writes for a float texture: taken as it is, so
+      // it reads back bit for bit (y() of the replicated grey may differ by an ulp or two).
+      float y = float_grey ? rgb[i * 3] : luminance(&rgb[i * 3]);
       texels[i] = options.scale * (options.gamma ? inverse_gamma(y) : y);
     }
   } else {
@@ -389,6 +394,11 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
   im.source_width = w;
   im.source_height = h;
   im.wrap = options.wrap;
+  if (!is_pow2(w) || !is_pow2(h)) {
+    // Resampling cannot be undone: keep what enters it, in the stored rows' order.
+    im.source = texels;
+    if (options.flip) flip_rows(&im.source, w, h, im.channels);
+  }
   im.levels = build_mip_pyramid(std::move(texels), w, h, im.channels, options.wrap, &im.width,
                                 &im.height);
   if (options.flip)

@@ -14,7 +14,11 @@
 //     reads no .hdr; pbrtc reads it as float RGB (see /work/shared/PBRT-V3-NOTES.md).
 //   - imagemap: rows flipped (t = 0 is the bottom row), then per texel
 //     scale * (gamma ? sRGB-to-linear(v) : v); a float texture keeps one channel, computed from
-//     the RGB luminance y() *before* the sRGB curve. pbrt-v3 has no "invert".
+//     the RGB luminance y() *before* the sRGB curve. pbrt-v3 has no "invert". One deliberate
+//     difference: a one-channel PFM ("Pf") gives a float texture its floats unchanged, where
+//     pbrt-v3 takes y() of the grey replicated to RGB, which rounds the weights' sum and is off
+//     by up to 2 ulps for about a fifth of all values. pbrtc --dump writes float textures as
+//     such files, and they must read back bit for bit. 8-bit and EXR grey keep pbrt-v3's y().
 //   - lights: the RGB as read (no gamma, no flip), wrap repeat. The light's L, I and scale are
 //     not baked in (the runtime multiplies them, as pbrt-v3's Sample_Li does for I).
 //
@@ -61,6 +65,11 @@ struct DecodedImage {
   // Level k is max(1, width >> k) x max(1, height >> k) texels, channels interleaved, rows top
   // to bottom; 1 + log2(max(width, height)) levels, as pbrt-v3 builds.
   std::vector<std::vector<float>> levels;
+  // When the file was resampled (its size is not level 0's): the converted texels exactly as
+  // they entered resampling, source_width x source_height, rows top to bottom as in the file.
+  // Empty otherwise (level 0 is the source). The archive keeps it so that pbrtc --dump can
+  // write a file that decodes to this same pyramid.
+  std::vector<float> source;
 };
 
 // Decodes path (.png, .tga, .pfm, .hdr or .exr, by its extension, any case) and builds the

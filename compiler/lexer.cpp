@@ -38,7 +38,46 @@ std::string describe_byte(unsigned char ch) {
   return buf;
 }
 
+// Powers of ten that float holds exactly (5^10 < 2^24).
+constexpr float kPow10[] = {1e0f, 1e1f, 1e2f, 1e3f, 1e4f, 1e5f, 1e6f, 1e7f, 1e8f, 1e9f, 1e10f};
+
 }  // namespace
+
+const char* parse_short_float(const char* p, const char* end, float* out) {
+  // Clinger's fast path: a mantissa below 2^24 and a power of ten up to 10^10
+  // are exact floats, so one multiplication or division rounds correctly: the
+  // same float fast_float gives. Anything else returns null and goes to
+  // fast_float. The digit loops carry no per-digit checks beyond the bounds.
+  bool neg = false;
+  if (p < end && (*p == '-' || *p == '+')) neg = *p++ == '-';
+  uint64_t m = 0;
+  const char* digits = p;
+  while (p < end && uint8_t(*p - '0') < 10) m = m * 10 + uint64_t(*p++ - '0');
+  ptrdiff_t n = p - digits, frac = 0;
+  if (p < end && *p == '.') {
+    const char* f = ++p;
+    while (p < end && uint8_t(*p - '0') < 10) m = m * 10 + uint64_t(*p++ - '0');
+    frac = p - f;
+  }
+  // 19 digits always fit in 64 bits; more would have wrapped.
+  if (n + frac == 0 || n + frac > 19 || m > (uint64_t(1) << 24)) return nullptr;
+  ptrdiff_t e10 = -frac;
+  if (p < end && (*p == 'e' || *p == 'E')) {
+    ++p;
+    bool eneg = false;
+    if (p < end && (*p == '-' || *p == '+')) eneg = *p++ == '-';
+    const char* ed = p;
+    int e = 0;
+    while (p < end && uint8_t(*p - '0') < 10 && p - ed < 3) e = e * 10 + (*p++ - '0');
+    if (p == ed || (p < end && uint8_t(*p - '0') < 10)) return nullptr;
+    e10 += eneg ? -e : e;
+  }
+  if (e10 < -10 || e10 > 10) return nullptr;
+  float v = float(m);
+  v = e10 >= 0 ? v * kPow10[e10] : v / kPow10[-e10];
+  *out = neg ? -v : v;
+  return p;
+}
 
 bool parse_float_token(std::string_view s, float* v) {
   const char* b = s.data();
@@ -280,8 +319,13 @@ bool Lexer::read_numbers(std::vector<float>* out, Loc* first_bad) {
     while (p < end && is_space(*p)) ++p;
     if (p < end && starts_number(*p)) {
       const char* start = p;
-      if (*p == '+') ++p;
       float v;
+      if (const char* q = parse_short_float(p, end, &v); q && (q == end || is_delim(*q))) {
+        out->push_back(v);
+        p = q;
+        continue;
+      }
+      if (*p == '+') ++p;
       auto r = fast_float::from_chars(p, end, v);
       if (__builtin_expect(r.ec != std::errc() || (r.ptr < end && !is_delim(*r.ptr)) ||
                                !std::isfinite(v),

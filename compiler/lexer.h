@@ -89,6 +89,10 @@ class Lexer {
 // Shared number rules, also used by the fuzzer and tests: parses a whole token.
 bool parse_float_token(std::string_view s, float* v);
 bool parse_double_token(std::string_view s, double* v);
+// The fast path for short decimals (at most 7 significant digits, exponent within
+// 10): returns the end of the number, or null if it must go to fast_float. The
+// result is always the float fast_float would give.
+const char* parse_short_float(const char* p, const char* end, float* out);
 bool parse_int_token(std::string_view s, int32_t* v);
 
 }  // namespace pbrtc

@@ -1,7 +1,13 @@
 #include "compiler/mesh_builder.h"
 
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <string>
+#include <vector>
 
+#include "format/draco_codec.h"
 #include "format/ply_reader.h"
 
 namespace pbrtc {
@@ -10,6 +16,50 @@ namespace {
 
 std::string desc(const ParsedParam& p) {
   return "\"" + std::string(p.type_name) + " " + std::string(p.name) + "\"";
+}
+
+bool has_drc_extension(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string ext = path.substr(path.size() - 4);
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".drc";
+}
+
+// Reads a whole file; false with a message on any failure.
+bool read_bytes(const std::string& path, std::vector<uint8_t>* out, std::string* error) {
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) {
+    *error = std::strerror(errno);
+    return false;
+  }
+  out->clear();
+  uint8_t buffer[1 << 16];
+  size_t n;
+  while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0)
+    out->insert(out->end(), buffer, buffer + n);
+  const bool ok = !std::ferror(f);
+  if (!ok) *error = std::strerror(errno);
+  std::fclose(f);
+  return ok;
+}
+
+// A Draco-compressed mesh in place of a PLY file: decoded by the wrapper the archive uses, with
+// the limits its size implies (format/draco_codec.h).
+bool load_drc(const std::string& path, Loc filename_loc, Diagnostics* diag, TriangleMesh* mesh) {
+  std::vector<uint8_t> bytes;
+  std::string error;
+  pbrta::DecodedMesh decoded;
+  if (!read_bytes(path, &bytes, &error) ||
+      !pbrta::draco_decode(bytes.data(), bytes.size(), &decoded, &error)) {
+    diag->error(filename_loc, "cannot read Draco file \"" + path + "\": " + error);
+    return false;
+  }
+  mesh->P = std::move(decoded.positions);
+  mesh->N = std::move(decoded.normals);
+  mesh->uv = std::move(decoded.uv);
+  mesh->indices = std::move(decoded.indices);
+  mesh->face_indices = std::move(decoded.face_indices);
+  return true;
 }
 
 }  // namespace
@@ -97,6 +147,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
 
 bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag,
                   TriangleMesh* mesh) {
+  if (has_drc_extension(path)) return load_drc(path, filename_loc, diag, mesh);
   pbrta::PlyMesh ply;
   pbrta::PlyError err;
   if (!pbrta::read_ply(path, &ply, &err)) {

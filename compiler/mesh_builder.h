@@ -2,9 +2,10 @@
 //
 // Takes the bulk arrays of a "trianglemesh" straight from the directive's
 // ParamList (they are not copied into the Entity first) or reads a "plymesh"
-// file with the project's one PLY reader, and checks them as pbrt-v3 would
-// need them: indices a multiple of 3 and below the vertex count, per-vertex
-// arrays of the vertex count, per-face arrays of the triangle count. Errors
+// file with the project's one PLY reader (or, for a name ending in .drc in
+// any case, its one Draco decoder, format/draco_codec.h), and checks them as
+// pbrt-v3 would need them: indices a multiple of 3 and below the vertex count,
+// per-vertex arrays of the vertex count, per-face arrays of the triangle count. Errors
 // are reported at the offending parameter; the function returns false.
 #pragma once
 

@@ -11,7 +11,10 @@
 // is 0 only if everything succeeded, and a failed compile writes nothing.
 #include <CLI/CLI.hpp>
 
+#include <unistd.h>
+
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 
 #include "compiler/archive_builder.h"
@@ -37,6 +40,83 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// What Draco did: how many meshes it took, and the largest vertex displacement measured against
+// the original vertices beside the bound the bits imply for that mesh (object space, per axis;
+// Draco's float arithmetic may add a few ulps, the slack).
+void print_draco_report(const std::string& path, int bits, const pbrtc::ArchiveStats& stats) {
+  if (stats.draco_kept_lossless > 0)
+    std::fprintf(stderr,
+                 "pbrtc: %s: draco: %u meshes kept lossless (Draco failed or dropped degenerate "
+                 "triangles)\n",
+                 path.c_str(), stats.draco_kept_lossless);
+  if (stats.draco.empty()) {
+    std::fprintf(stderr, "pbrtc: %s: draco: no mesh qualified (64+ triangles, no tangents)\n",
+                 path.c_str());
+    return;
+  }
+  const pbrtc::DracoMeshStats* worst = &stats.draco[0];
+  const pbrtc::DracoMeshStats* over = nullptr;
+  uint64_t triangles = 0, stored = 0, raw = 0;
+  for (const pbrtc::DracoMeshStats& d : stats.draco) {
+    triangles += d.triangles;
+    stored += d.stored_bytes;
+    raw += d.raw_bytes;
+    if (d.displacement > worst->displacement) worst = &d;
+    if (!over && d.displacement > d.bound + d.slack) over = &d;
+  }
+  char verdict[160] = "every mesh within its bound";
+  if (over)
+    std::snprintf(verdict, sizeof verdict, "mesh %u EXCEEDS its bound (%.3g > %.3g + %.2g)",
+                  over->mesh, over->displacement, over->bound, over->slack);
+  std::fprintf(stderr,
+               "pbrtc: %s: draco %d bits: %zu meshes (%llu triangles, %.2f MiB raw -> %.2f MiB); "
+               "largest vertex displacement %.3g (mesh %u: bound %.3g + float rounding %.2g); "
+               "%s\n",
+               path.c_str(), bits, stats.draco.size(), (unsigned long long)triangles,
+               double(raw) / (1 << 20), double(stored) / (1 << 20), worst->displacement,
+               worst->mesh, worst->bound, worst->slack, verdict);
+}
+
+// Progress of a long compile on stderr, only when stderr is a terminal: the shape count and
+// each loading phase on one line rewritten in place (at most 4 times a second), erased when
+// the build is done so the summary line stands alone.
+class Progress : public pbrtc::BuildProgress {
+ public:
+  explicit Progress(std::string path)
+      : path_(std::move(path)), enabled_(isatty(STDERR_FILENO) == 1),
+        last_(std::chrono::steady_clock::now()) {}
+  void shapes(const pbrtc::SceneDesc& scene) override {
+    if (!enabled_ || !due()) return;
+    show(std::to_string(scene.shapes.size()) + " shapes");
+  }
+  void phase(const char* name, size_t items) override {
+    if (!enabled_) return;
+    last_ = std::chrono::steady_clock::now();
+    show(std::string(name) + " (" + std::to_string(items) + ")");
+  }
+  void finish() {
+    if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
+    shown_ = false;
+  }
+
+ private:
+  bool due() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::milliseconds(250)) return false;
+    last_ = now;
+    return true;
+  }
+  void show(const std::string& what) {
+    std::fprintf(stderr, "\r\033[K%s: %s", path_.c_str(), what.c_str());
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  std::string path_;
+  bool enabled_;
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point last_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,8 +124,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> inputs;
   std::string outfile, codec = "zstd";
   bool check = false, info = false, verify = false, dump = false, print_schema = false;
-  bool werror = false, quiet = false;
-  int max_errors = 20, zstd_level = 6, nthreads = 0;
+  bool werror = false, quiet = false, draco_sequential = false;
+  int max_errors = 20, zstd_level = 6, nthreads = 0, draco_bits = 0;
   app.add_option("files", inputs, "pbrt-v3 scene files (\"-\" or none: standard input), or "
                                   "archives with --info/--verify");
   app.add_option("-o,--outfile", outfile, "archive to write (default: the scene's name with "
@@ -54,12 +134,18 @@ int main(int argc, char** argv) {
   app.add_flag("--info", info, "describe archives: version, effects, sections, counts");
   app.add_flag("--verify", verify, "load archives exactly as pbrtrun does; exit 0 only if sound");
   app.add_flag("--dump", dump, "write an archive back out as a pbrt-v3 scene: --dump A.pbrta "
-                               "OUTDIR (meshes as PLY beside it)");
+                               "OUTDIR (meshes as PLY, images as PFM beside it)");
   app.add_flag("--print-schema", print_schema, "print the parameter schema as Markdown");
   app.add_option("--codec", codec, "section compression: zstd (default) or none (usable in place)")
       ->check(CLI::IsMember({"zstd", "none"}));
   app.add_option("--zstd-level", zstd_level, "zstd level, 1-19 (default 6)")
       ->check(CLI::Range(1, 19));
+  app.add_option("--draco-bits", draco_bits,
+                 "lossy mesh compression: quantize positions of meshes of 64+ triangles to N "
+                 "bits (8-30) with Draco; normals 10 bits, uv 12 (default 0: off)")
+      ->check(CLI::Range(0, 0) | CLI::Range(8, 30));
+  app.add_flag("--draco-sequential", draco_sequential,
+               "with --draco-bits: keep vertex and triangle order (larger archives)");
   app.add_option("--nthreads", nthreads, "threads for compression and loading (default: all)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--Werror", werror, "treat warnings as errors");
@@ -117,6 +203,14 @@ int main(int argc, char** argv) {
     return ok ? 0 : 1;
   }
 
+  if (draco_bits > 0 && codec == "none") {
+    std::cerr << "pbrtc: error: --draco-bits compresses meshes; it cannot go with --codec none\n";
+    return 2;
+  }
+  if (draco_sequential && draco_bits == 0) {
+    std::cerr << "pbrtc: error: --draco-sequential needs --draco-bits\n";
+    return 2;
+  }
   if (inputs.empty()) inputs.push_back("-");
   if (!outfile.empty() && inputs.size() > 1) {
     std::cerr << "pbrtc: error: -o names one archive but " << inputs.size()
@@ -131,7 +225,9 @@ int main(int argc, char** argv) {
     diag.werror = werror;
     diag.max_errors = max_errors;
     pbrtc::SceneDesc scene;
-    bool ok = pbrtc::build_scene(path, &files, &diag, &scene);
+    Progress progress(path);
+    bool ok = pbrtc::build_scene(path, &files, &diag, &scene, quiet ? nullptr : &progress);
+    progress.finish();
     if (diag.should_stop())
       std::cerr << path << ": too many errors (" << diag.error_count() << "), stopping\n";
     if (!ok) {
@@ -152,6 +248,8 @@ int main(int argc, char** argv) {
     opt.compress = codec != "none";
     opt.zstd_level = zstd_level;
     opt.threads = nthreads;
+    opt.draco_bits = draco_bits;
+    opt.draco_sequential = draco_sequential;
     pbrtc::ArchiveStats stats;
     std::string error;
     if (!pbrtc::write_archive(scene, files, path == "-" ? "" : pbrtc::directory_of(path), out, opt,
@@ -168,6 +266,7 @@ int main(int argc, char** argv) {
                    path.c_str(), c.shapes, c.triangles, c.lights + c.area_lights, c.materials,
                    out.c_str(), double(stats.file_size) / (1 << 20),
                    double(stats.raw_size) / (1 << 20), stats.sections, parse_s, seconds_since(t0));
+      if (draco_bits > 0) print_draco_report(path, draco_bits, stats);
     }
   }
   return all_ok ? 0 : 1;

@@ -105,10 +105,12 @@ struct SceneBuilder::State {
     int32_t mesh;
   };
   std::vector<PendingPly> pending_ply;
+  BuildProgress* progress = nullptr;
 
   // Reads every pending PLY file in parallel; errors are reported in scene
   // order afterwards, so messages do not depend on thread timing.
   void load_pending_ply() {
+    if (progress && !pending_ply.empty()) progress->phase("PLY meshes", pending_ply.size());
     std::vector<std::string> errors(pending_ply.size());
     tbb::parallel_for(size_t(0), pending_ply.size(), [&](size_t i) {
       const PendingPly& p = pending_ply[i];
@@ -269,8 +271,10 @@ struct SceneBuilder::State {
 };
 
 SceneBuilder::SceneBuilder(SceneDesc* scene, Diagnostics* diag, const SourceFiles* files,
-                           std::string base_dir)
-    : s_(std::make_unique<State>(scene, diag, files, std::move(base_dir))) {}
+                           std::string base_dir, BuildProgress* progress)
+    : s_(std::make_unique<State>(scene, diag, files, std::move(base_dir))) {
+  s_->progress = progress;
+}
 SceneBuilder::~SceneBuilder() = default;
 
 // ---- Transforms ----
@@ -903,6 +907,7 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
     }
   }
   s_->scene->shapes.push_back(std::move(sh));
+  if (s_->progress) s_->progress->shapes(*s_->scene);
   if (s_->current_object != kNone)
     s_->scene->objects[size_t(s_->current_object)].shapes.push_back(
         int32_t(s_->scene->shapes.size() - 1));
@@ -911,13 +916,16 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
 // ---- Entry points ----
 
 bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
-                 SceneDesc* scene) {
+                 SceneDesc* scene, BuildProgress* progress) {
   int before = diag->error_count();
-  SceneBuilder builder(scene, diag, files, path == "-" ? "" : directory_of(path));
+  SceneBuilder builder(scene, diag, files, path == "-" ? "" : directory_of(path), progress);
   parse_file(path, files, diag, &builder);
   for (size_t i = 0; i < files->size(); ++i) scene->input_files.push_back(files->display_path(uint32_t(i)));
   // Images only once the scene is sound: decoding is the slow part of a compile.
-  if (diag->error_count() == before) decode_scene_images(scene, diag);
+  if (diag->error_count() == before) {
+    if (progress) progress->phase("images", scene->textures.size() + scene->lights.size());
+    decode_scene_images(scene, diag);
+  }
   return diag->error_count() == before;
 }
 

@@ -24,12 +24,14 @@
 
 namespace pbrtc {
 
+struct BuildProgress;
+
 class SceneBuilder final : public ParserTarget {
  public:
   // base_dir: the top-level scene file's directory (relative paths resolve
   // against it). The builder fills *scene.
   SceneBuilder(SceneDesc* scene, Diagnostics* diag, const SourceFiles* files,
-               std::string base_dir);
+               std::string base_dir, BuildProgress* progress = nullptr);
   ~SceneBuilder() override;
 
   void Accelerator(Loc, std::string_view type, const ParamList&) override;
@@ -76,10 +78,19 @@ class SceneBuilder final : public ParserTarget {
   std::unique_ptr<State> s_;
 };
 
+// Called while a scene builds, so long compiles can show counts: after every
+// shape (the callee throttles by time), then once per phase ("PLY meshes",
+// "images") before it starts. Runs on the building thread; must be cheap.
+struct BuildProgress {
+  virtual ~BuildProgress() = default;
+  virtual void shapes(const SceneDesc& scene) = 0;
+  virtual void phase(const char* name, size_t items) = 0;
+};
+
 // Parses and builds one top-level scene file ("-" for standard input).
 // Returns false if any error was reported (the SceneDesc is then incomplete).
 bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
-                 SceneDesc* scene);
+                 SceneDesc* scene, BuildProgress* progress = nullptr);
 // The same for scene text in memory; relative paths resolve against base_dir.
 bool build_scene_from_string(const std::string& display_path, std::string text,
                              const std::string& base_dir, SourceFiles* files, Diagnostics* diag,

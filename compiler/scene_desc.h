@@ -106,11 +106,13 @@ struct LightDesc {
 };
 
 // An image decoded at compile time (compiler/scene_images.h): an imagemap texture's or a light's
-// map with its MIP pyramid, or an environment map's sampling distribution.
+// map with its MIP pyramid, an environment map's sampling distribution, or a resampled map's
+// texels as decoded (one level; what pbrtc --dump writes back out).
 struct ImageDesc {
   std::string source;            // the file decoded, as resolved
   DecodedImage image;
   int32_t distribution = kNone;  // environment maps: the image of pbrt-v3's sampling distribution
+  int32_t source_image = kNone;  // resampled maps: the image as decoded, before resampling
 };
 
 struct ShapeDesc {

@@ -30,6 +30,29 @@ std::string job_key(const Job& j) {
   return j.path + buf;
 }
 
+// Sets a float or bool parameter to one value, marked given.
+void set_given(Entity* e, std::string_view param, float f, int32_t i) {
+  const int slot = e->slot(param);
+  if (slot < 0) return;
+  Value& v = e->values[size_t(slot)];
+  const bool is_float = pbrta::kind_store(e->spec().params[size_t(slot)].kind) ==
+                        pbrta::KindStore::kFloat;
+  if (v.count == 0) {
+    v.offset = uint32_t(is_float ? e->floats.size() : e->ints.size());
+    if (is_float) {
+      e->floats.push_back(f);
+    } else {
+      e->ints.push_back(i);
+    }
+  } else if (is_float) {
+    e->floats[v.offset] = f;
+  } else {
+    e->ints[v.offset] = i;
+  }
+  v.count = 1;
+  v.given = true;
+}
+
 }  // namespace
 
 bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
@@ -59,6 +82,11 @@ bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
                                           e.get_string("wrap"), e.get_float("scale"),
                                           e.given("gamma"), e.get_bool("gamma"));
     t.image = use(std::move(j), e.loc);
+    // Image parameters describe the stored texels: the curve and the scale are in them now, so
+    // the entity says "no curve, scale 1". A texture compiled from pbrtc --dump's image file
+    // (which holds these texels) then stores the same entity as the original.
+    set_given(&t.params, "gamma", 0.f, 0);
+    set_given(&t.params, "scale", 1.f, 0);
   }
   for (LightDesc& l : scene->lights) {
     const Entity& e = l.params;
@@ -85,6 +113,11 @@ bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
   });
 
   bool ok = true;
+  // Resampled maps keep their decoded texels too, as one-level images after all the others (in
+  // first-use order, so the output does not depend on the thread count).
+  int32_t next_source = next_image;
+  for (const Job& j : jobs)
+    if (j.error.empty() && !j.decoded.source.empty()) ++next_image;
   scene->images.resize(size_t(next_image));
   for (Job& j : jobs) {
     if (!j.error.empty()) {
@@ -94,6 +127,17 @@ bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
     }
     ImageDesc& im = scene->images[size_t(j.image)];
     im.source = j.path;
+    if (!j.decoded.source.empty()) {
+      ImageDesc& src = scene->images[size_t(next_source)];
+      im.source_image = next_source++;
+      src.source = j.path;
+      src.image.width = src.image.source_width = j.decoded.source_width;
+      src.image.height = src.image.source_height = j.decoded.source_height;
+      src.image.channels = j.decoded.channels;
+      src.image.wrap = j.decoded.wrap;
+      src.image.levels.push_back(std::move(j.decoded.source));
+      j.decoded.source = {};
+    }
     im.image = std::move(j.decoded);
     if (j.environment) {
       im.distribution = j.image + 1;

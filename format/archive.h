@@ -60,6 +60,7 @@ enum class Codec : uint32_t {
   kNone = 0,          // stored bytes are the raw bytes
   kZstd = 1,          // one zstd frame
   kZstdShuffle4 = 2,  // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
+  kDraco = 3,         // a Draco mesh stream (lossy); only a geometry section of one mesh
   kCount
 };
 
@@ -276,7 +277,13 @@ struct ImageRecord {
   // The decoded file's own size, before resampling to powers of two: the
   // projection light takes its aspect ratio from it, as pbrt-v3 does.
   uint32_t source_width, source_height;
+  // The image as decoded, before resampling (another ImageRecord: levels 1,
+  // source_width x source_height), or kNoIndex when level 0 already is it.
+  // The pyramid cannot be undone, so this is what lets pbrtc --dump write a
+  // file that compiles back to the same pyramid and source size.
+  uint32_t source_image;
+  uint32_t reserved[3];
 };
-static_assert(sizeof(ImageRecord) == 48, "ImageRecord is 48 bytes");
+static_assert(sizeof(ImageRecord) == 64, "ImageRecord is 64 bytes");
 
 }  // namespace pbrta

@@ -58,6 +58,8 @@ std::string_view codec_name(Codec codec) {
       return "zstd";
     case Codec::kZstdShuffle4:
       return "zstd_shuffle4";
+    case Codec::kDraco:
+      return "draco";
     case Codec::kCount:
       break;
   }

@@ -2,7 +2,7 @@
 //
 // Error messages and reports name sections by the lowercase of their kind
 // ("entities", "object_shapes", "geometry") and codecs by "none", "zstd",
-// "zstd_shuffle4". The functions return views of static strings, never fail
+// "zstd_shuffle4", "draco". The functions return views of static strings, never fail
 // (a value outside the enum is "unknown") and are safe from any thread.
 #pragma once
 
@@ -15,7 +15,7 @@ namespace pbrta {
 // "scene", "strings", ..., "provenance"; "unknown" for values outside SectionKind.
 std::string_view section_kind_name(SectionKind kind);
 
-// "none", "zstd", "zstd_shuffle4"; "unknown" for values outside Codec.
+// "none", "zstd", "zstd_shuffle4", "draco"; "unknown" for values outside Codec.
 std::string_view codec_name(Codec codec);
 
 }  // namespace pbrta

@@ -1,5 +1,7 @@
 #include "format/archive_reader.h"
 
+#include "format/archive_writer.h"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -22,6 +24,7 @@
 #endif
 
 #include "format/archive_names.h"
+#include "format/draco_codec.h"
 
 namespace pbrta {
 
@@ -108,7 +111,8 @@ bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_siz
     case Codec::kNone:
       return raw_size == stored_size;
     case Codec::kZstd:
-    case Codec::kZstdShuffle4: {
+    case Codec::kZstdShuffle4:
+    case Codec::kDraco: {
       uint64_t limit = 0;
       if (mul_overflows(stored_size, kMaxZstdRatio, &limit) ||
           add_overflows(limit, kZstdRatioSlack, &limit))
@@ -359,6 +363,11 @@ bool ArchiveReader::validate(std::string* error) {
     }
     if (e.codec >= static_cast<uint32_t>(Codec::kCount))
       return bad("unknown codec " + std::to_string(e.codec));
+    // A Draco stream is one mesh: the decoder lays it out as that mesh's geometry section.
+    if (e.codec == static_cast<uint32_t>(Codec::kDraco) &&
+        (e.kind != static_cast<uint32_t>(SectionKind::kGeometry) || e.count != 1))
+      return bad("codec 'draco' is only for a geometry section of one mesh (this one is kind " +
+                 std::to_string(e.kind) + " with count " + std::to_string(e.count) + ")");
     if (e.reserved != 0) return bad("reserved field is not zero");
     if (e.offset % kSectionAlignment != 0)
       return bad("offset " + std::to_string(e.offset) + " is not a multiple of 16");
@@ -461,6 +470,18 @@ bool ArchiveReader::load_one(uint32_t index, void* dctx_ptr, std::string* error)
     s.in_place = true;
     return true;
   }
+  if (codec == Codec::kDraco) {
+    // validate() bounds raw_size; draco_decode_section checks the mesh lays out to exactly it.
+    Buffer out = allocate(e.raw_size + kSectionPadding);
+    if (!out) return bad("cannot allocate " + std::to_string(e.raw_size) + " bytes to decode it");
+    std::memset(out.get() + e.raw_size, 0, kSectionPadding);
+    std::string why;
+    if (!draco_decode_section(src, e.stored_size, e.raw_size, out.get(), &why)) return bad(why);
+    s.owned = std::move(out);
+    s.data = s.owned.get();
+    s.in_place = false;
+    return true;
+  }
   const unsigned long long content = ZSTD_getFrameContentSize(src, e.stored_size);
   if (content == ZSTD_CONTENTSIZE_ERROR) return bad("zstd: not a zstd frame");
   if (content == ZSTD_CONTENTSIZE_UNKNOWN) return bad("zstd: the frame does not record its size");
@@ -477,13 +498,7 @@ bool ArchiveReader::load_one(uint32_t index, void* dctx_ptr, std::string* error)
   Buffer out = allocate(raw + kSectionPadding);
   if (!out) return bad("cannot allocate " + std::to_string(raw) + " bytes to decode it");
   std::memset(out.get() + raw, 0, kSectionPadding);
-  Buffer shuffled;
   uint8_t* dst = out.get();
-  if (codec == Codec::kZstdShuffle4) {
-    shuffled = allocate(raw);
-    if (!shuffled) return bad("cannot allocate " + std::to_string(raw) + " bytes to decode it");
-    dst = shuffled.get();
-  }
   ZSTD_DCtx* dctx = static_cast<ZSTD_DCtx*>(dctx_ptr);
   if (dctx == nullptr) return bad("zstd: cannot create a decompression context");
   const size_t got = ZSTD_decompressDCtx(dctx, dst, raw, src, e.stored_size);
@@ -491,7 +506,16 @@ bool ArchiveReader::load_one(uint32_t index, void* dctx_ptr, std::string* error)
   if (got != raw)
     return bad("zstd frame decoded to " + std::to_string(got) + " bytes but the table says " +
                std::to_string(raw));
-  if (codec == Codec::kZstdShuffle4) unshuffle4(shuffled.get(), out.get(), raw);
+  if (codec == Codec::kZstdShuffle4) {
+    // Shuffled in blocks: each block is copied to a cache-resident buffer and unshuffled back
+    // in place, so no second section-sized buffer is faulted in.
+    thread_local std::vector<uint8_t> block(kShuffleBlock);
+    for (uint64_t at = 0; at < raw; at += kShuffleBlock) {
+      const uint64_t n = std::min(kShuffleBlock, raw - at);
+      std::memcpy(block.data(), dst + at, n);
+      unshuffle4(block.data(), dst + at, n);
+    }
+  }
   s.owned = std::move(out);
   s.data = s.owned.get();
   s.in_place = false;

@@ -39,8 +39,10 @@ namespace pbrta {
 // together at most kMaxZstdRatio times the file size plus kTotalRatioSlack (so a file of many tiny
 // sections cannot multiply the per-section slack). The ratio is the most the zstd format itself
 // can express (a 4-byte RLE block stands for 128 KiB), so nothing zstd produces is refused: a
-// flat texture's MIP pyramid really does compress that far. Large buffers are mapped lazily, so
-// a lying size costs address space, not memory.
+// flat texture's MIP pyramid really does compress that far. Draco (kDraco) sections have the
+// same bound; the Draco decoder is further limited by the vertex and triangle counts raw_size
+// can hold (format/draco_codec.h). Large buffers are mapped lazily, so a lying size costs
+// address space, not memory.
 inline constexpr uint64_t kMaxRawSize = uint64_t{1} << 40;
 inline constexpr uint64_t kMaxZstdRatio = 32768;
 inline constexpr uint64_t kZstdRatioSlack = uint64_t{1} << 20;

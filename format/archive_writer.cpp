@@ -95,7 +95,8 @@ uint64_t lay_out(std::vector<SectionEntry>* table) {
 
 }  // namespace
 
-void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
+namespace {
+void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size) {
   const uint64_t words = size / 4;
   uint8_t* d0 = dst;
   uint8_t* d1 = dst + words;
@@ -109,10 +110,23 @@ void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
   }
   std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
 }
+}  // namespace
+
+void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
+  for (uint64_t at = 0; at < size; at += kShuffleBlock)
+    shuffle4_block(src + at, dst + at, std::min(kShuffleBlock, size - at));
+}
 
 uint32_t ArchiveWriter::add_section(SectionKind kind, std::vector<uint8_t> raw, uint32_t count,
                                     Codec codec) {
-  sections_.push_back(Section{kind, codec, count, std::move(raw)});
+  sections_.push_back(Section{kind, codec, count, std::move(raw), {}});
+  return static_cast<uint32_t>(sections_.size() - 1);
+}
+
+uint32_t ArchiveWriter::add_encoded_section(SectionKind kind, std::vector<uint8_t> raw,
+                                            std::vector<uint8_t> stored, uint32_t count,
+                                            Codec codec) {
+  sections_.push_back(Section{kind, codec, count, std::move(raw), std::move(stored)});
   return static_cast<uint32_t>(sections_.size() - 1);
 }
 
@@ -135,6 +149,11 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
       problem = "unknown codec " + std::to_string(static_cast<uint32_t>(s.codec));
     else if (s.raw.size() > kMaxRawSize)
       problem = "section is larger than 2^40 bytes";
+    else if (s.codec == Codec::kDraco && (s.kind != SectionKind::kGeometry || s.count != 1 ||
+                                          s.stored.empty()))
+      problem = "codec 'draco' needs a geometry section of one mesh, encoded by the caller";
+    else if (s.codec != Codec::kDraco && !s.stored.empty())
+      problem = "only codec 'draco' sections come encoded";
     if (!problem.empty()) {
       *error = what + "section '" + std::string(section_kind_name(s.kind)) + "' (#" +
                std::to_string(i) + "): " + problem;
@@ -166,7 +185,13 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
               shuffle4(s.raw.data(), shuffled.data(), s.raw.size());
               src = shuffled.data();
             }
-            if (s.codec != Codec::kNone) {
+            if (s.codec == Codec::kDraco) {
+              e.stored = s.stored;  // encoded by the caller
+              if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
+                e.codec = Codec::kNone;
+                e.stored = {};
+              }
+            } else if (s.codec != Codec::kNone) {
               if (!zstd_compress(src, s.raw.size(), level, &e.stored, &e.error)) continue;
               if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
                 // Compresses better than the reader believes possible (say, a black image): store

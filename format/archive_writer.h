@@ -8,8 +8,9 @@
 // compressed by its own single-threaded zstd context, so the thread count never changes a byte.
 //
 // A compressed section whose decoded size would exceed the reader's zip-bomb bounds
-// (format/archive_reader.h: 64x + 1 MiB per section, 64x + 64 MiB in all) is stored with codec
-// kNone instead, so that every archive written can be read; table() tells which codec was used.
+// (format/archive_reader.h: kMaxZstdRatio times the stored size + 1 MiB per section) is stored
+// with codec kNone instead, so that every archive written can be read; table() tells which
+// codec was used.
 //
 // Ownership: the writer owns copies of (or the moved-in) section bytes until it is destroyed.
 // Thread safety: one thread drives a writer; write() uses oneTBB internally.
@@ -34,6 +35,11 @@ class ArchiveWriter {
   uint32_t add_section(SectionKind kind, std::vector<uint8_t> raw, uint32_t count, Codec codec);
   uint32_t add_section(SectionKind kind, const void* data, size_t size, uint32_t count,
                        Codec codec);
+  // Appends a section the caller has already encoded (kDraco: format/draco_codec.h): `stored`
+  // is written as it is, `raw` must be what it decodes to (the writer does not decode it to
+  // check) and is written instead, with codec kNone, if the sizes exceed the reader's bounds.
+  uint32_t add_encoded_section(SectionKind kind, std::vector<uint8_t> raw,
+                               std::vector<uint8_t> stored, uint32_t count, Codec codec);
 
   uint32_t section_count() const { return static_cast<uint32_t>(sections_.size()); }
 
@@ -54,15 +60,19 @@ class ArchiveWriter {
     Codec codec;
     uint32_t count;
     std::vector<uint8_t> raw;
+    std::vector<uint8_t> stored;  // add_encoded_section's bytes; empty otherwise
   };
   std::vector<Section> sections_;
   Header header_{};
   std::vector<SectionEntry> table_;
 };
 
-// Byte-shuffles size bytes in 4-byte lanes (Blosc-style): all byte-0s of the 4-byte words, then
-// all byte-1s, then byte-2s, then byte-3s, then the size % 4 tail bytes as they are. The stored
-// form of a kZstdShuffle4 section is one zstd frame of this. dst must not overlap src.
+// Byte-shuffles size bytes in 4-byte lanes (Blosc-style), block by block: each kShuffleBlock
+// bytes (the last block may be shorter) become all byte-0s of the block's 4-byte words, then all
+// byte-1s, byte-2s, byte-3s, then the block's size % 4 tail bytes as they are. Blocks let a
+// reader unshuffle through a cache-sized buffer instead of a second copy of the section. The
+// stored form of a kZstdShuffle4 section is one zstd frame of this. dst must not overlap src.
+inline constexpr uint64_t kShuffleBlock = uint64_t{256} << 10;
 void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size);
 
 }  // namespace pbrta

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "format/archive_names.h"
+#include "format/draco_codec.h"
 
 namespace pbrta {
 
@@ -318,58 +319,59 @@ bool SceneArchive::validate(std::string* error) {
   c.in(sec(SectionKind::kEntities));
   for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
     const EntityRecord& e = entities[i];
-    std::string at = "entity " + std::to_string(i) + ": ";
+    // Messages are built only on failure: this loop runs once per entity.
+    auto at = [&]() { return "entity " + std::to_string(i) + ": "; };
     if (e.category >= uint8_t(Category::kCount)) {
-      c.fail(at + "category " + std::to_string(e.category) + " unknown");
+      c.fail(at() + "category " + std::to_string(e.category) + " unknown");
       break;
     }
     const CategorySpec& cs = category_spec(Category(e.category));
     if (e.type >= cs.num_types) {
-      c.fail(at + std::string(cs.name) + " type " + std::to_string(e.type) + " unknown (" +
+      c.fail(at() + std::string(cs.name) + " type " + std::to_string(e.type) + " unknown (" +
              std::to_string(cs.num_types) + " types)");
       break;
     }
     const TypeSpec& ts = cs.types[e.type];
     if (e.reserved0 || e.reserved1) {
-      c.fail(at + "reserved field is not zero");
+      c.fail(at() + "reserved field is not zero");
       break;
     }
     if (e.num_values != ts.num_params) {
-      c.fail(at + std::string(ts.name) + " has " + std::to_string(ts.num_params) +
+      c.fail(at() + std::string(ts.name) + " has " + std::to_string(ts.num_params) +
              " parameters, the record " + std::to_string(e.num_values));
       break;
     }
     if (uint64_t(e.first_value) + e.num_values > values.size) {
-      c.fail(at + "values " + std::to_string(e.first_value) + "+" + std::to_string(e.num_values) +
+      c.fail(at() + "values " + std::to_string(e.first_value) + "+" + std::to_string(e.num_values) +
              " out of range (" + std::to_string(values.size) + " values)");
       break;
     }
     for (uint32_t p = 0; p < e.num_values; ++p) {
       const ValueRecord& v = values[e.first_value + p];
       const ParamSpec& ps = ts.params[p];
-      std::string vat = at + std::string(ts.name) + " \"" + std::string(ps.name) + "\": ";
+      auto vat = [&]() { return at() + std::string(ts.name) + " \"" + std::string(ps.name) + "\": "; };
       uint64_t width = uint64_t(kind_width(ps.kind));
       if (v.flags & ~uint32_t(kValueGiven)) {
-        c.fail(vat + "unknown value flags");
+        c.fail(vat() + "unknown value flags");
         break;
       }
       if (uint64_t(v.offset) + uint64_t(v.count) * width > words.size) {
-        c.fail(vat + "words out of range");
+        c.fail(vat() + "words out of range");
         break;
       }
       if (ps.arity > 0 && v.count != 0 && v.count != ps.arity) {
-        c.fail(vat + std::to_string(v.count) + " values, the schema says " +
+        c.fail(vat() + std::to_string(v.count) + " values, the schema says " +
                std::to_string(ps.arity));
         break;
       }
       if (v.texture != kNoIndex) {
         bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
         if (!tex_kind) {
-          c.fail(vat + "a texture on a parameter that takes none");
+          c.fail(vat() + "a texture on a parameter that takes none");
           break;
         }
         if (v.texture >= textures.size) {
-          c.fail(vat + "texture " + std::to_string(v.texture) + " out of range (" +
+          c.fail(vat() + "texture " + std::to_string(v.texture) + " out of range (" +
                  std::to_string(textures.size) + " textures)");
           break;
         }
@@ -377,7 +379,7 @@ bool SceneArchive::validate(std::string* error) {
       if (ps.kind == Kind::kString)
         for (uint32_t k = 0; k < v.count; ++k)
           if (words[v.offset + k] >= num_strings_) {
-            c.fail(vat + "string " + std::to_string(words[v.offset + k]) + " out of range");
+            c.fail(vat() + "string " + std::to_string(words[v.offset + k]) + " out of range");
             break;
           }
     }
@@ -500,22 +502,31 @@ bool SceneArchive::validate(std::string* error) {
   c.in(sec(SectionKind::kMeshes));
   for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
     const MeshRecord& m = meshes[i];
-    std::string at = "mesh " + std::to_string(i) + ": ";
+    auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
     if (m.section >= r.section_count() || r.entry(m.section).kind != uint32_t(SectionKind::kGeometry)) {
-      c.fail(at + "section " + std::to_string(m.section) + " is not a geometry section");
+      c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
       break;
     }
     if (m.flags & ~uint32_t(kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices)) {
-      c.fail(at + "unknown flags");
+      c.fail(at() + "unknown flags");
       break;
+    }
+    if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
+      // A Draco section decodes to exactly one mesh's layout: the record must describe it.
+      MeshRecord expect = m;
+      if ((m.flags & kMeshTangents) || single_mesh_layout(&expect) != r.section_size(m.section) ||
+          std::memcmp(&expect, &m, sizeof m) != 0) {
+        c.fail(at() + "does not match the layout of its draco section");
+        break;
+      }
     }
     uint64_t size = r.section_size(m.section);
     auto array_ok = [&](bool present, uint64_t offset, uint64_t elems, uint64_t elem_bytes,
                         const char* name) {
-      if (!present) return offset == 0 || c.fail(at + name + " offset set but flag clear");
-      if (offset % 16 != 0) return c.fail(at + name + " offset is not 16-byte aligned");
+      if (!present) return offset == 0 || c.fail(at() + name + " offset set but flag clear");
+      if (offset % 16 != 0) return c.fail(at() + name + " offset is not 16-byte aligned");
       if (offset > size || elems * elem_bytes > size - offset)
-        return c.fail(at + name + " (" + std::to_string(elems * elem_bytes) + " bytes at " +
+        return c.fail(at() + name + " (" + std::to_string(elems * elem_bytes) + " bytes at " +
                       std::to_string(offset) + ") lies outside its section (" +
                       std::to_string(size) + " bytes)");
       return true;
@@ -532,7 +543,7 @@ bool SceneArchive::validate(std::string* error) {
     const uint32_t* idx = indices(i);
     for (uint64_t k = 0; k < nt * 3; ++k)
       if (idx[k] >= nv) {
-        c.fail(at + "triangle " + std::to_string(k / 3) + " has vertex index " +
+        c.fail(at() + "triangle " + std::to_string(k / 3) + " has vertex index " +
                std::to_string(idx[k]) + " (" + std::to_string(nv) + " vertices)");
         break;
       }
@@ -564,8 +575,35 @@ bool SceneArchive::validate(std::string* error) {
       }
       off = (off + bytes + 15) & ~uint64_t(15);
     }
-    if (!c.failed())
-      c.index(im.distribution, images.size, "image", i, "distribution", "images", true);
+    if (c.failed()) break;
+    if ((im.reserved[0] | im.reserved[1] | im.reserved[2]) != 0) {
+      c.fail(at + "reserved field is not zero");
+      break;
+    }
+    if (!c.index(im.distribution, images.size, "image", i, "distribution", "images", true) ||
+        !c.index(im.source_image, images.size, "image", i, "source image", "images", true))
+      break;
+    if (im.source_image != kNoIndex) {
+      // Only a resampled image names its texels as decoded; a source is at its own size, so
+      // this also keeps sources from naming sources (no chains).
+      if (im.width == im.source_width && im.height == im.source_height) {
+        c.fail(at + "level 0 is already the source size, " + std::to_string(im.width) + " x " +
+               std::to_string(im.height) + ", yet it names source image " +
+               std::to_string(im.source_image));
+        break;
+      }
+      // The texels as decoded: one level at the source size, with no source of its own.
+      const ImageRecord& src = images[im.source_image];
+      if (im.source_image == i || src.source_image != kNoIndex || src.levels != 1 ||
+          src.width != im.source_width || src.height != im.source_height ||
+          src.channels != im.channels || src.format != im.format || src.wrap != im.wrap) {
+        c.fail(at + "source image " + std::to_string(im.source_image) + " is not " +
+               std::to_string(im.source_width) + " x " + std::to_string(im.source_height) +
+               " x " + std::to_string(im.channels) +
+               " in the same format and wrap, with one level and no source of its own");
+        break;
+      }
+    }
   }
   if (c.failed()) {
     *error = c.message();

@@ -8,13 +8,19 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <xxhash.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "compiler/archive_builder.h"
+#include "compiler/archive_dump.h"
 #include "compiler/diagnostics.h"
 #include "compiler/image_decoder.h"
 #include "compiler/parser.h"
@@ -343,7 +349,7 @@ TEST(SceneImages, SameFileAndOptionsDecodeOnce) {
 }
 
 // A little-endian colour PFM; rows[0] is the top row (the file stores the bottom row first).
-void write_pfm(const std::string& path, int w, int h, const std::vector<float>& rows) {
+void write_colour_pfm(const std::string& path, int w, int h, const std::vector<float>& rows) {
   std::string bytes = "PF\n" + std::to_string(w) + " " + std::to_string(h) + "\n-1.0\n";
   for (int y = h - 1; y >= 0; --y)
     bytes.append(reinterpret_cast<const char*>(&rows[size_t(y * w * 3)]), size_t(w * 3 * 4));
@@ -354,7 +360,7 @@ TEST(ImageDecoder, PfmRowsArePbrtV3s) {
   const std::string dir = testing_support::scratch_dir("image_pfm");
   std::vector<float> rows(4 * 2 * 3, 1.f);
   for (int i = 0; i < 12; ++i) rows[size_t(i)] = 2.f;  // the top row
-  write_pfm(dir + "/t.pfm", 4, 2, rows);
+  write_colour_pfm(dir + "/t.pfm", 4, 2, rows);
   DecodedImage im;
   std::string error;
   ASSERT_TRUE(decode_image(dir + "/t.pfm", ImageOptions{}, &im, &error)) << error;
@@ -363,21 +369,233 @@ TEST(ImageDecoder, PfmRowsArePbrtV3s) {
   EXPECT_EQ(im.levels[0], rows);  // a texture's flip is undone for storage
 }
 
+// Floats that must survive a PFM round trip: signed zeros, a denormal, the extremes, values
+// that are not 8-bit or half floats, infinity and a quiet NaN.
+std::vector<float> awkward_floats(size_t n) {
+  const float pool[] = {0.f,    -0.f,    1e-40f,   3.4e38f, -2.5f, 1.f / 3,
+                        0.1f,   65504.5f, 1e-30f, 7.f,     -1e-7f, 0.73f,
+                        std::numeric_limits<float>::infinity(),
+                        std::numeric_limits<float>::quiet_NaN()};
+  std::vector<float> v(n);
+  for (size_t i = 0; i < n; ++i) v[i] = pool[(i * 5 + i / 7) % (sizeof pool / sizeof pool[0])];
+  return v;
+}
+
+::testing::AssertionResult same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  if (a.size() != b.size())
+    return ::testing::AssertionFailure() << a.size() << " floats vs " << b.size();
+  for (size_t i = 0; i < a.size(); ++i)
+    if (std::memcmp(&a[i], &b[i], 4) != 0)
+      return ::testing::AssertionFailure() << "float " << i << ": " << a[i] << " vs " << b[i];
+  return ::testing::AssertionSuccess();
+}
+
+// pbrtc --dump writes images as PFM: the decoder must give back exactly the texels written,
+// for a light's map, a spectrum texture and a float texture (one channel, "Pf").
+TEST(ImageDecoder, DumpedPfmReadsBackBitForBit) {
+  const std::string dir = testing_support::scratch_dir("image_pfm_exact");
+  std::string error;
+  for (uint32_t channels : {3u, 1u}) {
+    const std::vector<float> texels = awkward_floats(size_t(8) * 4 * channels);
+    const std::string pfm = dir + "/t" + std::to_string(channels) + ".pfm";
+    ASSERT_TRUE(write_pfm(pfm, texels.data(), 8, 4, channels, &error)) << error;
+    const std::string bytes = testing_support::read_file(pfm);
+    EXPECT_EQ(bytes.substr(0, 10), channels == 3 ? "PF\n8 4\n-1\n" : "Pf\n8 4\n-1\n");
+    EXPECT_EQ(bytes.size(), 10 + texels.size() * 4);
+    // PFM's first row is the image's bottom row.
+    EXPECT_EQ(std::memcmp(bytes.data() + 10, &texels[size_t(3) * 8 * channels], 4), 0);
+
+    DecodedImage im;
+    const ImageOptions texture = ImageOptions::for_texture(pfm, channels == 1, "clamp", 1.f,
+                                                           true, false);
+    ASSERT_TRUE(decode_image(pfm, texture, &im, &error)) << error;
+    ASSERT_EQ(im.channels, channels);
+    EXPECT_TRUE(im.source.empty());  // powers of two: level 0 is the source
+    EXPECT_TRUE(same_bits(im.levels[0], texels)) << channels << " channels, texture";
+    if (channels == 3) {
+      ASSERT_TRUE(decode_image(pfm, ImageOptions{}, &im, &error)) << error;
+      EXPECT_TRUE(same_bits(im.levels[0], texels)) << "light map";
+    }
+  }
+  // A one-channel PFM passes through unchanged where pbrt-v3's luminance of the replicated grey
+  // would round: 2.875 is such a value.
+  const float grey = 2.875f;
+  EXPECT_NE(0.212671f * grey + 0.715160f * grey + 0.072169f * grey, grey);
+  ASSERT_TRUE(write_pfm(dir + "/y.pfm", &grey, 1, 1, 1, &error)) << error;
+  DecodedImage y;
+  ASSERT_TRUE(decode_image(dir + "/y.pfm", texture_options(dir + "/y.pfm", true), &y, &error));
+  EXPECT_EQ(y.levels[0], std::vector<float>{grey});
+  // ... while an RGB file still gives a float texture its luminance, as pbrt-v3 computes it.
+  const std::vector<float> rgb(3, grey);
+  ASSERT_TRUE(write_pfm(dir + "/g.pfm", rgb.data(), 1, 1, 3, &error)) << error;
+  DecodedImage im;
+  ASSERT_TRUE(decode_image(dir + "/g.pfm", texture_options(dir + "/g.pfm", true), &im, &error));
+  EXPECT_EQ(im.levels[0][0], 0.212671f * grey + 0.715160f * grey + 0.072169f * grey);
+}
+
+// A map that is resampled keeps the texels that entered resampling, rows as in the file; a PFM
+// of them decodes to the same pyramid.
+TEST(ImageDecoder, ResampledImageKeepsItsSourceTexels) {
+  const std::string dir = testing_support::scratch_dir("image_source");
+  std::vector<float> texels(size_t(3) * 5 * 3);
+  for (size_t i = 0; i < texels.size(); ++i) texels[i] = float((i * 7) % 11) / 3.f;
+  std::string error;
+  ASSERT_TRUE(write_pfm(dir + "/a.pfm", texels.data(), 3, 5, 3, &error)) << error;
+  for (bool texture : {false, true}) {
+    ImageOptions o = texture ? ImageOptions::for_texture(dir + "/a.pfm", false, "black", 2.f,
+                                                         true, false)
+                             : ImageOptions{};
+    DecodedImage im;
+    ASSERT_TRUE(decode_image(dir + "/a.pfm", o, &im, &error)) << error;
+    EXPECT_EQ(im.width, 4u);
+    EXPECT_EQ(im.height, 8u);
+    std::vector<float> expect = texels;
+    for (float& v : expect) v *= o.scale;
+    EXPECT_TRUE(same_bits(im.source, expect)) << (texture ? "texture" : "light");
+    // Written out and read back with the parameters normalized, it gives the same pyramid.
+    ASSERT_TRUE(write_pfm(dir + "/b.pfm", im.source.data(), 3, 5, 3, &error)) << error;
+    ImageOptions again = o;
+    again.scale = 1;
+    DecodedImage im2;
+    ASSERT_TRUE(decode_image(dir + "/b.pfm", again, &im2, &error)) << error;
+    ASSERT_EQ(im2.levels.size(), im.levels.size());
+    for (size_t l = 0; l < im.levels.size(); ++l)
+      EXPECT_TRUE(same_bits(im2.levels[l], im.levels[l])) << "level " << l;
+    EXPECT_TRUE(same_bits(im2.source, im.source));
+  }
+}
+
 TEST(SceneImages, EnvironmentMapGetsItsDistribution) {
   const std::string dir = testing_support::scratch_dir("image_env");
-  write_pfm(dir + "/sky.pfm", 8, 3, std::vector<float>(8 * 3 * 3, 1.f));  // resampled to 8 x 4
+  // 8 x 3: resampled to 8 x 4.
+  write_colour_pfm(dir + "/sky.pfm", 8, 3, std::vector<float>(8 * 3 * 3, 1.f));
   Built b;
   build(dir, "LightSource \"infinite\" \"string mapname\" \"sky.pfm\" \"rgb L\" [2 2 2]\n", &b);
   ASSERT_TRUE(b.ok) << (b.diag.all().empty() ? "" : b.diag.all()[0].text);
-  ASSERT_EQ(b.scene.images.size(), 2u);
+  ASSERT_EQ(b.scene.images.size(), 3u);  // the map, its distribution, the map as decoded
   EXPECT_EQ(b.scene.lights[0].image, 0);
   EXPECT_EQ(b.scene.images[0].distribution, 1);
+  EXPECT_EQ(b.scene.images[0].source_image, 2);
+  EXPECT_EQ(b.scene.images[1].source_image, kNone);
+  EXPECT_EQ(b.scene.images[2].image.width, 8u);
+  EXPECT_EQ(b.scene.images[2].image.height, 3u);
   EXPECT_EQ(b.scene.images[0].image.width, 8u);
   EXPECT_EQ(b.scene.images[0].image.height, 4u);
   EXPECT_EQ(b.scene.images[1].image.width, 16u);
   EXPECT_EQ(b.scene.images[1].image.height, 8u);
   // The map itself does not carry L: the runtime multiplies it.
   EXPECT_NEAR(b.scene.images[0].image.levels[0][0], 1.f, 1e-5);
+}
+
+// Image parameters describe the stored texels: gamma and scale are applied, then stored as
+// "no curve, scale 1"; lights keep their parameters. Resampled maps name their decoded texels.
+TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
+  const std::string dir = testing_support::scratch_dir("image_normalized");
+  uint8_t px[5][3][3];
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 3; ++x)
+      for (int k = 0; k < 3; ++k) px[y][x][k] = uint8_t(40 * y + 10 * x + 3 * k);
+  write_image(dir + "/a.png", 3, 5, 3, OIIO::TypeDesc::UINT8, px);
+  write_image(dir + "/p.png", 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+  Built b;
+  build(dir,
+        "Texture \"t1\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\" "
+        "\"float scale\" 2\n"
+        "Texture \"t2\" \"float\" \"imagemap\" \"string filename\" \"p.png\" "
+        "\"bool gamma\" \"true\"\n"
+        "LightSource \"projection\" \"string mapname\" \"a.png\" \"rgb scale\" [3 3 3]\n",
+        &b);
+  ASSERT_TRUE(b.ok) << (b.diag.all().empty() ? "" : b.diag.all()[0].text);
+  for (const TextureDesc& t : b.scene.textures) {
+    EXPECT_TRUE(t.params.given("gamma"));
+    EXPECT_FALSE(t.params.get_bool("gamma"));
+    EXPECT_TRUE(t.params.given("scale"));
+    EXPECT_EQ(t.params.get_float("scale"), 1.f);
+  }
+  EXPECT_EQ(b.scene.lights[0].params.get_floats("scale")[0], 3.f);  // not applied to the map
+  // Images: t1's pyramid, t2's, the light's; then t1's and the light's texels as decoded.
+  ASSERT_EQ(b.scene.images.size(), 5u);
+  EXPECT_EQ(b.scene.textures[0].image, 0);
+  EXPECT_EQ(b.scene.textures[1].image, 1);
+  EXPECT_EQ(b.scene.lights[0].image, 2);
+  EXPECT_EQ(b.scene.images[0].source_image, 3);
+  EXPECT_EQ(b.scene.images[1].source_image, kNone);  // 2 x 2: level 0 is the source
+  EXPECT_EQ(b.scene.images[2].source_image, 4);
+  const DecodedImage& src = b.scene.images[3].image;
+  EXPECT_EQ(src.width, 3u);
+  EXPECT_EQ(src.height, 5u);
+  ASSERT_EQ(src.levels.size(), 1u);
+  // Rows as in the file, the curve and the scale applied.
+  ImageOptions o = ImageOptions::for_texture("a.png", false, "repeat", 2.f, false, false);
+  DecodedImage direct;
+  std::string error;
+  ASSERT_TRUE(decode_image(dir + "/a.png", o, &direct, &error)) << error;
+  EXPECT_EQ(src.levels[0], direct.source);
+  EXPECT_NEAR(src.levels[0][(1 * 3 + 2) * 3 + 1], 2 * srgb_to_linear((40 + 20 + 3) / 255.0), 1e-6);
+  EXPECT_EQ(b.scene.images[4].image.levels[0][(1 * 3 + 2) * 3 + 1], (40 + 20 + 3) / 255.f);
+
+  // The archive records the sources; the reader checks them.
+  const std::string path = dir + "/a.pbrta";
+  ArchiveOptions opt;
+  opt.compress = false;  // so the test can edit the records in place
+  ASSERT_TRUE(write_archive(b.scene, b.files, dir, path, opt, nullptr, &error)) << error;
+  pbrta::SceneArchive archive;
+  ASSERT_TRUE(archive.load(path, 1, &error)) << error;
+  ASSERT_EQ(archive.images.size, 5u);
+  EXPECT_EQ(archive.images[0].source_image, 3u);
+  EXPECT_EQ(archive.images[1].source_image, pbrta::kNoIndex);
+  EXPECT_EQ(archive.images[3].levels, 1u);
+  EXPECT_EQ(archive.images[3].width, 3u);
+  EXPECT_EQ(archive.images[3].source_image, pbrta::kNoIndex);
+  uint64_t images_at = 0;
+  uint32_t images_entry = 0;
+  for (uint32_t i = 0; i < archive.reader().section_count(); ++i)
+    if (archive.reader().entry(i).kind == uint32_t(pbrta::SectionKind::kImages)) {
+      images_at = archive.reader().entry(i).offset;
+      images_entry = i;
+    }
+  ASSERT_NE(images_at, 0u);
+  const std::string good = testing_support::read_file(path);
+  // Edits image `image`'s field at byte `field` and reseals the checksums.
+  auto edit = [&](uint32_t image, size_t field, uint32_t value) {
+    std::string bytes = good;
+    std::memcpy(&bytes[images_at + image * sizeof(pbrta::ImageRecord) + field], &value, 4);
+    const size_t entry_at = sizeof(pbrta::Header) + images_entry * sizeof(pbrta::SectionEntry);
+    pbrta::SectionEntry e;
+    std::memcpy(&e, &bytes[entry_at], sizeof e);
+    e.checksum = XXH3_64bits(bytes.data() + e.offset, e.stored_size);
+    std::memcpy(&bytes[entry_at], &e, sizeof e);
+    pbrta::Header h;
+    std::memcpy(&h, bytes.data(), sizeof h);
+    h.table_checksum = XXH3_64bits(bytes.data() + sizeof h, h.section_count * sizeof e);
+    h.header_checksum = XXH3_64bits(&h, offsetof(pbrta::Header, header_checksum));
+    std::memcpy(&bytes[0], &h, sizeof h);
+    testing_support::write_file(dir + "/bad.pbrta", bytes);
+    pbrta::SceneArchive bad;
+    std::string message;
+    EXPECT_FALSE(bad.load(dir + "/bad.pbrta", 1, &message));
+    return message;
+  };
+  const size_t source_field = offsetof(pbrta::ImageRecord, source_image);
+  const std::string prefix = dir + "/bad.pbrta: section 'images' (#" +
+                             std::to_string(images_entry) + "): image 0: ";
+  const std::string not_source = "source image 1 is not 3 x 5 x 3 in the same format and wrap, "
+                                 "with one level and no source of its own";
+  EXPECT_EQ(edit(0, source_field, 1), prefix + not_source);  // 2 x 2, not the source's size
+  EXPECT_EQ(edit(0, source_field, 5), prefix + "source image 5 out of range (5 images)");
+  EXPECT_EQ(edit(0, source_field, 0),
+            prefix + "source image 0 is not 3 x 5 x 3 in the same format and wrap, with one "
+                     "level and no source of its own");  // itself
+  EXPECT_EQ(edit(3, source_field, 4),  // a chain: image 0's source names one
+            prefix + "source image 3 is not 3 x 5 x 3 in the same format and wrap, with one "
+                     "level and no source of its own");
+  EXPECT_EQ(edit(1, source_field, 3),
+            dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) +
+                "): image 1: level 0 is already the source size, 2 x 2, yet it names source "
+                "image 3");
+  EXPECT_EQ(edit(1, offsetof(pbrta::ImageRecord, reserved) + 8, 1),
+            dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) +
+                "): image 1: reserved field is not zero");
 }
 
 TEST(SceneImages, UnreadableImageIsAnErrorAtItsDirective) {

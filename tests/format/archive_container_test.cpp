@@ -231,10 +231,33 @@ TEST(ArchiveContainer, RoundTripsEveryCodec) {
                             texels.stored_size),
             texels.raw_size);
   const std::vector<uint8_t>& raw = sections[6].raw;
-  const size_t words = raw.size() / 4;
-  for (size_t w4 = 0; w4 < words; ++w4)
-    for (size_t b = 0; b < 4; ++b) ASSERT_EQ(decoded[b * words + w4], raw[4 * w4 + b]);
-  for (size_t t = 4 * words; t < raw.size(); ++t) ASSERT_EQ(decoded[t], raw[t]);
+  for (size_t at = 0; at < raw.size(); at += kShuffleBlock) {
+    const size_t n = std::min<size_t>(kShuffleBlock, raw.size() - at);
+    const size_t words = n / 4;
+    for (size_t w4 = 0; w4 < words; ++w4)
+      for (size_t b = 0; b < 4; ++b) ASSERT_EQ(decoded[at + b * words + w4], raw[at + 4 * w4 + b]);
+    for (size_t t = 4 * words; t < n; ++t) ASSERT_EQ(decoded[at + t], raw[at + t]);
+  }
+}
+
+// A section of several shuffle blocks with a ragged end decodes to the same bytes.
+TEST(ArchiveContainer, ShuffleWorksBlockByBlock) {
+  const std::string dir = testing_support::scratch_dir("ArchiveContainer.ShuffleBlocks");
+  std::vector<uint8_t> raw = random_bytes(2 * kShuffleBlock + 1003, 11);
+  ArchiveWriter w;
+  w.add_section(SectionKind::kGeometry, raw, 1, Codec::kZstdShuffle4);
+  std::string error;
+  ASSERT_TRUE(w.write(dir + "/s.pbrta", 0, 3, 2, &error)) << error;
+  std::vector<uint8_t> shuffled(raw.size());
+  shuffle4(raw.data(), shuffled.data(), raw.size());
+  // The third block's byte-1 plane starts a quarter of the way into that block.
+  const size_t third = 2 * kShuffleBlock, words = 1003 / 4;
+  EXPECT_EQ(shuffled[third + words], raw[third + 1]);
+  EXPECT_EQ(shuffled[third + 1002], raw[third + 1002]);  // the tail byte stays
+  ArchiveReader r;
+  ASSERT_TRUE(r.open(dir + "/s.pbrta", &error) && r.load_sections(2, &error)) << error;
+  ASSERT_EQ(r.section_size(0), raw.size());
+  EXPECT_EQ(0, std::memcmp(r.section_data(0), raw.data(), raw.size()));
 }
 
 TEST(ArchiveContainer, TypedArrays) {
@@ -608,10 +631,15 @@ TEST_F(ArchiveRejection, OverlappingSections) {
 TEST_F(ArchiveRejection, UnknownCodecAndReservedEntryField) {
   std::string b = good_;
   SectionEntry e = get_entry(b, 3);
-  e.codec = 3;
+  e.codec = 4;
   put_entry(&b, 3, e);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): unknown codec 3");
+  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): unknown codec 4");
+  e.codec = 3;  // Draco: geometry sections of one mesh only
+  put_entry(&b, 3, e);
+  reseal(&b);
+  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): codec 'draco' is only for a geometry "
+                           "section of one mesh (this one is kind 4 with count 50)");
   e.codec = 2;
   e.reserved = 7;
   put_entry(&b, 3, e);
