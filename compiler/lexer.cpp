@@ -79,20 +79,10 @@ const char* parse_short_float(const char* p, const char* end, float* out) {
   return p;
 }
 
-bool parse_float_token(std::string_view s, float* v) {
-  const char* b = s.data();
-  const char* e = b + s.size();
-  if (b < e && *b == '+') {
-    ++b;  // fast_float, like from_chars, rejects '+'
-    if (b < e && (*b == '+' || *b == '-')) return false;
-  }
-  if (b == e) return false;
-  auto r = fast_float::from_chars(b, e, *v);
-  if (r.ec != std::errc() || r.ptr != e) return false;
-  return true;
-}
-
-bool parse_double_token(std::string_view s, double* v) {
+namespace {
+// A whole token as a number: fast_float, like from_chars, rejects a leading '+'.
+template <class T>
+bool parse_number_token(std::string_view s, T* v) {
   const char* b = s.data();
   const char* e = b + s.size();
   if (b < e && *b == '+') {
@@ -103,6 +93,10 @@ bool parse_double_token(std::string_view s, double* v) {
   auto r = fast_float::from_chars(b, e, *v);
   return r.ec == std::errc() && r.ptr == e;
 }
+}  // namespace
+
+bool parse_float_token(std::string_view s, float* v) { return parse_number_token(s, v); }
+bool parse_double_token(std::string_view s, double* v) { return parse_number_token(s, v); }
 
 bool parse_int_token(std::string_view s, int32_t* v) {
   const char* b = s.data();
@@ -367,7 +361,7 @@ bool Lexer::bad_array_token(const Token& t, const char* expected, Loc* first_bad
   return false;
 }
 
-bool Lexer::read_integers(std::vector<int32_t>* out) {
+bool Lexer::read_integers(std::vector<uint32_t>* out) {
   for (;;) {
     if (!has_peek_) {
       const char* p = p_;
@@ -384,7 +378,7 @@ bool Lexer::read_integers(std::vector<int32_t>* out) {
         if (q == digits || (q < end && !is_space(*q) && *q != ']') ||
             acc > (neg ? uint64_t(1) << 31 : uint64_t(INT32_MAX)))
           break;
-        out->push_back(neg ? int32_t(-int64_t(acc)) : int32_t(acc));
+        out->push_back(uint32_t(neg ? int32_t(-int64_t(acc)) : int32_t(acc)));
         p = q;
       }
       p_ = p;
@@ -394,7 +388,7 @@ bool Lexer::read_integers(std::vector<int32_t>* out) {
     if (t.kind == TokenKind::kNumber) {
       int32_t v;
       if (!to_int(t, &v)) return false;
-      out->push_back(v);
+      out->push_back(uint32_t(v));
       continue;
     }
     return bad_array_token(t, "an integer", nullptr);

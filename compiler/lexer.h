@@ -48,7 +48,7 @@ class Lexer {
   // an unterminated array, a NaN/Inf or out-of-range value). With integers set,
   // values must be whole numbers in the int32 range and go to *ints instead.
   bool read_numbers(std::vector<float>* out, Loc* first_bad = nullptr);
-  bool read_integers(std::vector<int32_t>* out);
+  bool read_integers(std::vector<uint32_t>* out);  // two's-complement bits
 
   // Converts a kNumber token. Report errors at tok.loc and return false.
   bool to_float(const Token& tok, float* v);

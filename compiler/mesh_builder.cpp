@@ -102,8 +102,7 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
         return false;
       }
     }
-    const uint32_t* usrc = reinterpret_cast<const uint32_t*>(src);
-    mesh->indices.assign(usrc, usrc + I->count);
+    mesh->indices = params.take_uints(*I);
   }
   size_t nt = mesh->indices.size() / 3;
   auto per_vertex = [&](const char* name, ParamType type, int width, std::vector<float>* out) {

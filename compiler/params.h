@@ -60,6 +60,10 @@ struct ParsedParam {
   mutable bool looked_up = false;
 };
 
+// Asks for transparent huge pages over a large buffer about to be written (a
+// no-op for small buffers or where the kernel gives none).
+void advise_huge_pages(void* data, size_t bytes);
+
 // Numeric and bool values live in one pooled array per parameter, so a bulk
 // array (mesh vertices) can be moved into the scene instead of copied; the pool
 // keeps a same-sized replacement so the next mesh parses without regrowing.
@@ -81,18 +85,23 @@ struct ParamList {
 
   // For the parser: an empty pooled array; *index receives its number.
   std::vector<float>* new_floats(uint32_t* index);
-  std::vector<int32_t>* new_ints(uint32_t* index);
+  // Integers and bools are kept as their 32-bit two's-complement bits, so an
+  // index array can be moved into a mesh's uint32 indices without a copy.
+  std::vector<uint32_t>* new_ints(uint32_t* index);
 
   // Values of a numeric parameter (floats for float-valued types, ints for
   // integer and bool); p.offset is the pooled array's number.
   const float* floats_of(const ParsedParam& p) const { return float_pool_[p.offset].data(); }
-  const int32_t* ints_of(const ParsedParam& p) const { return int_pool_[p.offset].data(); }
+  const int32_t* ints_of(const ParsedParam& p) const {
+    return reinterpret_cast<const int32_t*>(int_pool_[p.offset].data());
+  }
   // Moves a parameter's values out (the parameter must not be read again).
   std::vector<float> take_floats(const ParsedParam& p) const;
+  std::vector<uint32_t> take_uints(const ParsedParam& p) const;
 
  private:
   mutable std::vector<std::vector<float>> float_pool_;
-  std::vector<std::vector<int32_t>> int_pool_;
+  mutable std::vector<std::vector<uint32_t>> int_pool_;
   size_t used_floats_ = 0, used_ints_ = 0;
 };
 

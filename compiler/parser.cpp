@@ -358,7 +358,7 @@ class Parser {
     }
     if (strings) {
       p->string_values = p->type != ParamType::kBool;
-      std::vector<int32_t>* bools = nullptr;
+      std::vector<uint32_t>* bools = nullptr;
       if (p->type == ParamType::kBool)
         bools = params_.new_ints(&p->offset);
       else
@@ -401,7 +401,7 @@ class Parser {
     }
     // Numbers.
     if (p->type == ParamType::kInteger) {
-      std::vector<int32_t>* out = params_.new_ints(&p->offset);
+      std::vector<uint32_t>* out = params_.new_ints(&p->offset);
       if (bracket) {
         if (!lx().read_integers(out)) return false;
       } else {
@@ -413,7 +413,7 @@ class Parser {
         }
         int32_t v;
         if (!lx().to_int(t, &v)) return false;
-        out->push_back(v);
+        out->push_back(uint32_t(v));
       }
       p->count = uint32_t(out->size());
     } else {

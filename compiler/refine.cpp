@@ -644,7 +644,7 @@ bool refine_nurbs(const Entity& shape, TriangleMesh* out, std::string* error) {
   }
   out->indices.clear();
   out->indices.reserve(size_t(6) * size_t(dice - 1) * size_t(dice - 1));
-  auto vn = [dice](int u, int v) { return uint32_t(v * dice + u); };
+  auto vn = [](int u, int v) { return uint32_t(v * dice + u); };
   for (int v = 0; v < dice - 1; ++v) {
     for (int u = 0; u < dice - 1; ++u) {
       out->indices.insert(out->indices.end(), {vn(u, v), vn(u + 1, v), vn(u + 1, v + 1)});
