@@ -107,6 +107,9 @@ void print_schema_markdown(std::ostream& out) {
         if (ps.flags & pbrta::kParamComputedDefault) flags += "computed: " + std::string(ps.note) + "; ";
         if (ps.flags & pbrta::kParamFilename) flags += "file name; ";
         if (ps.flags & pbrta::kParamBulk) flags += "bulk; ";
+        if (ps.flags & pbrta::kParamDerived) flags += "derived (filled by the compiler); ";
+        if (!(ps.flags & pbrta::kParamComputedDefault) && !ps.note.empty())
+          flags += std::string(ps.note) + "; ";
         if (!ps.alias.empty()) flags += "alias `" + std::string(ps.alias) + "`; ";
         out << "| " << p << " | `" << ps.name << "` | " << pbrta::kind_name(ps.kind) << " | "
             << int(ps.arity) << " | " << def << " | " << flags << " |\n";

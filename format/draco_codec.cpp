@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 // Draco's headers are not warning-free under -Wall -Wextra; CMake includes them as SYSTEM.
+#include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/attributes/geometry_attribute.h>
 #include <draco/attributes/point_attribute.h>
 #include <draco/compression/config/compression_shared.h>
@@ -502,6 +503,31 @@ bool draco_decode(const uint8_t* data, size_t size, const DracoLimits& limits, D
     return convert(*mesh, limits, out, error);
   } catch (const std::exception& e) {
     *out = DecodedMesh{};
+    return fail(error, std::string("draco: ") + e.what());
+  }
+}
+
+bool draco_position_bits(const uint8_t* data, size_t size, int* bits, std::string* error) {
+  *bits = 0;
+  if (size > kMaxStreamBytes)
+    return fail(error, "draco: the stream is longer than 2^31 bytes");
+  if (!check_header(data, size, draco_limits_for(size), error)) return false;
+  try {
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(data), size);
+    draco::Decoder decoder;
+    // Left quantized, the position attribute keeps its transform parameters: the bits.
+    decoder.SetSkipAttributeTransform(draco::GeometryAttribute::POSITION);
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok() || !decoded.value()) return fail(error, "draco: cannot decode the mesh");
+    const std::unique_ptr<draco::Mesh> mesh = std::move(decoded).value();
+    const draco::PointAttribute* pos = mesh->GetNamedAttribute(draco::GeometryAttribute::POSITION);
+    if (pos == nullptr) return fail(error, "draco: the mesh has no positions");
+    draco::AttributeQuantizationTransform q;
+    if (pos->GetAttributeTransformData() != nullptr && q.InitFromAttribute(*pos))
+      *bits = q.quantization_bits();
+    return true;
+  } catch (const std::exception& e) {
     return fail(error, std::string("draco: ") + e.what());
   }
 }

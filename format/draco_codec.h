@@ -113,6 +113,11 @@ DracoLimits draco_limits_for(uint64_t stream_bytes);
 
 // The most one coordinate of a vertex moves when positions are quantized to `bits`: half a
 // quantization step, the bounding box's largest extent / (2^bits - 1) / 2 (0 for no vertices).
+// The position quantization bits a stream was encoded with (0 when positions are not
+// quantized). Checks the stream as draco_decode does.
+[[nodiscard]] bool draco_position_bits(const uint8_t* data, size_t size, int* bits,
+                                       std::string* error);
+
 double draco_position_bound(const float* positions, size_t num_vertices, int bits);
 
 // What float rounding in Draco's (de)quantization may add to that bound: it subtracts the

@@ -13,6 +13,8 @@ packages=(
   libfast-float-dev libcli11-dev
   # the archive: section compression, checksums, parallel loading
   libzstd-dev libxxhash-dev libtbb-dev
+  # mesh tools
+  libopenmesh-dev
   # optional lossy mesh compression (Draco sections); the runtime decodes them
   libdraco-dev
   # images decoded at compile time (PNG, TGA, PFM, HDR, EXR); pbrtc only, never the runtime

@@ -199,6 +199,25 @@ TEST(DracoCodec, PositionsOnlyAndDeterministic) {
   EXPECT_LT(a.size(), encode(in, 12, true).size());
 }
 
+TEST(DracoCodec, ReportsThePositionBitsAStreamUsed) {
+  const TestMesh m = torus(30, 20);
+  for (int bits : {8, 11, 14, 16, 20}) {
+    for (bool sequential : {false, true}) {
+      const std::vector<uint8_t> s = encode(m.view(true, true, true), bits, sequential);
+      int got = -1;
+      std::string error;
+      ASSERT_TRUE(draco_position_bits(s.data(), s.size(), &got, &error)) << error;
+      EXPECT_EQ(got, bits) << (sequential ? "sequential" : "edgebreaker");
+    }
+  }
+  const std::vector<uint8_t> junk(100, 7);
+  int got = -1;
+  std::string error;
+  EXPECT_FALSE(draco_position_bits(junk.data(), junk.size(), &got, &error));
+  EXPECT_EQ(got, 0);
+  EXPECT_NE(error.find("draco"), std::string::npos) << error;
+}
+
 TEST(DracoCodec, RefusesInvalidInput) {
   TestMesh m = torus(8, 6);
   std::vector<uint8_t> out;
