@@ -514,6 +514,42 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
   return true;
 }
 
+// One text row per vertex (position, then normal and uv where present) and per triangle
+// ("3 a b c", then the face index where wanted): the body OFF and ASCII PLY share.
+void append_vertex_rows(std::string* out, const Mesh& m) {
+  const bool n = !m.normals.empty(), t = !m.uvs.empty();
+  for (size_t i = 0; i < m.num_vertices(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (k) *out += ' ';
+      append_float(out, m.positions[3 * i + size_t(k)]);
+    }
+    for (int k = 0; n && k < 3; ++k) {
+      *out += ' ';
+      append_float(out, m.normals[3 * i + size_t(k)]);
+    }
+    for (int k = 0; t && k < 2; ++k) {
+      *out += ' ';
+      append_float(out, m.uvs[2 * i + size_t(k)]);
+    }
+    *out += '\n';
+  }
+}
+
+void append_face_rows(std::string* out, const Mesh& m, bool face_indices) {
+  for (size_t f = 0; f < m.num_triangles(); ++f) {
+    *out += '3';
+    for (int k = 0; k < 3; ++k) {
+      *out += ' ';
+      append_uint(out, m.indices[3 * f + size_t(k)]);
+    }
+    if (face_indices) {
+      *out += ' ';
+      append_int(out, m.face_indices[f]);
+    }
+    *out += '\n';
+  }
+}
+
 std::string off_text(const Mesh& m) {
   const bool n = !m.normals.empty(), t = !m.uvs.empty();
   std::string out = std::string(t ? "ST" : "") + (n ? "N" : "") + "OFF\n";
@@ -522,29 +558,8 @@ std::string off_text(const Mesh& m) {
   out += ' ';
   append_uint(&out, m.num_triangles());
   out += " 0\n";
-  for (size_t i = 0; i < m.num_vertices(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      if (k) out += ' ';
-      append_float(&out, m.positions[3 * i + size_t(k)]);
-    }
-    for (int k = 0; n && k < 3; ++k) {
-      out += ' ';
-      append_float(&out, m.normals[3 * i + size_t(k)]);
-    }
-    for (int k = 0; t && k < 2; ++k) {
-      out += ' ';
-      append_float(&out, m.uvs[2 * i + size_t(k)]);
-    }
-    out += '\n';
-  }
-  for (size_t f = 0; f < m.num_triangles(); ++f) {
-    out += '3';
-    for (int k = 0; k < 3; ++k) {
-      out += ' ';
-      append_uint(&out, m.indices[3 * f + size_t(k)]);
-    }
-    out += '\n';
-  }
+  append_vertex_rows(&out, m);
+  append_face_rows(&out, m, false);
   return out;
 }
 
@@ -689,33 +704,8 @@ std::string ply_ascii_text(const Mesh& m) {
   out += "\nproperty list uchar uint vertex_indices\n";
   if (fi) out += "property int face_indices\n";
   out += "end_header\n";
-  for (size_t i = 0; i < m.num_vertices(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      if (k) out += ' ';
-      append_float(&out, m.positions[3 * i + size_t(k)]);
-    }
-    for (int k = 0; n && k < 3; ++k) {
-      out += ' ';
-      append_float(&out, m.normals[3 * i + size_t(k)]);
-    }
-    for (int k = 0; t && k < 2; ++k) {
-      out += ' ';
-      append_float(&out, m.uvs[2 * i + size_t(k)]);
-    }
-    out += '\n';
-  }
-  for (size_t f = 0; f < m.num_triangles(); ++f) {
-    out += '3';
-    for (int k = 0; k < 3; ++k) {
-      out += ' ';
-      append_uint(&out, m.indices[3 * f + size_t(k)]);
-    }
-    if (fi) {
-      out += ' ';
-      append_int(&out, m.face_indices[f]);
-    }
-    out += '\n';
-  }
+  append_vertex_rows(&out, m);
+  append_face_rows(&out, m, fi);
   return out;
 }
 
