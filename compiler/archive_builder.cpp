@@ -51,14 +51,7 @@ bool draco_eligible(const TriangleMesh& m, const ArchiveOptions& opt) {
 bool draco_compress(const TriangleMesh& m, uint32_t index, const ArchiveOptions& opt,
                     DracoMesh* out) {
   using clock = std::chrono::steady_clock;
-  pbrta::MeshArrays in;
-  in.positions = m.P.data();
-  in.normals = m.N.empty() ? nullptr : m.N.data();
-  in.uv = m.uv.empty() ? nullptr : m.uv.data();
-  in.indices = m.indices.data();
-  in.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
-  in.num_vertices = m.num_vertices();
-  in.num_triangles = m.num_triangles();
+  const pbrta::MeshArrays in = arrays_of(m);
   pbrta::DracoOptions o;
   o.position_bits = opt.draco_bits;
   o.sequential = opt.draco_sequential;

@@ -372,10 +372,10 @@ class Dumper {
         return false;
       }
       ply_name_ = "meshes/mesh" + std::to_string(m) + ".ply";
-      pbrta::PlyView v;
+      pbrta::MeshArrays v;
       v.positions = a_.positions(m);
       v.normals = a_.normals(m);
-      v.uvs = a_.uvs(m);
+      v.uv = a_.uvs(m);
       v.indices = a_.indices(m);
       v.face_indices = a_.face_indices(m);
       v.num_vertices = a_.meshes[m].num_vertices;

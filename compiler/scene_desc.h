@@ -20,6 +20,7 @@
 #include "compiler/image_decoder.h"
 #include "compiler/source_files.h"
 #include "compiler/transform.h"
+#include "format/mesh_arrays.h"
 #include "format/schema.h"
 
 namespace pbrtc {
@@ -78,6 +79,19 @@ struct TriangleMesh {
   size_t num_vertices() const { return P.size() / 3; }
   size_t num_triangles() const { return indices.size() / 3; }
 };
+
+// A mesh as the view the PLY writer and the Draco wrapper take.
+inline pbrta::MeshArrays arrays_of(const TriangleMesh& m) {
+  pbrta::MeshArrays a;
+  a.positions = m.P.data();
+  a.normals = m.N.empty() ? nullptr : m.N.data();
+  a.uv = m.uv.empty() ? nullptr : m.uv.data();
+  a.indices = m.indices.data();
+  a.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
+  a.num_vertices = m.num_vertices();
+  a.num_triangles = m.num_triangles();
+  return a;
+}
 
 struct TextureDesc {
   std::string name;

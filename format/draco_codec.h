@@ -36,19 +36,11 @@
 #include <vector>
 
 #include "format/archive.h"
+#include "format/mesh_arrays.h"
 
 namespace pbrta {
 
 // A triangle mesh as views of flat arrays owned by the caller.
-struct MeshArrays {
-  const float* positions = nullptr;       // 3 floats per vertex
-  const float* normals = nullptr;         // nullptr, or 3 floats per vertex
-  const float* uv = nullptr;              // nullptr, or 2 floats per vertex
-  const uint32_t* indices = nullptr;      // 3 per triangle, each < num_vertices
-  const int32_t* face_indices = nullptr;  // nullptr, or 1 per triangle
-  size_t num_vertices = 0;
-  size_t num_triangles = 0;
-};
 
 inline constexpr int kDracoMinPositionBits = 8;
 inline constexpr int kDracoMaxPositionBits = 30;

@@ -11,7 +11,7 @@ namespace pbrta {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLY output assumes a little-endian host");
 
-bool write_ply(const std::string& path, const PlyView& m, std::string* error) {
+bool write_ply(const std::string& path, const MeshArrays& m, std::string* error) {
   std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) {
@@ -22,7 +22,7 @@ bool write_ply(const std::string& path, const PlyView& m, std::string* error) {
   h += "element vertex " + std::to_string(m.num_vertices) + "\n";
   h += "property float x\nproperty float y\nproperty float z\n";
   if (m.normals) h += "property float nx\nproperty float ny\nproperty float nz\n";
-  if (m.uvs) h += "property float u\nproperty float v\n";
+  if (m.uv) h += "property float u\nproperty float v\n";
   h += "element face " + std::to_string(m.num_triangles) + "\n";
   h += "property list uchar int vertex_indices\n";
   if (m.face_indices) h += "property int face_indices\n";
@@ -43,7 +43,7 @@ bool write_ply(const std::string& path, const PlyView& m, std::string* error) {
   for (uint64_t i = 0; i < m.num_vertices && ok; ++i) {
     put(m.positions + 3 * i, 12);
     if (m.normals) put(m.normals + 3 * i, 12);
-    if (m.uvs) put(m.uvs + 2 * i, 8);
+    if (m.uv) put(m.uv + 2 * i, 8);
   }
   for (uint64_t t = 0; t < m.num_triangles && ok; ++t) {
     uint8_t three = 3;

@@ -9,18 +9,11 @@
 #include <cstdint>
 #include <string>
 
+#include "format/mesh_arrays.h"
+
 namespace pbrta {
 
-struct PlyView {
-  const float* positions = nullptr;  // 3 per vertex
-  const float* normals = nullptr;    // 3 per vertex, or null
-  const float* uvs = nullptr;        // 2 per vertex, or null
-  const uint32_t* indices = nullptr; // 3 per triangle
-  const int32_t* face_indices = nullptr;  // 1 per triangle, or null
-  uint64_t num_vertices = 0;
-  uint64_t num_triangles = 0;
-};
 
-[[nodiscard]] bool write_ply(const std::string& path, const PlyView& mesh, std::string* error);
+[[nodiscard]] bool write_ply(const std::string& path, const MeshArrays& mesh, std::string* error);
 
 }  // namespace pbrta

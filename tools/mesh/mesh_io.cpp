@@ -711,16 +711,8 @@ std::string ply_ascii_text(const Mesh& m) {
 
 bool write_ply_file(const std::string& path, const Mesh& m, bool ascii, std::string* error) {
   if (ascii) return write_atomically(path, ply_ascii_text(m), error);
-  pbrta::PlyView view;
-  view.positions = m.positions.data();
-  view.normals = m.normals.empty() ? nullptr : m.normals.data();
-  view.uvs = m.uvs.empty() ? nullptr : m.uvs.data();
-  view.indices = m.indices.data();
-  view.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
-  view.num_vertices = m.num_vertices();
-  view.num_triangles = m.num_triangles();
   std::string reason;
-  if (!pbrta::write_ply(path, view, &reason)) return fail(error, path, reason);
+  if (!pbrta::write_ply(path, pbrta::arrays_of(m), &reason)) return fail(error, path, reason);
   return true;
 }
 
@@ -883,14 +875,7 @@ bool write_drc(const std::string& path, const Mesh& m, const WriteOptions& optio
     return fail(error, path, "Draco position bits must be " +
                              std::to_string(pbrta::kDracoMinPositionBits) + " to " +
                              std::to_string(pbrta::kDracoMaxPositionBits));
-  pbrta::MeshArrays a;
-  a.positions = m.positions.data();
-  a.normals = m.normals.empty() ? nullptr : m.normals.data();
-  a.uv = m.uvs.empty() ? nullptr : m.uvs.data();
-  a.indices = m.indices.data();
-  a.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
-  a.num_vertices = m.num_vertices();
-  a.num_triangles = m.num_triangles();
+  const pbrta::MeshArrays a = pbrta::arrays_of(m);
   pbrta::DracoOptions opt;
   opt.position_bits = options.draco_bits;
   opt.sequential = options.draco_sequential;

@@ -99,14 +99,7 @@ int main(int argc, char** argv) {
       ++failures;
       continue;
     }
-    pbrta::PlyView view;
-    view.positions = mesh.positions.data();
-    view.normals = mesh.normals.empty() ? nullptr : mesh.normals.data();
-    view.uvs = mesh.uvs.empty() ? nullptr : mesh.uvs.data();
-    view.indices = mesh.indices.data();
-    view.face_indices = mesh.face_indices.empty() ? nullptr : mesh.face_indices.data();
-    view.num_vertices = mesh.num_vertices();
-    view.num_triangles = mesh.num_triangles();
+    const pbrta::MeshArrays view = pbrta::arrays_of(mesh);
     std::string error;
     if (!pbrta::write_ply(tmp_ply, view, &error)) {
       std::fprintf(stderr, "mesh-table: %s: %s\n", tmp_ply.c_str(), error.c_str());
@@ -116,14 +109,7 @@ int main(int argc, char** argv) {
     const uint64_t ply_bytes = std::filesystem::file_size(tmp_ply, ec);
     std::filesystem::remove(tmp_ply, ec);
 
-    pbrta::MeshArrays in;
-    in.positions = mesh.positions.data();
-    in.normals = view.normals;
-    in.uv = view.uvs;
-    in.indices = mesh.indices.data();
-    in.face_indices = view.face_indices;
-    in.num_vertices = mesh.num_vertices();
-    in.num_triangles = mesh.num_triangles();
+    const pbrta::MeshArrays& in = view;
     for (int b : bits) {
       pbrta::DracoOptions opt;
       opt.position_bits = b;

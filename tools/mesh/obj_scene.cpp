@@ -809,15 +809,8 @@ bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
     }
     if (options.style == PbrtStyle::kPlymesh) {
       const std::string ply = (out_dir / (stem + "-" + std::to_string(part) + ".ply")).string();
-      pbrta::PlyView view;
-      view.positions = mesh.positions.data();
-      view.normals = mesh.normals.empty() ? nullptr : mesh.normals.data();
-      view.uvs = mesh.uvs.empty() ? nullptr : mesh.uvs.data();
-      view.indices = mesh.indices.data();
-      view.num_vertices = mesh.num_vertices();
-      view.num_triangles = mesh.num_triangles();
       std::string ply_error;
-      if (!pbrta::write_ply(ply, view, &ply_error)) return fail(ply + ": " + ply_error);
+      if (!pbrta::write_ply(ply, pbrta::arrays_of(mesh), &ply_error)) return fail(ply + ": " + ply_error);
       written.push_back(ply);
       body += "  Shape \"plymesh\" \"string filename\" " + pbrt_string(name_for(ply)) + "\n";
     } else {
