@@ -372,15 +372,7 @@ class Dumper {
         return false;
       }
       ply_name_ = "meshes/mesh" + std::to_string(m) + ".ply";
-      pbrta::MeshArrays v;
-      v.positions = a_.positions(m);
-      v.normals = a_.normals(m);
-      v.uv = a_.uvs(m);
-      v.indices = a_.indices(m);
-      v.face_indices = a_.face_indices(m);
-      v.num_vertices = a_.meshes[m].num_vertices;
-      v.num_triangles = a_.meshes[m].num_triangles;
-      if (!pbrta::write_ply(outdir_ + "/" + ply_name_, v, &error_)) return false;
+      if (!pbrta::write_ply(outdir_ + "/" + ply_name_, a_.mesh_arrays(m), &error_)) return false;
     }
     if (!params(sh.entity, &p)) return false;
     o += "Shape \"" + std::string(type) + "\"" + p;

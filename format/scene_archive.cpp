@@ -126,6 +126,18 @@ std::string_view SceneArchive::provenance_string(uint32_t i) const {
                           pstring_offsets_[i + 1] - pstring_offsets_[i]);
 }
 
+MeshArrays SceneArchive::mesh_arrays(uint32_t m) const {
+  MeshArrays v;
+  v.positions = positions(m);
+  v.normals = normals(m);
+  v.uv = uvs(m);
+  v.indices = indices(m);
+  v.face_indices = face_indices(m);
+  v.num_vertices = meshes[m].num_vertices;
+  v.num_triangles = meshes[m].num_triangles;
+  return v;
+}
+
 std::string SceneArchive::where(uint32_t index) const {
   if (index >= provenance.size) return "?";
   const ProvenanceRecord& p = provenance[index];

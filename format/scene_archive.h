@@ -20,6 +20,7 @@
 
 #include "format/archive.h"
 #include "format/archive_reader.h"
+#include "format/mesh_arrays.h"
 #include "format/schema.h"
 
 namespace pbrta {
@@ -79,6 +80,8 @@ class SceneArchive {
   const float* uvs(uint32_t mesh) const;
   const uint32_t* indices(uint32_t mesh) const;
   const int32_t* face_indices(uint32_t mesh) const;
+  // All of a mesh's arrays as one view (for the PLY writer and the Draco wrapper).
+  MeshArrays mesh_arrays(uint32_t mesh) const;
 
   // Provenance: where a record came from. index is an entity index, or an
   // ObjectRecord's / InstanceRecord's provenance field.

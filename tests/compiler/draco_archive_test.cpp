@@ -46,30 +46,6 @@ std::string write(const Compiled& c, const std::string& out, ArchiveOptions opt,
   return testing_support::read_file(out);
 }
 
-pbrta::MeshArrays view_of(const TriangleMesh& m) {
-  pbrta::MeshArrays a;
-  a.positions = m.P.data();
-  a.normals = m.N.empty() ? nullptr : m.N.data();
-  a.uv = m.uv.empty() ? nullptr : m.uv.data();
-  a.indices = m.indices.data();
-  a.face_indices = m.face_indices.empty() ? nullptr : m.face_indices.data();
-  a.num_vertices = m.num_vertices();
-  a.num_triangles = m.num_triangles();
-  return a;
-}
-
-pbrta::MeshArrays view_of(const pbrta::SceneArchive& a, uint32_t m) {
-  pbrta::MeshArrays v;
-  v.positions = a.positions(m);
-  v.normals = a.normals(m);
-  v.uv = a.uvs(m);
-  v.indices = a.indices(m);
-  v.face_indices = a.face_indices(m);
-  v.num_vertices = a.meshes[m].num_vertices;
-  v.num_triangles = a.meshes[m].num_triangles;
-  return v;
-}
-
 bool is_draco(const pbrta::SceneArchive& a, uint32_t m) {
   return a.reader().entry(a.meshes[m].section).codec == uint32_t(pbrta::Codec::kDraco);
 }
@@ -83,7 +59,7 @@ int expect_meshes_match(const SceneDesc& s, const pbrta::SceneArchive& a, int bi
   for (uint32_t m = 0; m < a.meshes.size && m < s.meshes.size(); ++m) {
     SCOPED_TRACE("mesh " + std::to_string(m));
     const TriangleMesh& orig = s.meshes[m];
-    const pbrta::MeshArrays got = view_of(a, m);
+    const pbrta::MeshArrays got = a.mesh_arrays(m);
     EXPECT_EQ(got.num_triangles, orig.num_triangles());
     EXPECT_EQ(got.normals != nullptr, !orig.N.empty());
     EXPECT_EQ(got.uv != nullptr, !orig.uv.empty());
@@ -99,7 +75,7 @@ int expect_meshes_match(const SceneDesc& s, const pbrta::SceneArchive& a, int bi
     const double bound = pbrta::draco_position_bound(orig.P.data(), orig.num_vertices(), bits);
     const double slack = pbrta::draco_position_slack(orig.P.data(), orig.num_vertices());
     const bool same_order = sequential && got.num_vertices == orig.num_vertices();
-    EXPECT_LE(pbrta::draco_max_displacement(view_of(orig), got, bound, same_order),
+    EXPECT_LE(pbrta::draco_max_displacement(arrays_of(orig), got, bound, same_order),
               bound + slack);
     if (sequential) {
       EXPECT_EQ(got.num_vertices, orig.num_vertices());
@@ -281,7 +257,7 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
   EXPECT_EQ(m.N, d.normals);
   EXPECT_EQ(m.indices, d.indices);
   const double bound = pbrta::draco_position_bound(in.positions, in.num_vertices, 16);
-  EXPECT_LE(pbrta::draco_max_displacement(in, view_of(m), bound, false),
+  EXPECT_LE(pbrta::draco_max_displacement(in, arrays_of(m), bound, false),
             bound + pbrta::draco_position_slack(in.positions, in.num_vertices));
   // It compiles into an archive like any mesh, with or without Draco again.
   ArchiveOptions opt;
