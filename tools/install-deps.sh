@@ -19,6 +19,8 @@ packages=(
   libdraco-dev
   # images decoded at compile time (PNG, TGA, PFM, HDR, EXR); pbrtc only, never the runtime
   libopenimageio-dev
+  # the renderer: ray/scene intersection, EXR output, PNG previews
+  libembree-dev libopenexr-dev libimath-dev libpng-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )

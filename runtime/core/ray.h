@@ -1,0 +1,50 @@
+// runtime/core/ray.h — rays, ray differentials, and pbrt-style origin offsets.
+//
+// offset_ray_origin() moves a surface point out along its normal by the
+// point's conservative floating-point error bound (then one more ulp away),
+// so a ray leaving a surface never hits it again and never starts beyond the
+// other side of a thin object: the pbrt book's "no acne, no leaks" scheme.
+// Shadow rays to a point stop at 1 - shadow_epsilon of the way.
+#pragma once
+
+#include "runtime/core/vec.h"
+
+namespace rt {
+
+inline constexpr float kShadowEpsilon = 0.0001f;
+
+struct Ray {
+  Vec3 o, d;
+  float tmax = kInfinity;
+  float time = 0;
+  Vec3 at(float t) const { return o + d * t; }
+};
+
+struct RayDifferential : Ray {
+  bool has_differentials = false;
+  Vec3 rx_o, rx_d, ry_o, ry_d;
+  RayDifferential() = default;
+  explicit RayDifferential(const Ray& r) : Ray(r) {}
+  void scale_differentials(float s) {
+    rx_o = o + (rx_o - o) * s;
+    ry_o = o + (ry_o - o) * s;
+    rx_d = d + (rx_d - d) * s;
+    ry_d = d + (ry_d - d) * s;
+  }
+};
+
+inline Vec3 offset_ray_origin(Vec3 p, Vec3 p_error, Vec3 n, Vec3 w) {
+  float d = dot(abs(n), p_error);
+  Vec3 offset = n * d;
+  if (dot(w, n) < 0) offset = -offset;
+  Vec3 po = p + offset;
+  for (int i = 0; i < 3; ++i) {
+    if (offset[i] > 0)
+      po[i] = next_float_up(po[i]);
+    else if (offset[i] < 0)
+      po[i] = next_float_down(po[i]);
+  }
+  return po;
+}
+
+}  // namespace rt

@@ -1,0 +1,117 @@
+// runtime/core/sampling.cpp — see sampling.h.
+#include "runtime/core/sampling.h"
+
+#include <algorithm>
+
+namespace rt {
+
+Vec2 concentric_sample_disk(Vec2 u) {
+  float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
+  if (ox == 0 && oy == 0) return {0, 0};
+  float r, theta;
+  if (std::fabs(ox) > std::fabs(oy)) {
+    r = ox;
+    theta = kPiOver4 * (oy / ox);
+  } else {
+    r = oy;
+    theta = kPiOver2 - kPiOver4 * (ox / oy);
+  }
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+Vec2 uniform_sample_disk(Vec2 u) {
+  float r = std::sqrt(u.x), theta = 2 * kPi * u.y;
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+Vec3 uniform_sample_hemisphere(Vec2 u) {
+  float z = u.x, r = safe_sqrt(1 - z * z), phi = 2 * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+Vec3 uniform_sample_sphere(Vec2 u) {
+  float z = 1 - 2 * u.x, r = safe_sqrt(1 - z * z), phi = 2 * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+Vec3 uniform_sample_cone(Vec2 u, float cos_max) {
+  float cos_theta = (1 - u.x) + u.x * cos_max;
+  float sin_theta = safe_sqrt(1 - cos_theta * cos_theta);
+  float phi = u.y * 2 * kPi;
+  return {std::cos(phi) * sin_theta, std::sin(phi) * sin_theta, cos_theta};
+}
+
+Vec2 uniform_sample_triangle(Vec2 u) {
+  float su0 = std::sqrt(u.x);
+  return {1 - su0, u.y * su0};
+}
+
+Distribution1D::Distribution1D(const float* f, int n) : func_(f, f + n), cdf_(n + 1) {
+  cdf_[0] = 0;
+  for (int i = 1; i <= n; ++i) cdf_[i] = cdf_[i - 1] + std::fabs(func_[i - 1]) / n;
+  integral_ = cdf_[n];
+  if (integral_ == 0) {
+    for (int i = 1; i <= n; ++i) cdf_[i] = float(i) / n;
+  } else {
+    for (int i = 1; i <= n; ++i) cdf_[i] /= integral_;
+  }
+}
+
+int Distribution1D::find_interval(float u) const {
+  // The last i with cdf[i] <= u, clamped to a valid bucket.
+  auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  int i = int(it - cdf_.begin()) - 1;
+  return clamp(i, 0, int(func_.size()) - 1);
+}
+
+float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const {
+  int i = find_interval(u);
+  if (offset) *offset = i;
+  float du = u - cdf_[i];
+  if (cdf_[i + 1] - cdf_[i] > 0) du /= cdf_[i + 1] - cdf_[i];
+  if (pdf) *pdf = integral_ > 0 ? func_[i] / integral_ : 0;
+  return (i + du) / count();
+}
+
+int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const {
+  int i = find_interval(u);
+  if (pmf) *pmf = discrete_pdf(i);
+  if (remapped) {
+    float w = cdf_[i + 1] - cdf_[i];
+    *remapped = w > 0 ? std::min((u - cdf_[i]) / w, kOneMinusEpsilon) : 0;
+  }
+  return i;
+}
+
+float Distribution1D::discrete_pdf(int i) const {
+  return integral_ > 0 ? func_[i] / (integral_ * count()) : 0;
+}
+
+Distribution2D::Distribution2D(const float* f, int nu, int nv) {
+  conditional_.reserve(nv);
+  std::vector<float> marginal(nv);
+  for (int v = 0; v < nv; ++v) {
+    conditional_.emplace_back(f + size_t(v) * nu, nu);
+    marginal[v] = conditional_.back().integral();
+  }
+  marginal_ = Distribution1D(marginal.data(), nv);
+}
+
+Vec2 Distribution2D::sample_continuous(Vec2 u, float* pdf) const {
+  float pdfs[2];
+  int v;
+  float d1 = marginal_.sample_continuous(u.y, &pdfs[1], &v);
+  float d0 = conditional_[v].sample_continuous(u.x, &pdfs[0]);
+  *pdf = pdfs[0] * pdfs[1];
+  return {d0, d1};
+}
+
+float Distribution2D::pdf(Vec2 p) const {
+  int nu = conditional_[0].count(), nv = marginal_.count();
+  int iu = clamp(int(p.x * nu), 0, nu - 1);
+  int iv = clamp(int(p.y * nv), 0, nv - 1);
+  if (marginal_.integral() == 0) return 0;
+  return conditional_[iv].value(iu) / marginal_.integral();
+}
+
+}  // namespace rt

@@ -1,0 +1,221 @@
+// runtime/core/transform.cpp — see transform.h.
+#include "runtime/core/transform.h"
+
+#include <cmath>
+
+namespace rt {
+
+bool Matrix4::is_identity() const {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (m[i][j] != (i == j ? 1.f : 0.f)) return false;
+  return true;
+}
+
+bool Matrix4::operator==(const Matrix4& o) const {
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (m[i][j] != o.m[i][j]) return false;
+  return true;
+}
+
+Matrix4 mul(const Matrix4& a, const Matrix4& b) {
+  Matrix4 r;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += double(a.m[i][k]) * b.m[k][j];
+      r.m[i][j] = float(s);
+    }
+  return r;
+}
+
+Matrix4 transpose(const Matrix4& a) {
+  Matrix4 r;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) r.m[i][j] = a.m[j][i];
+  return r;
+}
+
+bool inverse(const Matrix4& a, Matrix4* out) {
+  double w[4][8];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      w[i][j] = a.m[i][j];
+      w[i][j + 4] = i == j ? 1 : 0;
+    }
+  for (int c = 0; c < 4; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::fabs(w[r][c]) > std::fabs(w[piv][c])) piv = r;
+    if (w[piv][c] == 0) return false;
+    if (piv != c)
+      for (int j = 0; j < 8; ++j) std::swap(w[piv][j], w[c][j]);
+    double inv = 1 / w[c][c];
+    for (int j = 0; j < 8; ++j) w[c][j] *= inv;
+    for (int r = 0; r < 4; ++r) {
+      if (r == c || w[r][c] == 0) continue;
+      double f = w[r][c];
+      for (int j = 0; j < 8; ++j) w[r][j] -= f * w[c][j];
+    }
+  }
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) out->m[i][j] = float(w[i][j + 4]);
+  return true;
+}
+
+Transform::Transform(const Matrix4& m) : m_(m) {
+  invertible_ = rt::inverse(m, &inv_);
+  if (!invertible_) inv_ = Matrix4{{{0}}};
+}
+
+Transform Transform::from_doubles(const double* v) {
+  // Invert in double before rounding, so the pair stays as consistent as the
+  // archive's precision allows.
+  double w[4][8];
+  Matrix4 m;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      m.m[i][j] = float(v[i * 4 + j]);
+      w[i][j] = v[i * 4 + j];
+      w[i][j + 4] = i == j ? 1 : 0;
+    }
+  for (int c = 0; c < 4; ++c) {
+    int piv = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::fabs(w[r][c]) > std::fabs(w[piv][c])) piv = r;
+    if (w[piv][c] == 0) {
+      Transform t;
+      t.m_ = m;
+      t.inv_ = Matrix4{{{0}}};
+      t.invertible_ = false;
+      return t;
+    }
+    if (piv != c)
+      for (int j = 0; j < 8; ++j) std::swap(w[piv][j], w[c][j]);
+    double inv = 1 / w[c][c];
+    for (int j = 0; j < 8; ++j) w[c][j] *= inv;
+    for (int r = 0; r < 4; ++r) {
+      if (r == c || w[r][c] == 0) continue;
+      double f = w[r][c];
+      for (int j = 0; j < 8; ++j) w[r][j] -= f * w[c][j];
+    }
+  }
+  Matrix4 inv;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) inv.m[i][j] = float(w[i][j + 4]);
+  return Transform(m, inv);
+}
+
+bool Transform::is_projective() const {
+  return m_.m[3][0] != 0 || m_.m[3][1] != 0 || m_.m[3][2] != 0 || m_.m[3][3] != 1;
+}
+
+bool Transform::swaps_handedness() const {
+  const auto& m = m_.m;
+  double det = double(m[0][0]) * (double(m[1][1]) * m[2][2] - double(m[1][2]) * m[2][1]) -
+               double(m[0][1]) * (double(m[1][0]) * m[2][2] - double(m[1][2]) * m[2][0]) +
+               double(m[0][2]) * (double(m[1][0]) * m[2][1] - double(m[1][1]) * m[2][0]);
+  return det < 0;
+}
+
+bool Transform::has_scale() const {
+  auto len2 = [&](Vec3 v) { return length_squared(vector(v)); };
+  auto not_one = [](float x) { return x < .999f || x > 1.001f; };
+  return not_one(len2({1, 0, 0})) || not_one(len2({0, 1, 0})) || not_one(len2({0, 0, 1}));
+}
+
+Vec3 Transform::point(Vec3 p) const {
+  const auto& m = m_.m;
+  float x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
+  float y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
+  float z = m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3];
+  float w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
+  return w == 1 ? Vec3{x, y, z} : Vec3{x, y, z} / w;
+}
+
+Vec3 Transform::point(Vec3 p, Vec3* err) const {
+  const auto& m = m_.m;
+  Vec3 r = point(p);
+  *err = gamma_bound(3) * Vec3{std::fabs(m[0][0] * p.x) + std::fabs(m[0][1] * p.y) +
+                                   std::fabs(m[0][2] * p.z) + std::fabs(m[0][3]),
+                               std::fabs(m[1][0] * p.x) + std::fabs(m[1][1] * p.y) +
+                                   std::fabs(m[1][2] * p.z) + std::fabs(m[1][3]),
+                               std::fabs(m[2][0] * p.x) + std::fabs(m[2][1] * p.y) +
+                                   std::fabs(m[2][2] * p.z) + std::fabs(m[2][3])};
+  return r;
+}
+
+Vec3 Transform::point(Vec3 p, Vec3 pe, Vec3* err) const {
+  const auto& m = m_.m;
+  Vec3 r = point(p);
+  for (int i = 0; i < 3; ++i) {
+    (*err)[i] = (gamma_bound(3) + 1) * (std::fabs(m[i][0]) * pe.x + std::fabs(m[i][1]) * pe.y +
+                                        std::fabs(m[i][2]) * pe.z) +
+                gamma_bound(3) * (std::fabs(m[i][0] * p.x) + std::fabs(m[i][1] * p.y) +
+                                  std::fabs(m[i][2] * p.z) + std::fabs(m[i][3]));
+  }
+  return r;
+}
+
+Vec3 Transform::vector(Vec3 v) const {
+  const auto& m = m_.m;
+  return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+}
+
+Vec3 Transform::vector(Vec3 v, Vec3* err) const {
+  const auto& m = m_.m;
+  for (int i = 0; i < 3; ++i)
+    (*err)[i] = gamma_bound(3) * (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) +
+                                  std::fabs(m[i][2] * v.z));
+  return vector(v);
+}
+
+Vec3 Transform::normal(Vec3 n) const {
+  const auto& i = inv_.m;
+  return {i[0][0] * n.x + i[1][0] * n.y + i[2][0] * n.z,
+          i[0][1] * n.x + i[1][1] * n.y + i[2][1] * n.z,
+          i[0][2] * n.x + i[1][2] * n.y + i[2][2] * n.z};
+}
+
+Bounds3 Transform::bounds(const Bounds3& b) const {
+  Bounds3 r;
+  if (b.empty()) return r;
+  for (int c = 0; c < 8; ++c)
+    r.extend(point({c & 1 ? b.hi.x : b.lo.x, c & 2 ? b.hi.y : b.lo.y, c & 4 ? b.hi.z : b.lo.z}));
+  return r;
+}
+
+Transform operator*(const Transform& a, const Transform& b) {
+  Transform t(mul(a.m_, b.m_), mul(b.inv_, a.inv_));
+  t.invertible_ = a.invertible_ && b.invertible_;
+  return t;
+}
+
+Transform translate(Vec3 d) {
+  Matrix4 m, inv;
+  m.m[0][3] = d.x; m.m[1][3] = d.y; m.m[2][3] = d.z;
+  inv.m[0][3] = -d.x; inv.m[1][3] = -d.y; inv.m[2][3] = -d.z;
+  return Transform(m, inv);
+}
+
+Transform scale(float x, float y, float z) {
+  Matrix4 m, inv;
+  m.m[0][0] = x; m.m[1][1] = y; m.m[2][2] = z;
+  inv.m[0][0] = 1 / x; inv.m[1][1] = 1 / y; inv.m[2][2] = 1 / z;
+  return Transform(m, inv);
+}
+
+Transform perspective(float fov, float n, float f) {
+  Matrix4 p;
+  p.m[2][2] = f / (f - n);
+  p.m[2][3] = -f * n / (f - n);
+  p.m[3][2] = 1;
+  p.m[3][3] = 0;
+  float inv_tan = 1 / std::tan(radians(fov) / 2);
+  return scale(inv_tan, inv_tan, 1) * Transform(p);
+}
+
+}  // namespace rt

@@ -1,0 +1,69 @@
+// runtime/core/transform.h — affine/projective 4x4 transforms with their inverses.
+//
+// Row-major, acting on column vectors (p' = M p), like the archive's
+// TransformRecord, but in float: the runtime picks world space as render
+// space. Points carry conservative error bounds through a transform the way
+// the pbrt book derives them (gamma(3) per row), so intersection code can
+// offset ray origins past the rounding error and never self-intersect.
+#pragma once
+
+#include "runtime/core/vec.h"
+
+namespace rt {
+
+struct Matrix4 {
+  float m[4][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  bool is_identity() const;
+  bool operator==(const Matrix4& o) const;
+};
+Matrix4 mul(const Matrix4& a, const Matrix4& b);
+Matrix4 transpose(const Matrix4& a);
+// Gauss-Jordan inverse with full pivoting in double precision; false if singular.
+bool inverse(const Matrix4& a, Matrix4* out);
+
+class Transform {
+ public:
+  Transform() = default;
+  // m must be invertible; a singular m yields a zero inverse (callers that
+  // can meet user data check invertible() first).
+  explicit Transform(const Matrix4& m);
+  Transform(const Matrix4& m, const Matrix4& inv) : m_(m), inv_(inv) {}
+  // From the archive's double row-major 16 values.
+  static Transform from_doubles(const double* v);
+
+  const Matrix4& matrix() const { return m_; }
+  const Matrix4& inverse_matrix() const { return inv_; }
+  Transform inverse() const { return Transform(inv_, m_); }
+  bool invertible() const { return invertible_; }
+  bool is_identity() const { return m_.is_identity(); }
+  // The bottom row is not (0 0 0 1).
+  bool is_projective() const;
+  // The upper 3x3 has a negative determinant (mirrors orientation).
+  bool swaps_handedness() const;
+  // The upper 3x3 is not a rotation (lengths change).
+  bool has_scale() const;
+
+  Vec3 point(Vec3 p) const;
+  // p transformed, and the absolute error bound of the result in *err.
+  Vec3 point(Vec3 p, Vec3* err) const;
+  // p carrying its own error p_err in, result and its bound out.
+  Vec3 point(Vec3 p, Vec3 p_err, Vec3* err) const;
+  Vec3 vector(Vec3 v) const;
+  Vec3 vector(Vec3 v, Vec3* err) const;
+  // Normals transform by the inverse transpose (not normalised).
+  Vec3 normal(Vec3 n) const;
+  Bounds3 bounds(const Bounds3& b) const;
+
+  friend Transform operator*(const Transform& a, const Transform& b);
+
+ private:
+  Matrix4 m_, inv_;
+  bool invertible_ = true;
+};
+
+Transform translate(Vec3 d);
+Transform scale(float x, float y, float z);
+// Perspective projection as pbrt-v3's camera uses it (fov in degrees).
+Transform perspective(float fov_deg, float znear, float zfar);
+
+}  // namespace rt

@@ -1,0 +1,84 @@
+// runtime/geometry/shape_table.h — every archived shape as plain render data.
+//
+// One ShapeInfo per archive ShapeRecord (same index): its kind, its
+// world-from-object transform (for shapes inside an object definition: the
+// object-from-shape transform; the instance adds its own), orientation flags,
+// the quadric's parameters with pbrt-v3's computed defaults applied, and for
+// triangle meshes pointers straight into the archive's geometry arrays
+// (object space; never copied). Intersection (runtime/geometry), area-light
+// sampling (runtime/light) and materials read this table; it is built once
+// at load and then read-only.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "format/scene_archive.h"
+#include "runtime/core/transform.h"
+
+namespace rt {
+
+enum class ShapeKind : uint8_t {
+  kTriangles,  // trianglemesh, plymesh, and shapes pbrtc refined (loopsubdiv, nurbs, heightfield)
+  kSphere,
+  kCylinder,
+  kDisk,
+  kCone,
+  kParaboloid,
+  kHyperboloid,
+  kCurve,
+};
+
+struct QuadricParams {
+  float radius = 1, zmin = -1, zmax = 1, phimax = 2 * kPi;  // phimax in radians
+  float height = 0, inner_radius = 0;                       // disk, cone (height)
+  Vec3 p1, p2;                                              // hyperboloid
+};
+
+struct MeshView {
+  uint32_t num_vertices = 0, num_triangles = 0;
+  const float* positions = nullptr;  // 3 per vertex, object space
+  const float* normals = nullptr;    // 3 per vertex or nullptr
+  const float* tangents = nullptr;   // 3 per vertex or nullptr
+  const float* uv = nullptr;         // 2 per vertex or nullptr
+  const uint32_t* indices = nullptr; // 3 per triangle
+  const int32_t* face_indices = nullptr;
+  Vec3 position(uint32_t v) const { return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]}; }
+};
+
+struct ShapeInfo {
+  ShapeKind kind = ShapeKind::kTriangles;
+  uint32_t entity = kNone;
+  Transform object_to_world;  // see the header comment for shapes in objects
+  bool reverse_orientation = false;
+  bool swaps_handedness = false;
+  bool animated = false;  // the record's transform differs at start and end
+  uint32_t material = kNone;
+  uint32_t area_light = kNone;  // index into the archive's area lights
+  uint32_t object = kNone;      // object definition, or kNone for the world
+  QuadricParams q;
+  MeshView mesh;
+  // alpha / shadowalpha: constant value or texture index (kNone = constant).
+  float alpha = 1, shadow_alpha = 1;
+  uint32_t alpha_texture = kNone, shadow_alpha_texture = kNone;
+  // pbrt-v3 flips normals of quadrics and normal-less meshes when this is set.
+  bool flip_normals() const { return reverse_orientation != swaps_handedness; }
+  bool has_alpha() const {
+    return alpha_texture != kNone || shadow_alpha_texture != kNone || alpha != 1 || shadow_alpha != 1;
+  }
+};
+
+class ShapeTable {
+ public:
+  // Reads every shape record; false with "file:line: ..." messages for data
+  // the runtime cannot use (a projective or singular transform).
+  [[nodiscard]] bool build(const pbrta::SceneArchive& archive, std::string* error);
+  uint32_t size() const { return uint32_t(shapes_.size()); }
+  const ShapeInfo& operator[](uint32_t i) const { return shapes_[i]; }
+
+ private:
+  std::vector<ShapeInfo> shapes_;
+};
+
+}  // namespace rt
