@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "runtime/core/math.h"
 
@@ -25,6 +26,21 @@ inline Vec2 operator*(float s, Vec2 a) { return {a.x * s, a.y * s}; }
 struct Point2i {
   int x = 0, y = 0;
 };
+inline bool operator==(Point2i a, Point2i b) { return a.x == b.x && a.y == b.y; }
+
+// Pixel rectangles: min inclusive, max exclusive (as pbrt's Bounds2i).
+struct Bounds2i {
+  Point2i min, max;
+  int width() const { return max.x - min.x; }
+  int height() const { return max.y - min.y; }
+  int64_t area() const { return int64_t(width()) * height(); }
+  bool empty() const { return max.x <= min.x || max.y <= min.y; }
+  bool inside(Point2i p) const { return p.x >= min.x && p.x < max.x && p.y >= min.y && p.y < max.y; }
+};
+inline Bounds2i intersect(const Bounds2i& a, const Bounds2i& b) {
+  return {{std::max(a.min.x, b.min.x), std::max(a.min.y, b.min.y)},
+          {std::min(a.max.x, b.max.x), std::min(a.max.y, b.max.y)}};
+}
 
 struct Vec3 {
   float x = 0, y = 0, z = 0;
