@@ -87,11 +87,14 @@ struct SurfaceInteraction : Interaction {
         dpdy = py - p;
         int dim[2];
         if (std::fabs(n.x) > std::fabs(n.y) && std::fabs(n.x) > std::fabs(n.z)) {
-          dim[0] = 1; dim[1] = 2;
+          dim[0] = 1;
+          dim[1] = 2;
         } else if (std::fabs(n.y) > std::fabs(n.z)) {
-          dim[0] = 0; dim[1] = 2;
+          dim[0] = 0;
+          dim[1] = 2;
         } else {
-          dim[0] = 0; dim[1] = 1;
+          dim[0] = 0;
+          dim[1] = 1;
         }
         float a[2][2] = {{dpdu[dim[0]], dpdv[dim[0]]}, {dpdu[dim[1]], dpdv[dim[1]]}};
         float bx[2] = {px[dim[0]] - p[dim[0]], px[dim[1]] - p[dim[1]]};

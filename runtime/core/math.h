@@ -37,13 +37,27 @@ template <class T>
 inline T clamp(T v, T lo, T hi) {
   return v < lo ? lo : (v > hi ? hi : v);
 }
-inline float lerp(float t, float a, float b) { return (1 - t) * a + t * b; }
-inline float radians(float deg) { return (kPi / 180) * deg; }
-inline float degrees(float rad) { return (180 / kPi) * rad; }
-inline float sqr(float x) { return x * x; }
-inline float safe_sqrt(float x) { return std::sqrt(std::max(0.f, x)); }
-inline float safe_asin(float x) { return std::asin(clamp(x, -1.f, 1.f)); }
-inline float safe_acos(float x) { return std::acos(clamp(x, -1.f, 1.f)); }
+inline float lerp(float t, float a, float b) {
+  return (1 - t) * a + t * b;
+}
+inline float radians(float deg) {
+  return (kPi / 180) * deg;
+}
+inline float degrees(float rad) {
+  return (180 / kPi) * rad;
+}
+inline float sqr(float x) {
+  return x * x;
+}
+inline float safe_sqrt(float x) {
+  return std::sqrt(std::max(0.f, x));
+}
+inline float safe_asin(float x) {
+  return std::asin(clamp(x, -1.f, 1.f));
+}
+inline float safe_acos(float x) {
+  return std::acos(clamp(x, -1.f, 1.f));
+}
 
 inline uint32_t float_to_bits(float f) {
   uint32_t u;
@@ -119,13 +133,21 @@ inline float erf_inv(float x) {
   return p * x;
 }
 
-inline bool is_power_of_2(uint32_t v) { return v && !(v & (v - 1)); }
+inline bool is_power_of_2(uint32_t v) {
+  return v && !(v & (v - 1));
+}
 inline uint32_t round_up_pow2(uint32_t v) {
   v--;
-  v |= v >> 1; v |= v >> 2; v |= v >> 4; v |= v >> 8; v |= v >> 16;
+  v |= v >> 1;
+  v |= v >> 2;
+  v |= v >> 4;
+  v |= v >> 8;
+  v |= v >> 16;
   return v + 1;
 }
-inline int log2_int(uint32_t v) { return 31 - __builtin_clz(v); }
+inline int log2_int(uint32_t v) {
+  return 31 - __builtin_clz(v);
+}
 
 // A well-mixed 64-bit hash (splitmix64 finaliser): seeds per pixel, per tile.
 inline uint64_t mix_bits(uint64_t v) {

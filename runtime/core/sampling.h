@@ -20,13 +20,21 @@ inline Vec3 cosine_sample_hemisphere(Vec2 u) {
   float z = safe_sqrt(1 - d.x * d.x - d.y * d.y);
   return {d.x, d.y, z};
 }
-inline float cosine_hemisphere_pdf(float cos_theta) { return cos_theta * kInvPi; }
+inline float cosine_hemisphere_pdf(float cos_theta) {
+  return cos_theta * kInvPi;
+}
 Vec3 uniform_sample_hemisphere(Vec2 u);
-inline float uniform_hemisphere_pdf() { return kInv2Pi; }
+inline float uniform_hemisphere_pdf() {
+  return kInv2Pi;
+}
 Vec3 uniform_sample_sphere(Vec2 u);
-inline float uniform_sphere_pdf() { return kInv4Pi; }
+inline float uniform_sphere_pdf() {
+  return kInv4Pi;
+}
 Vec3 uniform_sample_cone(Vec2 u, float cos_theta_max);
-inline float uniform_cone_pdf(float cos_theta_max) { return 1 / (2 * kPi * (1 - cos_theta_max)); }
+inline float uniform_cone_pdf(float cos_theta_max) {
+  return 1 / (2 * kPi * (1 - cos_theta_max));
+}
 // Barycentrics (b0, b1) uniform over a triangle.
 Vec2 uniform_sample_triangle(Vec2 u);
 

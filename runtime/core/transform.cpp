@@ -168,8 +168,8 @@ Vec3 Transform::vector(Vec3 v) const {
 Vec3 Transform::vector(Vec3 v, Vec3* err) const {
   const auto& m = m_.m;
   for (int i = 0; i < 3; ++i)
-    (*err)[i] = gamma_bound(3) * (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) +
-                                  std::fabs(m[i][2] * v.z));
+    (*err)[i] = gamma_bound(3) *
+                (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) + std::fabs(m[i][2] * v.z));
   return vector(v);
 }
 
@@ -196,15 +196,23 @@ Transform operator*(const Transform& a, const Transform& b) {
 
 Transform translate(Vec3 d) {
   Matrix4 m, inv;
-  m.m[0][3] = d.x; m.m[1][3] = d.y; m.m[2][3] = d.z;
-  inv.m[0][3] = -d.x; inv.m[1][3] = -d.y; inv.m[2][3] = -d.z;
+  m.m[0][3] = d.x;
+  m.m[1][3] = d.y;
+  m.m[2][3] = d.z;
+  inv.m[0][3] = -d.x;
+  inv.m[1][3] = -d.y;
+  inv.m[2][3] = -d.z;
   return Transform(m, inv);
 }
 
 Transform scale(float x, float y, float z) {
   Matrix4 m, inv;
-  m.m[0][0] = x; m.m[1][1] = y; m.m[2][2] = z;
-  inv.m[0][0] = 1 / x; inv.m[1][1] = 1 / y; inv.m[2][2] = 1 / z;
+  m.m[0][0] = x;
+  m.m[1][1] = y;
+  m.m[2][2] = z;
+  inv.m[0][0] = 1 / x;
+  inv.m[1][1] = 1 / y;
+  inv.m[2][2] = 1 / z;
   return Transform(m, inv);
 }
 

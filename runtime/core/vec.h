@@ -18,15 +18,25 @@ struct Vec2 {
   float operator[](int i) const { return i == 0 ? x : y; }
   float& operator[](int i) { return i == 0 ? x : y; }
 };
-inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
-inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
-inline Vec2 operator*(Vec2 a, float s) { return {a.x * s, a.y * s}; }
-inline Vec2 operator*(float s, Vec2 a) { return {a.x * s, a.y * s}; }
+inline Vec2 operator+(Vec2 a, Vec2 b) {
+  return {a.x + b.x, a.y + b.y};
+}
+inline Vec2 operator-(Vec2 a, Vec2 b) {
+  return {a.x - b.x, a.y - b.y};
+}
+inline Vec2 operator*(Vec2 a, float s) {
+  return {a.x * s, a.y * s};
+}
+inline Vec2 operator*(float s, Vec2 a) {
+  return {a.x * s, a.y * s};
+}
 
 struct Point2i {
   int x = 0, y = 0;
 };
-inline bool operator==(Point2i a, Point2i b) { return a.x == b.x && a.y == b.y; }
+inline bool operator==(Point2i a, Point2i b) {
+  return a.x == b.x && a.y == b.y;
+}
 
 // Pixel rectangles: min inclusive, max exclusive (as pbrt's Bounds2i).
 struct Bounds2i {
@@ -35,7 +45,9 @@ struct Bounds2i {
   int height() const { return max.y - min.y; }
   int64_t area() const { return int64_t(width()) * height(); }
   bool empty() const { return max.x <= min.x || max.y <= min.y; }
-  bool inside(Point2i p) const { return p.x >= min.x && p.x < max.x && p.y >= min.y && p.y < max.y; }
+  bool inside(Point2i p) const {
+    return p.x >= min.x && p.x < max.x && p.y >= min.y && p.y < max.y;
+  }
 };
 inline Bounds2i intersect(const Bounds2i& a, const Bounds2i& b) {
   return {{std::max(a.min.x, b.min.x), std::max(a.min.y, b.min.y)},
@@ -46,41 +58,101 @@ struct Vec3 {
   float x = 0, y = 0, z = 0;
   float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
   float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
-  Vec3& operator+=(Vec3 b) { x += b.x; y += b.y; z += b.z; return *this; }
-  Vec3& operator-=(Vec3 b) { x -= b.x; y -= b.y; z -= b.z; return *this; }
-  Vec3& operator*=(float s) { x *= s; y *= s; z *= s; return *this; }
+  Vec3& operator+=(Vec3 b) {
+    x += b.x;
+    y += b.y;
+    z += b.z;
+    return *this;
+  }
+  Vec3& operator-=(Vec3 b) {
+    x -= b.x;
+    y -= b.y;
+    z -= b.z;
+    return *this;
+  }
+  Vec3& operator*=(float s) {
+    x *= s;
+    y *= s;
+    z *= s;
+    return *this;
+  }
   bool has_nan() const { return std::isnan(x) || std::isnan(y) || std::isnan(z); }
 };
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
-inline Vec3 operator*(Vec3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator*(float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
-inline Vec3 operator/(Vec3 a, float s) { float inv = 1 / s; return a * inv; }
-inline bool operator==(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-inline bool operator!=(Vec3 a, Vec3 b) { return !(a == b); }
+inline Vec3 operator+(Vec3 a, Vec3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+inline Vec3 operator-(Vec3 a, Vec3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+inline Vec3 operator-(Vec3 a) {
+  return {-a.x, -a.y, -a.z};
+}
+inline Vec3 operator*(Vec3 a, float s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator*(float s, Vec3 a) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+inline Vec3 operator/(Vec3 a, float s) {
+  float inv = 1 / s;
+  return a * inv;
+}
+inline bool operator==(Vec3 a, Vec3 b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+inline bool operator!=(Vec3 a, Vec3 b) {
+  return !(a == b);
+}
 
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline float abs_dot(Vec3 a, Vec3 b) { return std::fabs(dot(a, b)); }
+inline float dot(Vec3 a, Vec3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+inline float abs_dot(Vec3 a, Vec3 b) {
+  return std::fabs(dot(a, b));
+}
 // Cross product in double precision: pbrt-v3 does the same, to avoid
 // catastrophic cancellation when the inputs are nearly parallel.
 inline Vec3 cross(Vec3 a, Vec3 b) {
   double ax = a.x, ay = a.y, az = a.z, bx = b.x, by = b.y, bz = b.z;
   return {float(ay * bz - az * by), float(az * bx - ax * bz), float(ax * by - ay * bx)};
 }
-inline float length_squared(Vec3 a) { return dot(a, a); }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
-inline Vec3 normalize(Vec3 a) { return a / length(a); }
-inline float distance(Vec3 a, Vec3 b) { return length(a - b); }
-inline float distance_squared(Vec3 a, Vec3 b) { return length_squared(a - b); }
-inline Vec3 abs(Vec3 a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
-inline Vec3 vmin(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
-inline Vec3 vmax(Vec3 a, Vec3 b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
-inline float max_component(Vec3 a) { return std::max(a.x, std::max(a.y, a.z)); }
-inline int max_dimension(Vec3 a) { return a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2); }
-inline Vec3 permute(Vec3 a, int x, int y, int z) { return {a[x], a[y], a[z]}; }
+inline float length_squared(Vec3 a) {
+  return dot(a, a);
+}
+inline float length(Vec3 a) {
+  return std::sqrt(dot(a, a));
+}
+inline Vec3 normalize(Vec3 a) {
+  return a / length(a);
+}
+inline float distance(Vec3 a, Vec3 b) {
+  return length(a - b);
+}
+inline float distance_squared(Vec3 a, Vec3 b) {
+  return length_squared(a - b);
+}
+inline Vec3 abs(Vec3 a) {
+  return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)};
+}
+inline Vec3 vmin(Vec3 a, Vec3 b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+}
+inline Vec3 vmax(Vec3 a, Vec3 b) {
+  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+}
+inline float max_component(Vec3 a) {
+  return std::max(a.x, std::max(a.y, a.z));
+}
+inline int max_dimension(Vec3 a) {
+  return a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+}
+inline Vec3 permute(Vec3 a, int x, int y, int z) {
+  return {a[x], a[y], a[z]};
+}
 // n flipped, if needed, to lie in the hemisphere of v.
-inline Vec3 face_forward(Vec3 n, Vec3 v) { return dot(n, v) < 0.f ? -n : n; }
+inline Vec3 face_forward(Vec3 n, Vec3 v) {
+  return dot(n, v) < 0.f ? -n : n;
+}
 
 // Two unit vectors completing v (unit) to an orthonormal basis.
 inline void coordinate_system(Vec3 v1, Vec3* v2, Vec3* v3) {
@@ -95,7 +167,9 @@ inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
   return {clamp(sin_theta, -1.f, 1.f) * std::cos(phi), clamp(sin_theta, -1.f, 1.f) * std::sin(phi),
           clamp(cos_theta, -1.f, 1.f)};
 }
-inline float spherical_theta(Vec3 v) { return safe_acos(v.z); }
+inline float spherical_theta(Vec3 v) {
+  return safe_acos(v.z);
+}
 inline float spherical_phi(Vec3 v) {
   float p = std::atan2(v.y, v.x);
   return p < 0 ? p + 2 * kPi : p;
@@ -104,8 +178,14 @@ inline float spherical_phi(Vec3 v) {
 struct Bounds3 {
   Vec3 lo{kInfinity, kInfinity, kInfinity};
   Vec3 hi{-kInfinity, -kInfinity, -kInfinity};
-  void extend(Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); }
-  void extend(const Bounds3& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+  void extend(Vec3 p) {
+    lo = vmin(lo, p);
+    hi = vmax(hi, p);
+  }
+  void extend(const Bounds3& b) {
+    lo = vmin(lo, b.lo);
+    hi = vmax(hi, b.hi);
+  }
   bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
   Vec3 diagonal() const { return hi - lo; }
   Vec3 center() const { return (lo + hi) * 0.5f; }

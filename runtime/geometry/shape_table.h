@@ -38,13 +38,15 @@ struct QuadricParams {
 
 struct MeshView {
   uint32_t num_vertices = 0, num_triangles = 0;
-  const float* positions = nullptr;  // 3 per vertex, object space
-  const float* normals = nullptr;    // 3 per vertex or nullptr
-  const float* tangents = nullptr;   // 3 per vertex or nullptr
-  const float* uv = nullptr;         // 2 per vertex or nullptr
-  const uint32_t* indices = nullptr; // 3 per triangle
+  const float* positions = nullptr;   // 3 per vertex, object space
+  const float* normals = nullptr;     // 3 per vertex or nullptr
+  const float* tangents = nullptr;    // 3 per vertex or nullptr
+  const float* uv = nullptr;          // 2 per vertex or nullptr
+  const uint32_t* indices = nullptr;  // 3 per triangle
   const int32_t* face_indices = nullptr;
-  Vec3 position(uint32_t v) const { return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]}; }
+  Vec3 position(uint32_t v) const {
+    return {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
+  }
 };
 
 struct ShapeInfo {
@@ -65,7 +67,8 @@ struct ShapeInfo {
   // pbrt-v3 flips normals of quadrics and normal-less meshes when this is set.
   bool flip_normals() const { return reverse_orientation != swaps_handedness; }
   bool has_alpha() const {
-    return alpha_texture != kNone || shadow_alpha_texture != kNone || alpha != 1 || shadow_alpha != 1;
+    return alpha_texture != kNone || shadow_alpha_texture != kNone || alpha != 1 ||
+           shadow_alpha != 1;
   }
 };
 

@@ -1,0 +1,202 @@
+// runtime/film/film.cpp — the film's rectangles, tiles, merging and output.
+#include "runtime/film/film.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace rt {
+namespace {
+
+std::string crop_text(const float c[4]) {
+  char buf[128];
+  std::snprintf(buf, sizeof(buf), "[%g %g %g %g]", c[0], c[1], c[2], c[3]);
+  return buf;
+}
+
+void atomic_add(std::atomic<double>& a, double v) {
+  double old = a.load(std::memory_order_relaxed);
+  while (!a.compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {
+  }
+}
+
+}  // namespace
+
+bool Film::build(const pbrta::SceneArchive& archive, const FilmOptions& options,
+                 std::string* error) {
+  uint32_t e = archive.scene().film;
+  if (e >= archive.entities.size) {
+    *error = "the archive has no film entity";
+    return false;
+  }
+  if (archive.type_name(e) != "image") {
+    *error = "not supported yet: film \"" + std::string(archive.type_name(e)) + "\" (" +
+             archive.where(e) + ")";
+    return false;
+  }
+  if (options.resdiv < 1) {
+    *error = "resolution divisor must be at least 1, not " + std::to_string(options.resdiv);
+    return false;
+  }
+  Filter filter;
+  if (!make_filter(archive, &filter, error)) return false;
+
+  Point2i res{archive.get_int(e, "xresolution", 1280) / options.resdiv,
+              archive.get_int(e, "yresolution", 720) / options.resdiv};
+  float crop[4] = {0, 1, 0, 1};
+  if (options.has_crop) {
+    for (int i = 0; i < 4; ++i) crop[i] = options.crop[i];
+  } else if (const pbrta::ValueRecord* v = archive.value(e, "cropwindow"); v && v->count == 4) {
+    for (int i = 0; i < 4; ++i) crop[i] = archive.floats(*v)[i];
+  }
+  // Computed defaults may be stored with count 0: pbrt.exr, and no clamping.
+  std::string filename(archive.get_string(e, "filename"));
+  if (filename.empty()) filename = "pbrt.exr";
+  const pbrta::ValueRecord* ml = archive.value(e, "maxsampleluminance");
+  float max_luminance = ml && ml->count ? archive.floats(*ml)[0] : kInfinity;
+  if (!build(res, crop, filter, archive.get_float(e, "scale", 1), max_luminance,
+             archive.get_float(e, "diagonal", 35), filename, error)) {
+    *error += " (" + archive.where(e) + ")";
+    return false;
+  }
+  return true;
+}
+
+bool Film::build(Point2i resolution, const float crop[4], const Filter& filter, float scale,
+                 float max_sample_luminance, float diagonal_mm, const std::string& filename,
+                 std::string* error) {
+  if (resolution.x < 1 || resolution.y < 1) {
+    *error = "film resolution " + std::to_string(resolution.x) + "x" +
+             std::to_string(resolution.y) + " has no pixels";
+    return false;
+  }
+  if (!(filter.radius.x > 0 && filter.radius.y > 0)) {
+    *error = "filter radius must be positive";
+    return false;
+  }
+  for (int i = 0; i < 4; ++i)
+    if (std::isnan(crop[i])) {
+      *error = "crop window " + crop_text(crop) + " is not a number";
+      return false;
+    }
+  // pbrt-v3: each axis's pair may come in either order and is clamped to [0, 1].
+  float x0 = clamp(std::min(crop[0], crop[1]), 0.f, 1.f);
+  float x1 = clamp(std::max(crop[0], crop[1]), 0.f, 1.f);
+  float y0 = clamp(std::min(crop[2], crop[3]), 0.f, 1.f);
+  float y1 = clamp(std::max(crop[2], crop[3]), 0.f, 1.f);
+  // Float products, as pbrt-v3 computes them: 700 * 0.3f rounds up to
+  // 210.00002f, so that crop starts at pixel 211.
+  float fx = float(resolution.x), fy = float(resolution.y);
+  Bounds2i cropped{{int(std::ceil(fx * x0)), int(std::ceil(fy * y0))},
+                   {int(std::ceil(fx * x1)), int(std::ceil(fy * y1))}};
+  if (cropped.empty()) {
+    *error = "crop window " + crop_text(crop) + " selects no pixel of the " +
+             std::to_string(resolution.x) + "x" + std::to_string(resolution.y) + " film";
+    return false;
+  }
+
+  full_resolution_ = resolution;
+  cropped_ = cropped;
+  filter_ = filter;
+  scale_ = scale;
+  max_luminance_ = max_sample_luminance;
+  diagonal_ = diagonal_mm * 0.001f;
+  splat_scale_ = 1;
+  filename_ = filename;
+  // pbrt-v3's filter table: one quadrant (the filters are symmetric), values
+  // at the centres of a 16x16 grid over [0, radius]^2.
+  for (int y = 0; y < kTableSize; ++y)
+    for (int x = 0; x < kTableSize; ++x)
+      table_[y * kTableSize + x] = filter_.evaluate(
+          {(x + 0.5f) * filter_.radius.x / kTableSize, (y + 0.5f) * filter_.radius.y / kTableSize});
+  size_t n = size_t(cropped_.area());
+  pixels_.assign(n, FilmPixelSum());
+  splats_.reset(new std::atomic<double>[3 * n]);
+  for (size_t i = 0; i < 3 * n; ++i) splats_[i].store(0, std::memory_order_relaxed);
+  return true;
+}
+
+Bounds2i Film::sample_bounds() const {
+  // Samples up to a filter radius outside the crop still reach its pixels;
+  // pixel centres are at half-integers.
+  return {{int(std::floor(float(cropped_.min.x) + 0.5f - filter_.radius.x)),
+           int(std::floor(float(cropped_.min.y) + 0.5f - filter_.radius.y))},
+          {int(std::ceil(float(cropped_.max.x) - 0.5f + filter_.radius.x)),
+           int(std::ceil(float(cropped_.max.y) - 0.5f + filter_.radius.y))}};
+}
+
+std::unique_ptr<FilmTile> Film::make_tile(const Bounds2i& b) const {
+  Point2i p0{int(std::ceil(float(b.min.x) - 0.5f - filter_.radius.x)),
+             int(std::ceil(float(b.min.y) - 0.5f - filter_.radius.y))};
+  Point2i p1{int(std::floor(float(b.max.x) - 0.5f + filter_.radius.x)) + 1,
+             int(std::floor(float(b.max.y) - 0.5f + filter_.radius.y)) + 1};
+  Bounds2i pixels = intersect({p0, p1}, cropped_);
+  return std::unique_ptr<FilmTile>(new FilmTile(pixels, filter_.radius, table_, max_luminance_));
+}
+
+void Film::merge_tile(const FilmTile& tile) {
+  Bounds2i b = intersect(tile.pixel_bounds(), cropped_);
+  for (int y = b.min.y; y < b.max.y; ++y)
+    for (int x = b.min.x; x < b.max.x; ++x) {
+      const FilmPixelSum& s = tile.sum({x, y});
+      FilmPixelSum& d = pixels_[index({x, y})];
+      for (int c = 0; c < 3; ++c) d.rgb[c] += s.rgb[c];
+      d.weight += s.weight;
+    }
+}
+
+void Film::add_splat(Vec2 p_film, Rgb v) {
+  if (!v.is_finite() || !std::isfinite(p_film.x) || !std::isfinite(p_film.y)) return;
+  float lum = v.luminance();
+  if (lum < 0) return;  // as pbrt-v3: a negative-luminance splat is dropped
+  float fx = std::floor(p_film.x), fy = std::floor(p_film.y);
+  if (!(fx >= float(cropped_.min.x) && fx < float(cropped_.max.x) && fy >= float(cropped_.min.y) &&
+        fy < float(cropped_.max.y)))
+    return;
+  if (lum > max_luminance_) v *= max_luminance_ / lum;
+  size_t i = 3 * index({int(fx), int(fy)});
+  for (int c = 0; c < 3; ++c) atomic_add(splats_[i + c], v[c]);
+}
+
+void Film::set_pixel(Point2i p, Rgb v) {
+  if (!cropped_.inside(p)) return;
+  FilmPixelSum& d = pixels_[index(p)];
+  for (int c = 0; c < 3; ++c) d.rgb[c] = v[c];
+  d.weight = 1;
+  size_t i = 3 * index(p);
+  for (int c = 0; c < 3; ++c) splats_[i + c].store(0, std::memory_order_relaxed);
+}
+
+Rgb Film::pixel(Point2i p) const {
+  if (!cropped_.inside(p)) return Rgb(0);
+  const FilmPixelSum& s = pixels_[index(p)];
+  size_t i = 3 * index(p);
+  Rgb out;
+  for (int c = 0; c < 3; ++c) {
+    double v = s.weight != 0 ? std::max(0.0, s.rgb[c] / s.weight) : 0.0;
+    v += double(splat_scale_) * splats_[i + c].load(std::memory_order_relaxed);
+    out[c] = float(v * double(scale_));
+  }
+  return out;
+}
+
+ImageRgb Film::image() const {
+  ImageRgb img;
+  img.data_window = cropped_;
+  img.display_window = {{0, 0}, full_resolution_};
+  img.rgb.resize(size_t(cropped_.area()) * 3);
+  size_t k = 0;
+  for (int y = cropped_.min.y; y < cropped_.max.y; ++y)
+    for (int x = cropped_.min.x; x < cropped_.max.x; ++x) {
+      Rgb v = pixel({x, y});
+      img.rgb[k++] = v.r;
+      img.rgb[k++] = v.g;
+      img.rgb[k++] = v.b;
+    }
+  return img;
+}
+
+bool Film::write(const std::string& path, std::string* error) const {
+  return write_image(path, image(), error);
+}
+
+}  // namespace rt

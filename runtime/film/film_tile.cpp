@@ -1,0 +1,87 @@
+// runtime/film/film_tile.cpp — pbrt-v3's FilmTile: filter-weighted sample splatting.
+#include <cmath>
+
+#include "runtime/film/film.h"
+
+namespace rt {
+namespace {
+
+// v is integer-valued (a ceil or floor); returns it clamped to [lo, hi]
+// without ever converting an out-of-range float to int.
+int clamp_to_int(float v, int lo, int hi) {
+  if (!(v > float(lo))) return lo;
+  if (v >= float(hi)) return hi;
+  return int(v);
+}
+
+}  // namespace
+
+FilmTile::FilmTile(const Bounds2i& pixel_bounds, Vec2 radius, const float* table,
+                   float max_luminance)
+    : pixel_bounds_(pixel_bounds),
+      radius_(radius),
+      inv_radius_{1 / radius.x, 1 / radius.y},
+      table_(table),
+      max_luminance_(max_luminance) {
+  if (pixel_bounds_.empty()) pixel_bounds_.max = pixel_bounds_.min;  // no pixels, no negative sizes
+  pixels_.resize(size_t(pixel_bounds_.area()));
+}
+
+const FilmPixelSum& FilmTile::sum(Point2i p) const {
+  return pixels_[size_t(p.y - pixel_bounds_.min.y) * size_t(pixel_bounds_.width()) +
+                 size_t(p.x - pixel_bounds_.min.x)];
+}
+
+void FilmTile::add_sample(Vec2 p_film, Rgb L, float sample_weight) {
+  float lum = L.luminance();
+  if (lum > max_luminance_) L *= max_luminance_ / lum;
+  // Pixel (x, y) has its centre at (x + 0.5, y + 0.5): work in discrete
+  // coordinates, where centres are integers.
+  float dx = p_film.x - 0.5f, dy = p_film.y - 0.5f;
+  if (!std::isfinite(dx) || !std::isfinite(dy)) return;
+  int x0 = clamp_to_int(std::ceil(dx - radius_.x), pixel_bounds_.min.x, pixel_bounds_.max.x);
+  int x1 = clamp_to_int(std::floor(dx + radius_.x) + 1, pixel_bounds_.min.x, pixel_bounds_.max.x);
+  int y0 = clamp_to_int(std::ceil(dy - radius_.y), pixel_bounds_.min.y, pixel_bounds_.max.y);
+  int y1 = clamp_to_int(std::floor(dy + radius_.y) + 1, pixel_bounds_.min.y, pixel_bounds_.max.y);
+  if (x0 >= x1 || y0 >= y1) return;
+
+  // Table rows and columns of the covered pixels. The filter reaches at most
+  // ceil(2 radius) + 1 pixels per axis; wider filters than kMaxReach are
+  // handled by recomputing per pixel (not worth a heap allocation).
+  constexpr int kMaxReach = 64;
+  int ifx[kMaxReach], ify[kMaxReach];
+  auto table_index = [](float f) {
+    // f >= 0; NaN (never from finite input) falls on the last entry.
+    return f < float(kTableSize - 1) ? int(f) : kTableSize - 1;
+  };
+  auto column = [&](int x) {
+    return table_index(std::floor(std::fabs((x - dx) * inv_radius_.x * kTableSize)));
+  };
+  auto row = [&](int y) {
+    return table_index(std::floor(std::fabs((y - dy) * inv_radius_.y * kTableSize)));
+  };
+  bool cached = x1 - x0 <= kMaxReach && y1 - y0 <= kMaxReach;
+  if (cached) {
+    for (int x = x0; x < x1; ++x) ifx[x - x0] = column(x);
+    for (int y = y0; y < y1; ++y) ify[y - y0] = row(y);
+  }
+
+  double lr = L.r, lg = L.g, lb = L.b, sw = sample_weight;
+  size_t stride = size_t(pixel_bounds_.width());
+  for (int y = y0; y < y1; ++y) {
+    int ty = cached ? ify[y - y0] : row(y);
+    FilmPixelSum* line = &pixels_[size_t(y - pixel_bounds_.min.y) * stride];
+    for (int x = x0; x < x1; ++x) {
+      int tx = cached ? ifx[x - x0] : column(x);
+      float fw = table_[ty * kTableSize + tx];
+      FilmPixelSum& px = line[x - pixel_bounds_.min.x];
+      double w = sw * fw;
+      px.rgb[0] += lr * w;
+      px.rgb[1] += lg * w;
+      px.rgb[2] += lb * w;
+      px.weight += fw;
+    }
+  }
+}
+
+}  // namespace rt

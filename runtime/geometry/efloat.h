@@ -1,0 +1,98 @@
+// runtime/geometry/efloat.h — a float that carries a conservative interval.
+//
+// The pbrt book's running error analysis (3rd ed., ch. 3.9.2): every value is
+// a float plus [lo, hi] bounds that are guaranteed to contain the exact real
+// result of the same computation on the same inputs. Each operation computes
+// the interval in float and widens it by one ulp on each side, which covers
+// the rounding of that operation. Used for quadric coefficients and roots so
+// t can be tested conservatively, and for the error of ray-parametric points.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/core/math.h"
+
+namespace rt {
+
+struct EFloat {
+  float v = 0, lo = 0, hi = 0;
+
+  EFloat() = default;
+  // An exact value (err = 0) or one known to within +-err.
+  EFloat(float value, float err = 0.f) : v(value), lo(value), hi(value) {
+    if (err != 0) {
+      lo = next_float_down(value - err);
+      hi = next_float_up(value + err);
+    }
+  }
+  static EFloat with_bounds(float value, float lower, float upper) {
+    EFloat e;
+    e.v = value;
+    e.lo = lower;
+    e.hi = upper;
+    return e;
+  }
+  explicit operator float() const { return v; }
+  float lower() const { return lo; }
+  float upper() const { return hi; }
+  // The largest distance from v to either bound, rounded up.
+  float abs_error() const { return next_float_up(std::max(std::fabs(hi - v), std::fabs(v - lo))); }
+};
+
+inline EFloat operator+(EFloat a, EFloat b) {
+  return EFloat::with_bounds(a.v + b.v, next_float_down(a.lo + b.lo), next_float_up(a.hi + b.hi));
+}
+inline EFloat operator-(EFloat a, EFloat b) {
+  return EFloat::with_bounds(a.v - b.v, next_float_down(a.lo - b.hi), next_float_up(a.hi - b.lo));
+}
+inline EFloat operator-(EFloat a) {
+  return EFloat::with_bounds(-a.v, -a.hi, -a.lo);
+}
+inline EFloat operator*(EFloat a, EFloat b) {
+  float p0 = a.lo * b.lo, p1 = a.hi * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.hi;
+  return EFloat::with_bounds(a.v * b.v,
+                             next_float_down(std::min(std::min(p0, p1), std::min(p2, p3))),
+                             next_float_up(std::max(std::max(p0, p1), std::max(p2, p3))));
+}
+inline EFloat operator/(EFloat a, EFloat b) {
+  // A divisor interval touching zero bounds nothing.
+  if (b.lo <= 0 && b.hi >= 0) return EFloat::with_bounds(a.v / b.v, -kInfinity, kInfinity);
+  float q0 = a.lo / b.lo, q1 = a.hi / b.lo, q2 = a.lo / b.hi, q3 = a.hi / b.hi;
+  return EFloat::with_bounds(a.v / b.v,
+                             next_float_down(std::min(std::min(q0, q1), std::min(q2, q3))),
+                             next_float_up(std::max(std::max(q0, q1), std::max(q2, q3))));
+}
+inline EFloat operator*(float a, EFloat b) {
+  return EFloat(a) * b;
+}
+inline EFloat operator-(EFloat a, float b) {
+  return a - EFloat(b);
+}
+
+inline EFloat sqrt(EFloat a) {
+  return EFloat::with_bounds(std::sqrt(a.v), next_float_down(std::sqrt(std::max(0.f, a.lo))),
+                             next_float_up(std::sqrt(std::max(0.f, a.hi))));
+}
+
+// Roots of a t^2 + b t + c, t0 <= t1 by value, with bounds that contain the
+// roots of every a, b, c within their bounds. The book forms the
+// discriminant from the values alone and so can under-estimate the roots'
+// error near grazing hits; here its interval is propagated too, while the
+// value still comes from double for accuracy.
+inline bool solve_quadratic(EFloat a, EFloat b, EFloat c, EFloat* t0, EFloat* t1) {
+  double disc = double(b.v) * double(b.v) - 4.0 * double(a.v) * double(c.v);
+  if (disc < 0) return false;
+  EFloat disc_e = b * b - 4.f * (a * c);
+  EFloat root_e = sqrt(disc_e);
+  root_e.v = float(std::sqrt(disc));
+  root_e.lo = std::min(root_e.lo, next_float_down(root_e.v));
+  root_e.hi = std::max(root_e.hi, next_float_up(root_e.v));
+  EFloat q = b.v < 0 ? -0.5f * (b - root_e) : -0.5f * (b + root_e);
+  *t0 = q / a;
+  *t1 = c / q;
+  if (t0->v > t1->v) std::swap(*t0, *t1);
+  return true;
+}
+
+}  // namespace rt

@@ -1,0 +1,350 @@
+// runtime/geometry/quadric_intersect.cpp — see quadric_intersect.h.
+#include "runtime/geometry/quadric_intersect.h"
+
+#include <cmath>
+
+#include "runtime/geometry/efloat.h"
+#include "runtime/geometry/quadric_shape.h"
+
+namespace rt {
+
+namespace {
+
+bool is_quadric(ShapeKind k) {
+  return k != ShapeKind::kTriangles && k != ShapeKind::kCurve;
+}
+
+float phi_of(float x, float y) {
+  float phi = std::atan2(y, x);
+  return phi < 0 ? phi + 2 * kPi : phi;
+}
+
+// The world ray in object space, its origin and direction as intervals. The
+// origin is pushed forward along d past its own error (pbrt-v3's ray
+// transform) so that t > 0 really is in front of it; tmax is kept.
+struct ObjectRay {
+  Vec3 o, d;
+  EFloat ox, oy, oz, dx, dy, dz;
+};
+
+ObjectRay to_object(const ShapeInfo& s, const Ray& rw) {
+  Transform world_to_object(s.object_to_world.inverse_matrix(), s.object_to_world.matrix());
+  ObjectRay r;
+  Vec3 o_err, d_err;
+  r.o = world_to_object.point(rw.o, &o_err);
+  r.d = world_to_object.vector(rw.d, &d_err);
+  float len2 = length_squared(r.d);
+  if (len2 > 0) r.o += r.d * (dot(abs(r.d), o_err) / len2);
+  r.ox = EFloat(r.o.x, o_err.x);
+  r.oy = EFloat(r.o.y, o_err.y);
+  r.oz = EFloat(r.o.z, o_err.z);
+  r.dx = EFloat(r.d.x, d_err.x);
+  r.dy = EFloat(r.d.y, d_err.y);
+  r.dz = EFloat(r.d.z, d_err.z);
+  return r;
+}
+
+// Coefficients of the quadric's implicit equation along the ray.
+void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* b, EFloat* c) {
+  const EFloat &ox = r.ox, &oy = r.oy, &oz = r.oz, &dx = r.dx, &dy = r.dy, &dz = r.dz;
+  switch (q.kind) {
+    case ShapeKind::kSphere: {
+      EFloat rad(q.radius);
+      *a = dx * dx + dy * dy + dz * dz;
+      *b = 2.f * (dx * ox + dy * oy + dz * oz);
+      *c = ox * ox + oy * oy + oz * oz - rad * rad;
+      break;
+    }
+    case ShapeKind::kCylinder: {
+      EFloat rad(q.radius);
+      *a = dx * dx + dy * dy;
+      *b = 2.f * (dx * ox + dy * oy);
+      *c = ox * ox + oy * oy - rad * rad;
+      break;
+    }
+    case ShapeKind::kCone: {
+      EFloat k = EFloat(q.radius) / EFloat(q.height);
+      k = k * k;
+      EFloat oz_h = oz - EFloat(q.height);
+      *a = dx * dx + dy * dy - k * dz * dz;
+      *b = 2.f * (dx * ox + dy * oy - k * dz * oz_h);
+      *c = ox * ox + oy * oy - k * oz_h * oz_h;
+      break;
+    }
+    case ShapeKind::kParaboloid: {
+      EFloat k = EFloat(q.zmax) / (EFloat(q.radius) * EFloat(q.radius));
+      *a = k * (dx * dx + dy * dy);
+      *b = 2.f * k * (dx * ox + dy * oy) - dz;
+      *c = k * (ox * ox + oy * oy) - oz;
+      break;
+    }
+    default: {  // hyperboloid
+      EFloat ah(q.ah), ch(q.ch);
+      *a = ah * dx * dx + ah * dy * dy - ch * dz * dz;
+      *b = 2.f * (ah * dx * ox + ah * dy * oy - ch * dz * oz);
+      *c = ah * ox * ox + ah * oy * oy - ch * oz * oz - EFloat(1.f);
+      break;
+    }
+  }
+}
+
+// The hit point at t, refined onto the surface where the book does so, and
+// its phi; false when the point lies outside the phimax / z cuts.
+bool locate(const QuadricShape& q, const ObjectRay& r, float t, Vec3* p_out, float* phi_out) {
+  Vec3 p = r.o + r.d * t;
+  float phi;
+  bool outside;
+  switch (q.kind) {
+    case ShapeKind::kSphere:
+      p *= q.radius / length(p);
+      // Keep phi and dp/du defined at the poles.
+      if (p.x == 0 && p.y == 0) p.x = 1e-5f * q.radius;
+      phi = phi_of(p.x, p.y);
+      outside = (q.zmin > -q.radius && p.z < q.zmin) || (q.zmax < q.radius && p.z > q.zmax) ||
+                phi > q.phimax;
+      break;
+    case ShapeKind::kCylinder: {
+      float s = q.radius / std::sqrt(p.x * p.x + p.y * p.y);
+      p.x *= s;
+      p.y *= s;
+      phi = phi_of(p.x, p.y);
+      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
+      break;
+    }
+    case ShapeKind::kCone:
+      phi = phi_of(p.x, p.y);
+      outside = p.z < 0 || p.z > q.height || phi > q.phimax;
+      break;
+    case ShapeKind::kParaboloid:
+      phi = phi_of(p.x, p.y);
+      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
+      break;
+    default: {  // hyperboloid: phi relative to the generating line's point at this z
+      float v = (p.z - q.p1.z) / (q.p2.z - q.p1.z);
+      Vec3 pr = (1 - v) * q.p1 + v * q.p2;
+      phi = std::atan2(pr.x * p.y - p.x * pr.y, p.x * pr.x + p.y * pr.y);
+      if (phi < 0) phi += 2 * kPi;
+      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
+      break;
+    }
+  }
+  *p_out = p;
+  *phi_out = phi;
+  return !outside && !p.has_nan();
+}
+
+Vec3 finite_or_zero(Vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : Vec3{};
+}
+
+// Object-space differential geometry to a world-space SurfaceInteraction;
+// dn/du and dn/dv from the Weingarten equations. False where the surface has
+// no normal (a cone's apex, hit exactly): no usable hit there.
+bool fill_interaction(const ShapeInfo& s, Vec3 p, Vec3 p_err, Vec2 uv, Vec3 dpdu, Vec3 dpdv,
+                      Vec3 d2pduu, Vec3 d2pduv, Vec3 d2pdvv, const Ray& rw,
+                      SurfaceInteraction* si) {
+  Vec3 n = normalize(cross(dpdu, dpdv));
+  if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) return false;
+  float e1 = dot(dpdu, dpdu), f1 = dot(dpdu, dpdv), g1 = dot(dpdv, dpdv);
+  float e2 = dot(n, d2pduu), f2 = dot(n, d2pduv), g2 = dot(n, d2pdvv);
+  float inv = 1 / (e1 * g1 - f1 * f1);
+  Vec3 dndu, dndv;
+  if (std::isfinite(inv)) {
+    dndu = finite_or_zero(((f2 * f1 - e2 * g1) * inv) * dpdu + ((e2 * f1 - f2 * e1) * inv) * dpdv);
+    dndv = finite_or_zero(((g2 * f1 - f2 * g1) * inv) * dpdu + ((f2 * f1 - g2 * e1) * inv) * dpdv);
+  }
+  // Flipped in object space before the normal transform, as pbrt-v3 does:
+  // mirroring reverses cross(dpdu, dpdv) in world space, so after this flip
+  // the world normal is that world cross product, negated only by
+  // ReverseOrientation (a mirrored sphere's normal points inwards).
+  if (s.flip_normals()) n = -n;
+
+  const Transform& m = s.object_to_world;
+  si->p = m.point(p, p_err, &si->p_error);
+  si->n = normalize(m.normal(n));
+  si->wo = normalize(-rw.d);
+  si->time = rw.time;
+  si->uv = uv;
+  si->dpdu = m.vector(dpdu);
+  si->dpdv = m.vector(dpdv);
+  si->dndu = m.normal(dndu);
+  si->dndv = m.normal(dndv);
+  si->shading = ShadingFrame{si->n, si->dpdu, si->dpdv, si->dndu, si->dndv};
+  si->dpdx = si->dpdy = Vec3{};
+  si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+  si->prim = 0;
+  si->face_index = 0;
+  return true;
+}
+
+// The ray-parametric point's interval width: the error bound of the hit for
+// shapes whose point is not re-projected.
+Vec3 parametric_error(const ObjectRay& r, EFloat t) {
+  return {(r.ox + t * r.dx).abs_error(), (r.oy + t * r.dy).abs_error(),
+          (r.oz + t * r.dz).abs_error()};
+}
+
+bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& r, EFloat t,
+                      Vec3 p, float phi, const Ray& rw, SurfaceInteraction* si) {
+  float pm = q.phimax;
+  float u = phi / pm, v = 0;
+  Vec3 dpdu{-pm * p.y, pm * p.x, 0};
+  Vec3 d2pduu = -pm * pm * Vec3{p.x, p.y, 0};
+  Vec3 dpdv, d2pduv, d2pdvv, p_err;
+  switch (q.kind) {
+    case ShapeKind::kSphere: {
+      float theta = safe_acos(p.z / q.radius);
+      float dtheta = q.theta_zmax - q.theta_zmin;
+      v = (theta - q.theta_zmin) / dtheta;
+      float inv_zr = 1 / std::sqrt(p.x * p.x + p.y * p.y);
+      float cos_phi = p.x * inv_zr, sin_phi = p.y * inv_zr;
+      dpdv = dtheta * Vec3{p.z * cos_phi, p.z * sin_phi, -q.radius * std::sin(theta)};
+      d2pduv = dtheta * p.z * pm * Vec3{-sin_phi, cos_phi, 0};
+      d2pdvv = -dtheta * dtheta * p;
+      p_err = gamma_bound(5) * abs(p);
+      break;
+    }
+    case ShapeKind::kCylinder:
+      v = (p.z - q.zmin) / (q.zmax - q.zmin);
+      dpdv = {0, 0, q.zmax - q.zmin};
+      p_err = gamma_bound(3) * abs(Vec3{p.x, p.y, 0});
+      break;
+    case ShapeKind::kCone: {
+      v = p.z / q.height;
+      float inv_1v = 1 / (1 - v);
+      dpdv = {-p.x * inv_1v, -p.y * inv_1v, q.height};
+      d2pduv = pm * inv_1v * Vec3{p.y, -p.x, 0};
+      p_err = parametric_error(r, t);
+      break;
+    }
+    case ShapeKind::kParaboloid: {
+      float dz = q.zmax - q.zmin;
+      v = (p.z - q.zmin) / dz;
+      float inv_2z = 1 / (2 * p.z);
+      dpdv = dz * Vec3{p.x * inv_2z, p.y * inv_2z, 1};
+      d2pduv = dz * pm * Vec3{-p.y * inv_2z, p.x * inv_2z, 0};
+      d2pdvv = -dz * dz * Vec3{p.x * inv_2z * inv_2z, p.y * inv_2z * inv_2z, 0};
+      p_err = parametric_error(r, t);
+      break;
+    }
+    default: {  // hyperboloid
+      v = (p.z - q.p1.z) / (q.p2.z - q.p1.z);
+      float cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+      Vec3 dp = q.p2 - q.p1;
+      dpdv = {dp.x * cos_phi - dp.y * sin_phi, dp.x * sin_phi + dp.y * cos_phi, dp.z};
+      d2pduv = pm * Vec3{-dpdv.y, dpdv.x, 0};
+      p_err = parametric_error(r, t);
+      break;
+    }
+  }
+  return fill_interaction(s, p, p_err, {u, v}, dpdu, dpdv, d2pduu, finite_or_zero(d2pduv),
+                          finite_or_zero(d2pdvv), rw, si);
+}
+
+bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& r, const Ray& rw,
+                    float* t_hit, SurfaceInteraction* si) {
+  if (r.d.z == 0) return false;
+  float t = (q.height - r.o.z) / r.d.z;
+  if (!(t > 0) || t >= rw.tmax) return false;
+  Vec3 p = r.o + r.d * t;
+  float dist2 = p.x * p.x + p.y * p.y;
+  if (dist2 > q.radius * q.radius || dist2 < q.inner_radius * q.inner_radius) return false;
+  float phi = phi_of(p.x, p.y);
+  if (phi > q.phimax) return false;
+  if (!si) {
+    *t_hit = t;
+    return true;
+  }
+  // At the exact centre dp/dv has no direction; borrow the one just beside it.
+  float x = p.x, y = p.y;
+  if (dist2 == 0) x = 1e-5f * q.radius;
+  float r_hit = std::sqrt(x * x + y * y);
+  float pm = q.phimax;
+  float v = 1 - (std::sqrt(dist2) - q.inner_radius) / (q.radius - q.inner_radius);
+  Vec3 dpdu{-pm * y, pm * x, 0};
+  Vec3 dpdv = Vec3{x, y, 0} * ((q.inner_radius - q.radius) / r_hit);
+  // The plane's z is known exactly, so the refined point has no error there
+  // and (pbrt-v3) none is claimed in x and y either.
+  p.z = q.height;
+  *t_hit = t;
+  return fill_interaction(s, p, Vec3{}, {phi / pm, v}, dpdu, dpdv, Vec3{}, Vec3{}, Vec3{}, rw, si);
+}
+
+}  // namespace
+
+Bounds3 quadric_object_bounds(const ShapeInfo& s) {
+  Bounds3 b;
+  if (!is_quadric(s.kind)) return b;
+  QuadricShape q = make_quadric_shape(s);
+  float r = q.radius;
+  switch (s.kind) {
+    case ShapeKind::kDisk:
+      b.lo = {-r, -r, q.height};
+      b.hi = {r, r, q.height};
+      break;
+    case ShapeKind::kCone:
+      b.lo = {-r, -r, 0};
+      b.hi = {r, r, q.height};
+      break;
+    case ShapeKind::kHyperboloid:
+      b.lo = {-q.rmax, -q.rmax, q.zmin};
+      b.hi = {q.rmax, q.rmax, q.zmax};
+      break;
+    default:
+      b.lo = {-r, -r, q.zmin};
+      b.hi = {r, r, q.zmax};
+      break;
+  }
+  return b;
+}
+
+Bounds3 quadric_world_bounds(const ShapeInfo& s) {
+  Bounds3 ob = quadric_object_bounds(s), wb;
+  if (ob.empty()) return wb;
+  for (int c = 0; c < 8; ++c) {
+    Vec3 corner{c & 1 ? ob.hi.x : ob.lo.x, c & 2 ? ob.hi.y : ob.lo.y, c & 4 ? ob.hi.z : ob.lo.z};
+    Vec3 err;
+    Vec3 w = s.object_to_world.point(corner, &err);
+    wb.extend(w - err);
+    wb.extend(w + err);
+  }
+  for (int i = 0; i < 3; ++i) {
+    wb.lo[i] = next_float_down(wb.lo[i]);
+    wb.hi[i] = next_float_up(wb.hi[i]);
+  }
+  return wb;
+}
+
+bool intersect_quadric(const ShapeInfo& s, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
+  if (!is_quadric(s.kind)) return false;
+  QuadricShape q = make_quadric_shape(s);
+  if (!q.valid) return false;
+  ObjectRay r = to_object(s, rw);
+  if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, r, rw, t_hit, si);
+
+  EFloat a, b, c, t0, t1;
+  coefficients(q, r, &a, &b, &c);
+  if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
+  // Conservative: a root is used only if its whole interval is in (0, tmax].
+  if (!(t0.upper() <= rw.tmax) || !(t1.lower() > 0)) return false;
+  EFloat t = t0;
+  bool is_far_root = false;
+  if (!(t.lower() > 0)) {
+    t = t1;
+    is_far_root = true;
+    if (!(t.upper() <= rw.tmax)) return false;
+  }
+  Vec3 p;
+  float phi;
+  if (!locate(q, r, t.v, &p, &phi)) {
+    // The near hit is cut away: the far one may still be on the surface.
+    if (is_far_root || !(t1.upper() <= rw.tmax)) return false;
+    t = t1;
+    if (!locate(q, r, t.v, &p, &phi)) return false;
+  }
+  if (si && !surface_geometry(q, s, r, t, p, phi, rw, si)) return false;
+  *t_hit = t.v;
+  return true;
+}
+
+}  // namespace rt

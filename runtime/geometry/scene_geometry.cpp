@@ -1,0 +1,598 @@
+// runtime/geometry/scene_geometry.cpp — see scene_geometry.h.
+#include "runtime/geometry/scene_geometry.h"
+
+#include <embree3/rtcore.h>
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <vector>
+
+#include "runtime/geometry/quadric_intersect.h"
+#include "runtime/geometry/triangle_hit.h"
+#include "runtime/texture/textures.h"
+
+namespace rt {
+
+namespace {
+
+// Embree user data of every triangle and quadric geometry.
+struct GeomData {
+  const SceneGeometry::Impl* impl = nullptr;
+  uint32_t shape = kNone;
+  bool quadric = false;
+  const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
+  bool copied = false;               // positions are a copy through the shape's transform
+};
+
+// A top-level Embree instance: an object instance or a world transform group.
+struct InstanceData {
+  Transform to_world;
+  uint32_t child = kNone;             // index into Impl::children
+  uint32_t archive_instance = kNone;  // kNone for a transform group
+  bool mirrors = false;               // an object instance whose transform mirrors
+};
+
+// The context every query hands Embree; its callbacks get it back and cast.
+struct QueryContext {
+  RTCIntersectContext rtc;         // must stay first
+  const Ray* ray;                  // the world-space ray
+  SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric hit; null for occluded()
+};
+
+bool is_quadric(ShapeKind k) {
+  return k != ShapeKind::kTriangles && k != ShapeKind::kCurve;
+}
+
+}  // namespace
+
+struct SceneGeometry::Impl {
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  const pbrta::SceneArchive* archive = nullptr;
+  const ShapeTable* shapes = nullptr;
+  const TextureSet* textures = nullptr;
+
+  struct Child {
+    RTCScene scene = nullptr;
+    std::vector<const GeomData*> geoms;  // by geomID within the child
+    Bounds3 bounds;                      // in the child's own space
+  };
+  std::vector<Child> children;
+  std::vector<const GeomData*> top_geoms;  // by top-level geomID; null for instances
+  std::vector<uint32_t> top_instance;      // by top-level geomID: index into instances, or kNone
+  std::vector<InstanceData> instances;
+  std::deque<GeomData> geoms;             // stable addresses for Embree's user pointers
+  std::deque<std::vector<float>> copies;  // transformed vertex copies (padded for Embree)
+
+  std::mutex error_mutex;
+  std::string embree_error;
+  std::atomic<int64_t> embree_bytes{0};
+
+  ~Impl() {
+    if (top) rtcReleaseScene(top);
+    for (Child& c : children)
+      if (c.scene) rtcReleaseScene(c.scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  const InstanceData* instance_of(unsigned inst_geom_id) const {
+    return inst_geom_id == RTC_INVALID_GEOMETRY_ID ? nullptr
+                                                   : &instances[top_instance[inst_geom_id]];
+  }
+  const GeomData* geom_of(const InstanceData* inst, unsigned geom_id) const {
+    return inst ? children[inst->child].geoms[geom_id] : top_geoms[geom_id];
+  }
+
+  void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
+                     const Ray& ray, SurfaceInteraction* si) const {
+    TriangleSpace space;
+    space.positions = g.positions;
+    space.buffer_has_shape_transform = g.copied;
+    space.to_world = inst ? &inst->to_world : nullptr;
+    space.instance = inst && inst->archive_instance != kNone;
+    space.instance_mirrors = inst && inst->mirrors;
+    triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, si);
+  }
+
+  // pbrt-v3's alpha masks: a texture, or the constant 0 (any other constant
+  // makes no mask). A hit is dropped only where the value is exactly 0.
+  bool masked(float value, uint32_t texture, const SurfaceInteraction& si) const {
+    return texture != kNone ? textures->eval_float(texture, si) == 0 : value == 0;
+  }
+};
+
+namespace {
+
+using Impl = SceneGeometry::Impl;
+
+bool has_alpha_mask(const ShapeInfo& s) {
+  return s.alpha_texture != kNone || s.alpha == 0;
+}
+bool has_shadow_mask(const ShapeInfo& s) {
+  return s.shadow_alpha_texture != kNone || s.shadow_alpha == 0;
+}
+
+// ---- Embree callbacks (always called with N == 1: only rtcIntersect1 / rtcOccluded1) ----
+
+void on_embree_error(void* user, RTCError code, const char* str) {
+  auto* impl = static_cast<Impl*>(user);
+  std::lock_guard<std::mutex> lock(impl->error_mutex);
+  if (!impl->embree_error.empty()) impl->embree_error += "; ";
+  impl->embree_error += "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "");
+}
+
+bool on_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
+  static_cast<Impl*>(user)->embree_bytes += bytes;
+  return true;
+}
+
+// Alpha filters: rebuild the hit as pbrt-v3 would and evaluate the mask there.
+void alpha_filter(const RTCFilterFunctionNArguments* args, bool shadow) {
+  if (!args->valid[0]) return;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  const Impl* impl = g->impl;
+  const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
+  const ShapeInfo& s = (*impl->shapes)[g->shape];
+  SurfaceInteraction si;
+  impl->fill_triangle(*g, impl->instance_of(args->context->instID[0]), hit->primID, hit->u, hit->v,
+                      *ctx->ray, &si);
+  bool drop = has_alpha_mask(s) && impl->masked(s.alpha, s.alpha_texture, si);
+  if (shadow && !drop && has_shadow_mask(s))
+    drop = impl->masked(s.shadow_alpha, s.shadow_alpha_texture, si);
+  if (drop) args->valid[0] = 0;
+}
+void alpha_filter_intersect(const RTCFilterFunctionNArguments* args) {
+  alpha_filter(args, false);
+}
+void alpha_filter_occluded(const RTCFilterFunctionNArguments* args) {
+  alpha_filter(args, true);
+}
+
+void quadric_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  Bounds3 b = quadric_world_bounds((*g->impl->shapes)[g->shape]);
+  *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
+}
+
+// The quadric in world space: inside an instance, the instance's transform
+// composed onto the shape's (object-from-shape) one; orientation flags stay
+// the shape's own, as pbrt-v3 flips by the shape's transform and then maps
+// the normal through the instance transform as a normal.
+const ShapeInfo& world_quadric(const GeomData& g, unsigned inst_id, ShapeInfo* scratch) {
+  const ShapeInfo& s = (*g.impl->shapes)[g.shape];
+  const InstanceData* inst = g.impl->instance_of(inst_id);
+  if (!inst) return s;
+  *scratch = s;
+  scratch->object_to_world = inst->to_world * s.object_to_world;
+  return *scratch;
+}
+
+void quadric_intersect(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  unsigned inst_id = args->context->instID[0];
+  ShapeInfo scratch;
+  const ShapeInfo& s = world_quadric(*g, inst_id, &scratch);
+  // Embree does not rescale instanced rays, so t is the same in every space.
+  Ray r = *ctx->ray;
+  r.tmax = rh->ray.tfar;
+  SurfaceInteraction si;
+  float t;
+  if (!intersect_quadric(s, r, &t, &si) || !(t < rh->ray.tfar)) return;
+  rh->ray.tfar = t;
+  rh->hit.u = rh->hit.v = 0;
+  rh->hit.Ng_x = si.n.x;
+  rh->hit.Ng_y = si.n.y;
+  rh->hit.Ng_z = si.n.z;
+  rh->hit.primID = args->primID;
+  rh->hit.geomID = args->geomID;
+  rh->hit.instID[0] = inst_id;
+  if (ctx->quadric_si) *ctx->quadric_si = si;
+}
+
+void quadric_occluded(const RTCOccludedFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
+  ShapeInfo scratch;
+  const ShapeInfo& s = world_quadric(*g, args->context->instID[0], &scratch);
+  Ray r = *ctx->ray;
+  r.tmax = ray->tfar;
+  float t;
+  if (intersect_quadric(s, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
+}
+
+// Embree accepts t <= tfar; pbrt-v3's interval is open at tmax.
+float open_tfar(float tmax) {
+  return std::isinf(tmax) ? tmax : next_float_down(tmax);
+}
+
+void init_ray(const Ray& ray, RTCRay* r) {
+  r->org_x = ray.o.x;
+  r->org_y = ray.o.y;
+  r->org_z = ray.o.z;
+  r->dir_x = ray.d.x;
+  r->dir_y = ray.d.y;
+  r->dir_z = ray.d.z;
+  r->tnear = 0;
+  r->tfar = open_tfar(ray.tmax);
+  r->time = 0;
+  r->mask = 0xFFFFFFFFu;
+  r->id = 0;
+  r->flags = 0;
+}
+
+void to_row_major_3x4(const Matrix4& m, float out[12]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) out[4 * i + j] = m.m[i][j];
+}
+
+}  // namespace
+
+// ---- Building ----
+
+namespace {
+
+// Builds the Embree scenes; a helper class so build() reads as its steps.
+class Builder {
+ public:
+  Builder(Impl* impl, GeometryStats* stats, Bounds3* bounds, std::string* error)
+      : impl_(impl),
+        a_(*impl->archive),
+        shapes_(*impl->shapes),
+        stats_(stats),
+        bounds_(bounds),
+        error_(error) {}
+
+  bool run();
+
+ private:
+  bool check_shapes();
+  bool check_instances(std::vector<Transform>* transforms);
+  RTCScene new_scene();
+  unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds);
+  unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
+  void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
+  void record_top(unsigned id, const GeomData* g, uint32_t instance);
+  bool embree_ok();
+
+  Impl* impl_;
+  const pbrta::SceneArchive& a_;
+  const ShapeTable& shapes_;
+  GeometryStats* stats_;
+  Bounds3* bounds_;
+  std::string* error_;
+};
+
+bool Builder::embree_ok() {
+  std::lock_guard<std::mutex> lock(impl_->error_mutex);
+  if (impl_->embree_error.empty()) return true;
+  *error_ = impl_->embree_error;
+  return false;
+}
+
+bool Builder::check_shapes() {
+  for (uint32_t i = 0; i < shapes_.size(); ++i) {
+    const ShapeInfo& s = shapes_[i];
+    if (s.kind == ShapeKind::kCurve) {
+      *error_ = "not supported yet: curve shape (" + a_.where(s.entity) + ")";
+      return false;
+    }
+    if (s.kind == ShapeKind::kTriangles && a_.shapes[i].mesh == pbrta::kNoIndex) {
+      *error_ = "not supported yet: " + std::string(a_.type_name(s.entity)) + " shape (" +
+                a_.where(s.entity) + ")";
+      return false;
+    }
+    if (s.animated) {
+      *error_ = "not supported yet: animated transform (motion blur) (" + a_.where(s.entity) + ")";
+      return false;
+    }
+    if ((s.alpha_texture != kNone || s.shadow_alpha_texture != kNone) && !impl_->textures) {
+      *error_ = a_.where(s.entity) + ": error: alpha texture but no textures were loaded";
+      return false;
+    }
+  }
+  return true;
+}
+
+bool Builder::check_instances(std::vector<Transform>* transforms) {
+  for (uint32_t i = 0; i < a_.instances.size; ++i) {
+    const pbrta::InstanceRecord& r = a_.instances[i];
+    const pbrta::TransformRecord& t = a_.transforms[r.transform];
+    if (std::memcmp(t.start, t.end, sizeof t.start) != 0) {
+      *error_ =
+          "not supported yet: animated transform (motion blur) (" + a_.where(r.provenance) + ")";
+      return false;
+    }
+    Transform x = Transform::from_doubles(t.start);
+    if (!x.invertible() || x.is_projective()) {
+      *error_ =
+          a_.where(r.provenance) + ": error: object instance transform is singular or projective";
+      return false;
+    }
+    transforms->push_back(x);
+  }
+  return true;
+}
+
+RTCScene Builder::new_scene() {
+  RTCScene scene = rtcNewScene(impl_->device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  return scene;
+}
+
+void Builder::record_top(unsigned id, const GeomData* g, uint32_t instance) {
+  if (impl_->top_geoms.size() <= id) {
+    impl_->top_geoms.resize(id + 1, nullptr);
+    impl_->top_instance.resize(id + 1, kNone);
+  }
+  impl_->top_geoms[id] = g;
+  impl_->top_instance[id] = instance;
+}
+
+// A triangle mesh: the archive's arrays in place, or (copy) its positions
+// through the shape's transform. bounds grows by its vertices in the space
+// the geometry lives in.
+unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds) {
+  const ShapeInfo& s = shapes_[shape];
+  const MeshView& m = s.mesh;
+  const float* positions = m.positions;
+  if (copy) {
+    // 4 floats of zero padding: Embree loads vertices 16 bytes at a time.
+    std::vector<float>& c = impl_->copies.emplace_back(3 * size_t(m.num_vertices) + 4, 0.f);
+    for (uint32_t v = 0; v < m.num_vertices; ++v) {
+      Vec3 p = s.object_to_world.point(m.position(v));
+      c[3 * v] = p.x;
+      c[3 * v + 1] = p.y;
+      c[3 * v + 2] = p.z;
+    }
+    positions = c.data();
+    ++stats_->copied_meshes;
+  }
+  for (uint32_t v = 0; v < m.num_vertices; ++v)
+    bounds->extend(Vec3{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]});
+
+  GeomData& g = impl_->geoms.emplace_back();
+  g.impl = impl_;
+  g.shape = shape;
+  g.positions = positions;
+  g.copied = copy;
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Embree only reads these buffers; its API is not const-correct.
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                             const_cast<float*>(positions), 0, 3 * sizeof(float), m.num_vertices);
+  rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                             const_cast<uint32_t*>(m.indices), 0, 3 * sizeof(uint32_t),
+                             m.num_triangles);
+  rtcSetGeometryUserData(geom, &g);
+  if (has_alpha_mask(s)) rtcSetGeometryIntersectFilterFunction(geom, alpha_filter_intersect);
+  if (has_alpha_mask(s) || has_shadow_mask(s))
+    rtcSetGeometryOccludedFilterFunction(geom, alpha_filter_occluded);
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  stats_->triangles += m.num_triangles;
+  return id;
+}
+
+unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds) {
+  const ShapeInfo& s = shapes_[shape];
+  bounds->extend(s.object_to_world.bounds(quadric_object_bounds(s)));
+  GeomData& g = impl_->geoms.emplace_back();
+  g.impl = impl_;
+  g.shape = shape;
+  g.quadric = true;
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(geom, 1);
+  rtcSetGeometryUserData(geom, &g);
+  rtcSetGeometryBoundsFunction(geom, quadric_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(geom, quadric_intersect);
+  rtcSetGeometryOccludedFunction(geom, quadric_occluded);
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  ++stats_->quadrics;
+  return id;
+}
+
+// An Embree instance of child scene `child`. Object instances add their
+// object's box through the transform to the world bound, as pbrt-v3's
+// TransformedPrimitive does; transform groups added their vertices already.
+void Builder::attach_instance(uint32_t child, const Transform& to_world,
+                              uint32_t archive_instance) {
+  InstanceData d;
+  d.to_world = to_world;
+  d.child = child;
+  d.archive_instance = archive_instance;
+  d.mirrors = archive_instance != kNone && to_world.swaps_handedness();
+  impl_->instances.push_back(d);
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geom, impl_->children[child].scene);
+  float xfm[12];
+  to_row_major_3x4(to_world.matrix(), xfm);
+  rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(impl_->top, geom);
+  rtcReleaseGeometry(geom);
+  record_top(id, nullptr, uint32_t(impl_->instances.size() - 1));
+  if (archive_instance != kNone) bounds_->extend(to_world.bounds(impl_->children[child].bounds));
+}
+
+bool Builder::run() {
+  std::vector<Transform> instance_transforms;
+  if (!check_shapes() || !check_instances(&instance_transforms)) return false;
+
+  impl_->top = new_scene();
+  auto add_child = [&] {
+    impl_->children.push_back({new_scene(), {}, {}});
+    return uint32_t(impl_->children.size() - 1);
+  };
+  auto record_child = [&](uint32_t child, unsigned id, const GeomData* g) {
+    auto& geoms = impl_->children[child].geoms;
+    if (geoms.size() <= id) geoms.resize(id + 1, nullptr);
+    geoms[id] = g;
+  };
+  auto empty_mesh = [](const ShapeInfo& s) {
+    return s.mesh.num_triangles == 0 || s.mesh.num_vertices == 0;
+  };
+
+  // World shapes: identity meshes and all quadrics (their callbacks take
+  // world rays) in the top level; other meshes grouped by transform.
+  std::map<std::array<float, 16>, uint32_t> groups;
+  std::vector<uint32_t> group_children;
+  for (uint32_t i = 0; i < shapes_.size(); ++i) {
+    const ShapeInfo& s = shapes_[i];
+    if (s.object != kNone) continue;
+    if (is_quadric(s.kind)) {
+      unsigned id = attach_quadric(impl_->top, i, bounds_);
+      record_top(id, &impl_->geoms.back(), kNone);
+    } else if (!empty_mesh(s)) {
+      if (s.object_to_world.is_identity()) {
+        unsigned id = attach_mesh(impl_->top, i, false, bounds_);
+        record_top(id, &impl_->geoms.back(), kNone);
+        continue;
+      }
+      std::array<float, 16> key;
+      std::memcpy(key.data(), s.object_to_world.matrix().m, sizeof key);
+      auto it = groups.find(key);
+      if (it == groups.end()) {
+        it = groups.emplace(key, add_child()).first;
+        group_children.push_back(i);  // the group's first shape gives its transform
+      }
+      uint32_t child = it->second;
+      // Group bounds in world space are the vertices through the transform
+      // (pbrt-v3 transforms them at load); the child's box is object space.
+      Bounds3 object_box;
+      unsigned id = attach_mesh(impl_->children[child].scene, i, false, &object_box);
+      impl_->children[child].bounds.extend(object_box);
+      for (uint32_t v = 0; v < s.mesh.num_vertices; ++v)
+        bounds_->extend(s.object_to_world.point(s.mesh.position(v)));
+      record_child(child, id, &impl_->geoms.back());
+    }
+  }
+  const uint32_t num_groups = uint32_t(impl_->children.size());
+
+  // Object definitions: one child scene each, in instance space.
+  std::vector<uint32_t> object_child(a_.objects.size, kNone);
+  std::vector<bool> instanced(a_.objects.size, false);
+  for (const pbrta::InstanceRecord& r : a_.instances) instanced[r.object] = true;
+  for (uint32_t o = 0; o < a_.objects.size; ++o) {
+    if (!instanced[o]) continue;  // defined, never used
+    const pbrta::ObjectRecord& rec = a_.objects[o];
+    uint32_t child = kNone;
+    for (uint32_t k = 0; k < rec.num_shapes; ++k) {
+      uint32_t shape = a_.object_shapes[rec.first_shape + k];
+      const ShapeInfo& s = shapes_[shape];
+      if (!is_quadric(s.kind) && empty_mesh(s)) continue;
+      if (child == kNone) child = add_child();
+      Impl::Child& c = impl_->children[child];
+      unsigned id = is_quadric(s.kind)
+                        ? attach_quadric(c.scene, shape, &c.bounds)
+                        : attach_mesh(c.scene, shape, !s.object_to_world.is_identity(), &c.bounds);
+      record_child(child, id, &impl_->geoms.back());
+    }
+    object_child[o] = child;
+  }
+  for (Impl::Child& c : impl_->children) rtcCommitScene(c.scene);
+  if (!embree_ok()) return false;
+
+  for (uint32_t g = 0; g < num_groups; ++g)
+    attach_instance(g, shapes_[group_children[g]].object_to_world, kNone);
+  for (uint32_t i = 0; i < a_.instances.size; ++i) {
+    uint32_t child = object_child[a_.instances[i].object];
+    if (child == kNone) continue;  // an empty object
+    attach_instance(child, instance_transforms[i], i);
+    ++stats_->instances;
+  }
+  rtcCommitScene(impl_->top);
+  return embree_ok();
+}
+
+}  // namespace
+
+// ---- SceneGeometry ----
+
+SceneGeometry::SceneGeometry() = default;
+SceneGeometry::~SceneGeometry() = default;
+
+bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& shapes,
+                          const TextureSet* textures, std::string* error) {
+  auto start = std::chrono::steady_clock::now();
+  impl_ = std::make_unique<Impl>();
+  world_bounds_ = Bounds3{};
+  stats_ = GeometryStats{};
+  impl_->archive = &archive;
+  impl_->shapes = &shapes;
+  impl_->textures = textures;
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device) {
+    *error = "Embree: cannot create a device (error " +
+             std::to_string(int(rtcGetDeviceError(nullptr))) + ")";
+    impl_.reset();
+    return false;
+  }
+  rtcSetDeviceErrorFunction(impl_->device, on_embree_error, impl_.get());
+  rtcSetDeviceMemoryMonitorFunction(impl_->device, on_embree_memory, impl_.get());
+
+  Builder builder(impl_.get(), &stats_, &world_bounds_, error);
+  if (!builder.run()) {
+    impl_.reset();
+    return false;
+  }
+  stats_.embree_bytes = uint64_t(std::max<int64_t>(0, impl_->embree_bytes.load()));
+  stats_.build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return true;
+}
+
+bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
+  if (!impl_ || !(ray.tmax > 0)) return false;
+  QueryContext ctx;
+  rtcInitIntersectContext(&ctx.rtc);
+  ctx.ray = &ray;
+  ctx.quadric_si = si;
+  RTCRayHit rh;
+  init_ray(ray, &rh.ray);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->top, &ctx.rtc, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+
+  const InstanceData* inst = impl_->instance_of(rh.hit.instID[0]);
+  const GeomData* g = impl_->geom_of(inst, rh.hit.geomID);
+  if (g->quadric) {
+    // The callback left the accepted hit in *si.
+    si->prim = 0;
+    si->face_index = 0;
+    si->dpdx = si->dpdy = Vec3{};
+    si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+  } else {
+    impl_->fill_triangle(*g, inst, rh.hit.primID, rh.hit.u, rh.hit.v, ray, si);
+  }
+  si->shape = g->shape;
+  si->instance = inst ? inst->archive_instance : kNone;
+  return true;
+}
+
+bool SceneGeometry::occluded(const Ray& ray) const {
+  if (!impl_ || !(ray.tmax > 0)) return false;
+  QueryContext ctx;
+  rtcInitIntersectContext(&ctx.rtc);
+  ctx.ray = &ray;
+  ctx.quadric_si = nullptr;
+  RTCRay r;
+  init_ray(ray, &r);
+  rtcOccluded1(impl_->top, &ctx.rtc, &r);
+  return r.tfar < 0;
+}
+
+}  // namespace rt

@@ -1,0 +1,73 @@
+// runtime/geometry/scene_geometry.h — the archive's shapes in Embree, hits as pbrt-v3 interactions.
+//
+// build() puts every shape into Embree 3: triangle meshes share the
+// archive's own (object-space, 16-byte padded) arrays, world meshes with the
+// identity transform sit in the top-level scene, the others are grouped by
+// transform into child scenes instanced with that transform; each object
+// definition is one child scene, instanced once per ObjectInstance (a mesh
+// with its own transform inside an object is copied through that transform:
+// Embree here has a single instance level); quadrics are user geometries
+// calling runtime/geometry/quadric_intersect.h. Alpha and shadowalpha are
+// Embree filters that drop hits where the value is exactly 0.
+//
+// intersect() rebuilds the closest hit in world space exactly as pbrt-v3's
+// Triangle::Intersect would (triangle_hit.h), so materials, lights and ray
+// spawning see pbrt-v3's numbers; occluded() answers any hit. Both take
+// hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
+// Unsupported input (curves, animated transforms) fails build() with
+// "not supported yet: <what> (file:line)".
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "format/scene_archive.h"
+#include "runtime/core/interaction.h"
+#include "runtime/geometry/shape_table.h"
+
+namespace rt {
+
+class TextureSet;
+
+struct GeometryStats {
+  double build_seconds = 0;
+  uint64_t embree_bytes = 0;  // Embree's own allocations after the build
+  uint32_t triangles = 0, quadrics = 0, instances = 0, copied_meshes = 0;
+};
+
+class SceneGeometry {
+ public:
+  SceneGeometry();
+  ~SceneGeometry();
+  SceneGeometry(const SceneGeometry&) = delete;
+  SceneGeometry& operator=(const SceneGeometry&) = delete;
+
+  // archive and shapes (and textures, when given) must outlive this object:
+  // Embree reads the archive's arrays in place. textures evaluates alpha and
+  // shadowalpha textures; it may be null when no shape has one.
+  [[nodiscard]] bool build(const pbrta::SceneArchive& archive, const ShapeTable& shapes,
+                           const TextureSet* textures, std::string* error);
+
+  // Closest hit in (0, ray.tmax): fills p, p_error, n, wo, time, uv, dpdu,
+  // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
+  // not the differentials (SurfaceInteraction::compute_differentials).
+  bool intersect(const Ray& ray, SurfaceInteraction* si) const;
+  // Any hit in (0, ray.tmax).
+  bool occluded(const Ray& ray) const;
+
+  // pbrt-v3's world bound: mesh vertices, quadric boxes through their
+  // transforms, instances' object boxes through the instance transforms.
+  Bounds3 world_bounds() const { return world_bounds_; }
+  const GeometryStats& stats() const { return stats_; }
+
+  // Internal to the Embree callbacks (scene_geometry.cpp).
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  Bounds3 world_bounds_;
+  GeometryStats stats_;
+};
+
+}  // namespace rt

@@ -1,0 +1,160 @@
+// runtime/geometry/triangle_hit.cpp — see triangle_hit.h.
+#include "runtime/geometry/triangle_hit.h"
+
+namespace rt {
+
+namespace {
+
+Vec3 load3(const float* a, uint32_t i) {
+  return {a[3 * i], a[3 * i + 1], a[3 * i + 2]};
+}
+
+// |M| v + |translation|, row by row: the magnitude a point transform's
+// rounding error is proportional to.
+Vec3 abs_point_sum(const Matrix4& m, Vec3 p) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i)
+    r[i] = std::fabs(m.m[i][0] * p.x) + std::fabs(m.m[i][1] * p.y) + std::fabs(m.m[i][2] * p.z) +
+           std::fabs(m.m[i][3]);
+  return r;
+}
+
+Vec3 abs_vector(const Matrix4& m, Vec3 v) {
+  Vec3 r;
+  for (int i = 0; i < 3; ++i)
+    r[i] = std::fabs(m.m[i][0]) * v.x + std::fabs(m.m[i][1]) * v.y + std::fabs(m.m[i][2]) * v.z;
+  return r;
+}
+
+}  // namespace
+
+void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
+                          float b2, const Ray& ray, SurfaceInteraction* si) {
+  const MeshView& m = s.mesh;
+  const uint32_t* idx = m.indices + 3 * size_t(prim);
+  const uint32_t v[3] = {idx[0], idx[1], idx[2]};
+  const float b0 = 1 - b1 - b2;
+  const float b[3] = {b0, b1, b2};
+
+  Vec3 pb[3], p[3];
+  for (int i = 0; i < 3; ++i) {
+    pb[i] = load3(space.positions, v[i]);
+    p[i] = space.to_world ? space.to_world->point(pb[i]) : pb[i];
+  }
+
+  // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
+  si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
+  si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
+  if (space.to_world) {
+    // Embree intersected the buffer-space triangle with a ray it took to
+    // buffer space itself; our world vertices are rounded images of that
+    // triangle. Widen the bound by both roundings (vertices out, ray origin in)
+    // so spawned rays clear the surface Embree sees, not just ours.
+    const Transform& x = *space.to_world;
+    Vec3 hb = b0 * pb[0] + b1 * pb[1] + b2 * pb[2];
+    Vec3 out = gamma_bound(3) * abs_point_sum(x.matrix(), hb);
+    Vec3 in = gamma_bound(3) * abs_point_sum(x.inverse_matrix(), si->p);
+    si->p_error += out + abs_vector(x.matrix(), in);
+  }
+
+  Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
+  if (m.uv)
+    for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * v[i]], m.uv[2 * v[i] + 1]};
+  si->uv = b0 * uv[0] + b1 * uv[1] + b2 * uv[2];
+
+  // dp/du, dp/dv from the uv differences (pbrt-v3's degenerate-uv rule).
+  Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
+  Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
+  float det = duv02.x * duv12.y - duv02.y * duv12.x;
+  bool degenerate_uv = std::fabs(det) < 1e-8f;
+  Vec3 dpdu, dpdv;
+  if (!degenerate_uv) {
+    float inv = 1 / det;
+    dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+    dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+  }
+  if (degenerate_uv || length_squared(cross(dpdu, dpdv)) == 0) {
+    Vec3 ng = cross(p[2] - p[0], p[1] - p[0]);
+    if (length_squared(ng) > 0) coordinate_system(normalize(ng), &dpdu, &dpdv);
+  }
+  si->dpdu = dpdu;
+  si->dpdv = dpdv;
+  si->dndu = si->dndv = Vec3{};
+
+  Vec3 n = cross(dp02, dp12);
+  n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
+  if (space.instance_mirrors) n = -n;
+  const bool flip = s.flip_normals();
+  si->shading = {n, dpdu, dpdv, Vec3{}, Vec3{}};
+
+  if (m.normals || m.tangents) {
+    // Per-vertex normals and tangents to world: shape transform first (when
+    // the buffer does not already include it), then buffer-to-world.
+    auto normal_to_world = [&](Vec3 a) {
+      if (space.buffer_has_shape_transform) a = s.object_to_world.normal(a);
+      return space.to_world ? space.to_world->normal(a) : a;
+    };
+    auto vector_to_world = [&](Vec3 a) {
+      if (space.buffer_has_shape_transform) a = s.object_to_world.vector(a);
+      return space.to_world ? space.to_world->vector(a) : a;
+    };
+    Vec3 nw[3];
+    Vec3 ns = n;
+    if (m.normals) {
+      for (int i = 0; i < 3; ++i) nw[i] = normal_to_world(load3(m.normals, v[i]));
+      Vec3 sum = b0 * nw[0] + b1 * nw[1] + b2 * nw[2];
+      if (length_squared(sum) > 0) ns = normalize(sum);
+    }
+    Vec3 ss;
+    if (m.tangents) {
+      Vec3 sum;
+      for (int i = 0; i < 3; ++i) sum += b[i] * vector_to_world(load3(m.tangents, v[i]));
+      ss = length_squared(sum) > 0 ? normalize(sum) : normalize(dpdu);
+    } else {
+      ss = normalize(dpdu);
+    }
+    // Gram-Schmidt: ts perpendicular to ss and ns, then ss perpendicular to both.
+    Vec3 ts = cross(ss, ns);
+    if (length_squared(ts) > 0) {
+      ts = normalize(ts);
+      ss = cross(ts, ns);
+    } else {
+      coordinate_system(ns, &ss, &ts);
+    }
+    Vec3 dndu, dndv;
+    if (m.normals && !degenerate_uv) {
+      Vec3 dn1 = nw[0] - nw[2], dn2 = nw[1] - nw[2];
+      float inv = 1 / det;
+      dndu = (duv12.y * dn1 - duv02.y * dn2) * inv;
+      dndv = (duv02.x * dn2 - duv12.x * dn1) * inv;
+    }
+    // pbrt-v3's SetShadingGeometry(ss, ts, dndu, dndv, true), whose shading
+    // normal also takes the shape's orientation flip.
+    Vec3 sn = normalize(cross(ss, ts));
+    if (flip) sn = -sn;
+    n = face_forward(n, sn);
+    si->shading = {sn, ss, ts, dndu, dndv};
+  }
+
+  // pbrt-v3's final orientation: with N the geometric normal follows the
+  // shading normal; without, both flip with ReverseOrientation XOR handedness.
+  if (m.normals) {
+    n = face_forward(n, si->shading.n);
+  } else if (flip) {
+    n = -n;
+    si->shading.n = n;
+  }
+  si->n = n;
+  // An instance's transform is applied to pbrt-v3's finished interaction,
+  // which then keeps the shading normal on the geometric normal's side.
+  if (space.instance) si->shading.n = face_forward(si->shading.n, si->n);
+
+  si->wo = -normalize(ray.d);
+  si->time = ray.time;
+  si->prim = prim;
+  si->face_index = m.face_indices ? m.face_indices[prim] : 0;
+  si->dpdx = si->dpdy = Vec3{};
+  si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+}
+
+}  // namespace rt

@@ -1,0 +1,44 @@
+// runtime/geometry/triangle_hit.h — a triangle hit turned into pbrt-v3's SurfaceInteraction.
+//
+// Embree reports (primitive, u, v); everything else is rebuilt here in world
+// space the way pbrt-v3's Triangle::Intersect computes it: the three
+// vertices taken to world, p = b0 p0 + b1 p1 + b2 p2 with the book's error
+// bound gamma(7) sum |bi pi| (3.9.2), uv (default (0,0) (1,0) (1,1)), dp/du
+// and dp/dv (a coordinate system around the normal when the uv mapping is
+// degenerate), the geometric normal from the edges, the shading frame from N
+// and S with dn/du, dn/dv, and pbrt-v3's orientation rules (including its
+// SetShadingGeometry flip of the shading normal by ReverseOrientation XOR
+// handedness). Pure function of its inputs: deterministic and thread-safe.
+#pragma once
+
+#include <cstdint>
+
+#include "runtime/core/interaction.h"
+#include "runtime/geometry/shape_table.h"
+
+namespace rt {
+
+// How the vertex buffer Embree intersected maps to world space.
+struct TriangleSpace {
+  // The positions Embree was given: the archive's object-space array, or a
+  // copy already through the shape's transform (meshes inside objects).
+  const float* positions = nullptr;
+  // The buffer's positions already include s.object_to_world: normals and
+  // tangents must still go through it.
+  bool buffer_has_shape_transform = false;
+  // Buffer space to world (instance or transform group), or null: identity.
+  const Transform* to_world = nullptr;
+  // to_world is an object instance's transform (not a world transform group).
+  bool instance = false;
+  // ... and it mirrors: pbrt-v3 transforms the instance-space normal as a
+  // normal, which is the world-edge cross product flipped.
+  bool instance_mirrors = false;
+};
+
+// Fills si (p, p_error, n, wo, time, uv, dpdu, dpdv, dndu, dndv, shading,
+// prim, face_index; not shape/instance, not differentials) for barycentrics
+// (1-b1-b2, b1, b2) on triangle prim of mesh shape s.
+void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
+                          float b2, const Ray& ray, SurfaceInteraction* si);
+
+}  // namespace rt

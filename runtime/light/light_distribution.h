@@ -1,0 +1,52 @@
+// runtime/light/light_distribution.h — which light to sample at a point:
+// pbrt-v3's lightsamplestrategy "uniform", "power" and "spatial".
+//
+// uniform: every light equally likely. power: in proportion to the
+// luminance of LightSet::power. spatial: pbrt-v3's SpatialLightDistribution:
+// a grid over the world bounds, 64 voxels along its longest axis; each
+// voxel's distribution is the luminance of 128 sample_li estimates per light
+// at low-discrepancy points inside the voxel (radical inverse in bases 2..11),
+// with every light kept at least 0.001 of the average contribution.
+//
+// A voxel's distribution is a pure function of the voxel, so it is computed
+// the first time lookup() meets the voxel (as pbrt-v3 does: an eager grid of
+// 64^3 voxels times every light would cost minutes) and published with one
+// atomic compare-and-swap; a thread that loses the race discards its copy,
+// which is identical. Results never depend on thread scheduling.
+//
+// lookup() is thread-safe. With no lights the distribution has count() 0.
+// The LightSet must outlive this object.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "runtime/core/sampling.h"
+#include "runtime/light/lights.h"
+
+namespace rt {
+
+class LightDistribution {
+ public:
+  [[nodiscard]] bool build(const LightSet& lights, const Bounds3& world_bounds,
+                           std::string_view strategy, std::string* error);
+  const Distribution1D& lookup(Vec3 p) const;
+
+  // The spatial grid's resolution ({1, 1, 1} for the other strategies).
+  std::array<int, 3> voxels() const { return nvoxels_; }
+
+ private:
+  struct VoxelCache;
+  const Distribution1D& voxel_distribution(int x, int y, int z) const;
+
+  const LightSet* lights_ = nullptr;
+  Bounds3 bounds_;
+  bool spatial_ = false;
+  std::array<int, 3> nvoxels_{{1, 1, 1}};
+  Distribution1D single_;  // uniform / power
+  std::shared_ptr<VoxelCache> cache_;
+};
+
+}  // namespace rt

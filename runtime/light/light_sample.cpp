@@ -1,0 +1,220 @@
+// runtime/light/light_sample.cpp — sampling, pdfs, emission and power of the
+// lights in a LightSet, one switch per call (pbrt-v3's Light methods).
+#include <cmath>
+#include <utility>
+
+#include "runtime/geometry/shape_sampling.h"
+#include "runtime/light/lights.h"
+
+namespace rt {
+
+namespace {
+
+// A point in free space (delta lights, points beyond the scene).
+Interaction point_at(Vec3 p, float time) {
+  Interaction it;
+  it.p = p;
+  it.time = time;
+  return it;
+}
+
+}  // namespace
+
+bool LightSet::is_delta(uint32_t light) const {
+  LightKind k = entries_[light].kind;
+  return k != LightKind::kArea && k != LightKind::kInfinite;
+}
+
+int LightSet::nsamples(uint32_t light) const {
+  const Entry& e = entries_[light];
+  if (e.kind == LightKind::kArea) return emitters_[e.data].nsamples;
+  if (e.kind == LightKind::kInfinite) return infinite_[e.data].nsamples;
+  return 1;
+}
+
+// The direction-dependent factor of a positional light for emission along w
+// (world space, from the light outwards): pbrt-v3's Falloff, Projection, Scale.
+Rgb LightSet::positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const {
+  Rgb factor(1);
+  Vec3 wl = pl.world_to_light.vector(w);
+  if (kind == LightKind::kSpot) {
+    float cos_theta = normalize(wl).z;
+    if (cos_theta < pl.cos_total) {
+      factor = Rgb(0);
+    } else if (cos_theta < pl.cos_falloff_start) {
+      // pbrt-v3's falloff is the fourth power of the linear ramp in cos
+      // (the book, 12.2.1), not pbrt-v4's smoothstep.
+      float d = (cos_theta - pl.cos_total) / (pl.cos_falloff_start - pl.cos_total);
+      factor = Rgb((d * d) * (d * d));
+    }
+  } else if (kind == LightKind::kProjection) {
+    if (wl.z < pl.hither) {
+      factor = Rgb(0);
+    } else {
+      Vec3 ps = pl.projection.point(wl);
+      if (ps.x < pl.screen_lo[0] || ps.x > pl.screen_hi[0] || ps.y < pl.screen_lo[1] ||
+          ps.y > pl.screen_hi[1]) {
+        factor = Rgb(0);
+      } else if (pl.map != kNone) {
+        Vec2 st{(ps.x - pl.screen_lo[0]) / (pl.screen_hi[0] - pl.screen_lo[0]),
+                (ps.y - pl.screen_lo[1]) / (pl.screen_hi[1] - pl.screen_lo[1])};
+        factor = maps_[pl.map].lookup_trilinear(st);
+      }
+    }
+  } else if (kind == LightKind::kGoniometric && pl.map != kNone) {
+    // The goniometric diagram has its pole along light-space +y.
+    Vec3 wp = normalize(wl);
+    std::swap(wp.y, wp.z);
+    factor = maps_[pl.map].lookup_trilinear(
+        Vec2{spherical_phi(wp) * kInv2Pi, spherical_theta(wp) * kInvPi});
+  }
+  return factor;
+}
+
+Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world) const {
+  if (il.map == kNone) return il.l;
+  Vec3 w = normalize(il.world_to_light.vector(w_world));
+  Vec2 st{spherical_phi(w) * kInv2Pi, spherical_theta(w) * kInvPi};
+  return maps_[il.map].lookup_trilinear(st) * il.l;
+}
+
+Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const {
+  const Entry& e = entries_[light];
+  s->li = Rgb();
+  s->pdf = 0;
+  s->delta = false;
+  switch (e.kind) {
+    case LightKind::kPoint:
+    case LightKind::kSpot:
+    case LightKind::kProjection:
+    case LightKind::kGoniometric: {
+      const PositionalLight& pl = positional_[e.data];
+      s->delta = true;
+      s->wi = normalize(pl.p - ref.p);
+      s->pdf = 1;
+      s->p_light = point_at(pl.p, ref.time);
+      Rgb factor = positional_factor(e.kind, pl, -s->wi);
+      s->li = pl.intensity * factor / distance_squared(pl.p, ref.p);
+      return s->li;
+    }
+    case LightKind::kDistant: {
+      const DistantLight& d = distant_[e.data];
+      s->delta = true;
+      s->wi = d.w;
+      s->pdf = 1;
+      s->p_light = point_at(ref.p + d.w * (2 * world_radius_), ref.time);
+      s->li = d.l;
+      return s->li;
+    }
+    case LightKind::kArea: {
+      const ShapeInfo& shape = (*shapes_)[e.shape];
+      float pdf = 0;
+      Interaction it = sample_shape_from(shape, e.prim, ref, u, &pdf);
+      it.time = ref.time;
+      if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
+      s->wi = normalize(it.p - ref.p);
+      s->pdf = pdf;
+      s->p_light = it;
+      const AreaEmitter& em = emitters_[e.data];
+      if (em.twosided || dot(it.n, -s->wi) > 0) s->li = em.l;
+      return s->li;
+    }
+    case LightKind::kInfinite: {
+      const InfiniteLight& il = infinite_[e.data];
+      float map_pdf = 0;
+      Vec2 uv = il.distribution.sample_continuous(u, &map_pdf);
+      if (map_pdf == 0) return s->li;
+      float theta = uv.y * kPi, phi = uv.x * 2 * kPi;
+      float sin_theta = std::sin(theta);
+      s->wi = il.light_to_world.vector(
+          Vec3{sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::cos(theta)});
+      s->pdf = sin_theta == 0 ? 0 : map_pdf / (2 * kPi * kPi * sin_theta);
+      s->p_light = point_at(ref.p + s->wi * (2 * world_radius_), ref.time);
+      s->li = il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(uv) * il.l;
+      return s->li;
+    }
+  }
+  return s->li;
+}
+
+float LightSet::pdf_li(uint32_t light, const Interaction& ref, Vec3 wi,
+                       const Interaction* hit) const {
+  const Entry& e = entries_[light];
+  if (e.kind == LightKind::kArea) {
+    if (!hit) return 0;
+    return shape_pdf_from((*shapes_)[e.shape], e.prim, ref, wi, *hit);
+  }
+  if (e.kind == LightKind::kInfinite) {
+    const InfiniteLight& il = infinite_[e.data];
+    Vec3 w = il.world_to_light.vector(wi);
+    float theta = spherical_theta(w), phi = spherical_phi(w);
+    float sin_theta = std::sin(theta);
+    if (sin_theta == 0) return 0;
+    return il.distribution.pdf(Vec2{phi * kInv2Pi, theta * kInvPi}) / (2 * kPi * kPi * sin_theta);
+  }
+  return 0;
+}
+
+uint32_t LightSet::area_light_at(const SurfaceInteraction& hit) const {
+  if (hit.instance != kNone || hit.shape >= area_first_.size()) return kNone;
+  uint32_t first = area_first_[hit.shape];
+  if (first == kNone) return kNone;
+  return (*shapes_)[hit.shape].kind == ShapeKind::kTriangles ? first + hit.prim : first;
+}
+
+Rgb LightSet::area_le(const SurfaceInteraction& hit, Vec3 w) const {
+  uint32_t light = area_light_at(hit);
+  if (light == kNone) return Rgb();
+  const AreaEmitter& em = emitters_[entries_[light].data];
+  return em.twosided || dot(hit.n, w) > 0 ? em.l : Rgb();
+}
+
+Rgb LightSet::infinite_le(const RayDifferential& ray) const {
+  Rgb l;
+  for (uint32_t light : infinite_lights_)
+    l += infinite_lookup(infinite_[entries_[light].data], ray.d);
+  return l;
+}
+
+Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray) const {
+  const Entry& e = entries_[light];
+  if (e.kind != LightKind::kInfinite) return Rgb();
+  return infinite_lookup(infinite_[e.data], ray.d);
+}
+
+Rgb LightSet::power(uint32_t light) const {
+  const Entry& e = entries_[light];
+  switch (e.kind) {
+    case LightKind::kPoint:
+      return 4 * kPi * positional_[e.data].intensity;
+    case LightKind::kSpot: {
+      const PositionalLight& pl = positional_[e.data];
+      return pl.intensity * 2 * kPi * (1 - .5f * (pl.cos_falloff_start + pl.cos_total));
+    }
+    case LightKind::kProjection: {
+      const PositionalLight& pl = positional_[e.data];
+      Rgb m = pl.map == kNone ? Rgb(1) : maps_[pl.map].lookup_trilinear(Vec2{.5f, .5f}, .5f);
+      return m * pl.intensity * 2 * kPi * (1 - pl.cos_total);
+    }
+    case LightKind::kGoniometric: {
+      const PositionalLight& pl = positional_[e.data];
+      Rgb m = pl.map == kNone ? Rgb(1) : maps_[pl.map].lookup_trilinear(Vec2{.5f, .5f}, .5f);
+      return 4 * kPi * pl.intensity * m;
+    }
+    case LightKind::kDistant:
+      return distant_[e.data].l * kPi * world_radius_ * world_radius_;
+    case LightKind::kArea: {
+      const AreaEmitter& em = emitters_[e.data];
+      float area = shape_area((*shapes_)[e.shape], e.prim);
+      return (em.twosided ? 2.f : 1.f) * em.l * area * kPi;
+    }
+    case LightKind::kInfinite: {
+      const InfiniteLight& il = infinite_[e.data];
+      Rgb m = il.map == kNone ? Rgb(1) : maps_[il.map].lookup_trilinear(Vec2{.5f, .5f}, .5f);
+      return kPi * world_radius_ * world_radius_ * m * il.l;
+    }
+  }
+  return Rgb();
+}
+
+}  // namespace rt

@@ -1,0 +1,138 @@
+// runtime/light/lights.h — every light of a scene, as pbrt-v3 builds them (book ch. 12, 14.2).
+//
+// LightSet holds the archive's LightSource entities (in archive order) and
+// then one area light per emitting quadric and per emitting triangle (shape
+// order, triangles in mesh order), as pbrt-v3 makes one DiffuseAreaLight per
+// triangle. Lights are plain records dispatched by a switch on LightKind, so
+// sampling costs no virtual call and no allocation.
+//
+// Contract, per light index in [0, count()):
+//   sample_li: pbrt-v3's Sample_Li: incident radiance at ref from a point on
+//     the light (s->p_light, time = ref.time), direction s->wi, solid-angle
+//     s->pdf (1 for delta lights, s->delta set). s->pdf == 0: no contribution.
+//     The returned Rgb equals s->li.
+//   pdf_li: the solid-angle pdf sample_li would have for wi; for an area light
+//     `hit` is where the ray along wi met that light (0 when hit is nullptr);
+//     0 for delta lights.
+//   area_light_at / area_le: emission seen at a surface hit (one-sided: the
+//     side hit.n faces, unless twosided). Instanced shapes never emit (pbrtc
+//     drops area lights inside object definitions, as pbrt-v3 does).
+//   power: pbrt-v3's Light::Power, for the "power" light distribution.
+// Every light's `scale` multiplies its L/I. The spot falloff is pbrt-v3's
+// fourth power of the linear ramp in cos theta. Environment maps are looked up
+// (bilinear, level 0) and then multiplied by L * scale; their Distribution2D
+// is the archive's precomputed distribution image. After build() the set is
+// read-only and shared by render threads.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "format/scene_archive.h"
+#include "runtime/core/interaction.h"
+#include "runtime/core/rgb.h"
+#include "runtime/core/sampling.h"
+#include "runtime/core/transform.h"
+#include "runtime/geometry/shape_table.h"
+#include "runtime/texture/mipmap.h"
+
+namespace rt {
+
+enum class LightKind : uint8_t {
+  kPoint,
+  kSpot,
+  kDistant,
+  kArea,
+  kInfinite,
+  kProjection,
+  kGoniometric
+};
+
+struct LightSample {
+  Rgb li;
+  Vec3 wi;
+  float pdf = 0;
+  Interaction p_light;
+  bool delta = false;
+};
+
+class LightSet {
+ public:
+  // world_bounds: the scene's bounds (distant and infinite lights sit outside its sphere).
+  [[nodiscard]] bool build(const pbrta::SceneArchive& archive, const ShapeTable& shapes,
+                           const Bounds3& world_bounds, std::string* error);
+  uint32_t count() const { return uint32_t(entries_.size()); }
+  LightKind kind(uint32_t light) const { return entries_[light].kind; }
+  bool is_delta(uint32_t light) const;
+  int nsamples(uint32_t light) const;
+  Rgb sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const;
+  float pdf_li(uint32_t light, const Interaction& ref, Vec3 wi, const Interaction* hit) const;
+  uint32_t area_light_at(const SurfaceInteraction& hit) const;  // kNone if not emitting
+  Rgb area_le(const SurfaceInteraction& hit, Vec3 w) const;
+  Rgb infinite_le(const RayDifferential& ray) const;
+  // One infinite light's radiance along an escaping ray (0 for other kinds):
+  // direct lighting's BSDF sample counts only the light it is estimating.
+  Rgb infinite_le_one(uint32_t light, const RayDifferential& ray) const;
+  bool has_infinite() const { return !infinite_lights_.empty(); }
+  Rgb power(uint32_t light) const;
+
+ private:
+  // A light: its kind, and an index into that kind's table (for area lights
+  // also the shape and triangle). 16 bytes, so a million emitting triangles
+  // stay cheap.
+  struct Entry {
+    LightKind kind;
+    uint32_t data;   // index into the kind's table (area: into emitters_)
+    uint32_t shape;  // area lights: the archive shape
+    uint32_t prim;   // area lights: the triangle (0 for quadrics)
+  };
+  // Point, spot, projection and goniometric lights: a position and an
+  // intensity, shaped by a direction-dependent factor.
+  struct PositionalLight {
+    Vec3 p;
+    Rgb intensity;                               // I * scale
+    Transform world_to_light;                    // for the direction-dependent factor
+    float cos_total = 0, cos_falloff_start = 0;  // spot
+    // projection: light space -> screen, the screen window, near plane, cone
+    Transform projection;
+    float screen_lo[2] = {0, 0}, screen_hi[2] = {0, 0};
+    float hither = 0;
+    uint32_t map = kNone;  // into maps_ (projection, goniometric), kNone: none
+  };
+  struct DistantLight {
+    Vec3 w;  // towards the light, unit
+    Rgb l;
+  };
+  struct AreaEmitter {
+    Rgb l;
+    bool twosided = false;
+    int nsamples = 1;
+  };
+  struct InfiniteLight {
+    Transform light_to_world, world_to_light;
+    Rgb l;                 // L * scale, multiplied after the map lookup
+    uint32_t map = kNone;  // into maps_, kNone: constant L
+    int nsamples = 1;
+    Distribution2D distribution;
+  };
+
+  Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
+  Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world) const;
+  bool add_light(const pbrta::SceneArchive& a, uint32_t index, std::string* error);
+  bool add_area_lights(const pbrta::SceneArchive& a, std::string* error);
+
+  const ShapeTable* shapes_ = nullptr;
+  Vec3 world_center_;
+  float world_radius_ = 0;
+  std::vector<Entry> entries_;
+  std::vector<PositionalLight> positional_;
+  std::vector<DistantLight> distant_;
+  std::vector<AreaEmitter> emitters_;  // one per archive area light
+  std::vector<InfiniteLight> infinite_;
+  std::vector<uint32_t> infinite_lights_;  // their light indices
+  std::vector<MipMap> maps_;
+  std::vector<uint32_t> area_first_;  // per shape: its first light index, or kNone
+};
+
+}  // namespace rt

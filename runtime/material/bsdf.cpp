@@ -1,0 +1,104 @@
+// runtime/material/bsdf.cpp — lobe selection and the world/local frame change.
+#include "runtime/material/bsdf.h"
+
+namespace rt {
+
+void Bsdf::init(const SurfaceInteraction& si, float eta_) {
+  eta = eta_;
+  ns_ = si.shading.n;
+  ng_ = si.n;
+  ss_ = normalize(si.shading.dpdu);
+  ts_ = cross(ns_, ss_);
+  n_ = 0;
+}
+
+bool Bsdf::add(const Bxdf& lobe) {
+  if (n_ == kMaxLobes) return false;
+  lobes_[n_++] = lobe;
+  return true;
+}
+
+void Bsdf::scale_lobes(Rgb s) {
+  for (int i = 0; i < n_; ++i) lobes_[i].scale *= s;
+}
+
+int Bsdf::num_components(uint8_t flags) const {
+  int n = 0;
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].matches(flags)) ++n;
+  return n;
+}
+
+Rgb Bsdf::f(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
+  Vec3 wi = world_to_local(wi_world), wo = world_to_local(wo_world);
+  if (wo.z == 0) return Rgb(0);
+  bool reflect = dot(wi_world, ng_) * dot(wo_world, ng_) > 0;
+  Rgb result(0);
+  for (int i = 0; i < n_; ++i) {
+    const Bxdf& b = lobes_[i];
+    if (b.matches(flags) &&
+        ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))))
+      result += b.f(wo, wi);
+  }
+  return result;
+}
+
+Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t flags,
+                   uint8_t* sampled_flags) const {
+  *pdf = 0;
+  if (sampled_flags) *sampled_flags = 0;
+  int matching = num_components(flags);
+  if (matching == 0) return Rgb(0);
+  int comp = std::min(int(std::floor(u.x * matching)), matching - 1);
+  const Bxdf* chosen = nullptr;
+  int chosen_index = 0;
+  for (int i = 0, count = comp; i < n_; ++i)
+    if (lobes_[i].matches(flags) && count-- == 0) {
+      chosen = &lobes_[i];
+      chosen_index = i;
+      break;
+    }
+  // Reuse the part of u.x that selected the lobe as a fresh uniform sample.
+  Vec2 u_remapped{std::min(u.x * matching - comp, kOneMinusEpsilon), u.y};
+
+  Vec3 wo = world_to_local(wo_world), wi;
+  if (wo.z == 0) return Rgb(0);
+  uint8_t sampled = chosen->flags;
+  Rgb f = chosen->sample_f(wo, &wi, u_remapped, pdf, &sampled);
+  if (*pdf == 0) return Rgb(0);
+  if (sampled_flags) *sampled_flags = sampled;
+  *wi_world = local_to_world(wi);
+
+  if (!(chosen->flags & kSpecular) && matching > 1)
+    for (int i = 0; i < n_; ++i)
+      if (i != chosen_index && lobes_[i].matches(flags)) *pdf += lobes_[i].pdf(wo, wi);
+  if (matching > 1) *pdf /= matching;
+
+  if (!(chosen->flags & kSpecular)) {
+    bool reflect = dot(*wi_world, ng_) * dot(wo_world, ng_) > 0;
+    f = Rgb(0);
+    for (int i = 0; i < n_; ++i) {
+      const Bxdf& b = lobes_[i];
+      if (b.matches(flags) &&
+          ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))))
+        f += b.f(wo, wi);
+    }
+  }
+  return f;
+}
+
+float Bsdf::pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
+  if (n_ == 0) return 0;
+  Vec3 wo = world_to_local(wo_world), wi = world_to_local(wi_world);
+  if (wo.z == 0) return 0;
+  float pdf = 0;
+  int matching = 0;
+  for (int i = 0; i < n_; ++i)
+    if (lobes_[i].matches(flags)) {
+      ++matching;
+      pdf += lobes_[i].pdf(wo, wi);
+    }
+  return matching > 0 ? pdf / matching : 0;
+}
+
+}  // namespace rt

@@ -1,0 +1,83 @@
+// runtime/material/bxdf.h — the reflection models of book chapter 8 as one
+// tagged plain struct.
+//
+// A Bxdf is a lobe in the local shading frame (+z = shading normal): f, a
+// sample with its pdf, and pdf. Kinds are dispatched by a switch (no virtual
+// calls, no heap): Lambertian reflection and transmission, Oren-Nayar,
+// specular reflection and transmission, FresnelSpecular (both, chosen by
+// Fresnel), microfacet reflection and transmission, FresnelBlend. Every lobe
+// carries `scale` (1 unless a mix material weighted it: pbrt-v3's ScaledBxDF,
+// which scales f and the sampled value but not the pdf). Build lobes with the
+// make_* functions; flags follow pbrt-v3's BxDFType.
+#pragma once
+
+#include <cstdint>
+
+#include "runtime/core/rgb.h"
+#include "runtime/core/vec.h"
+#include "runtime/material/fresnel.h"
+#include "runtime/material/microfacet.h"
+
+namespace rt {
+
+enum BxdfFlags : uint8_t {
+  kReflection = 1,
+  kTransmission = 2,
+  kDiffuse = 4,
+  kGlossy = 8,
+  kSpecular = 16,
+  kAllBxdf = 31
+};
+
+// Radiance: paths traced from the camera (non-symmetric refraction scaling
+// applies); importance: paths from lights.
+enum class TransportMode : uint8_t { kRadiance, kImportance };
+
+enum class BxdfKind : uint8_t {
+  kLambertianReflection,
+  kLambertianTransmission,
+  kOrenNayar,
+  kSpecularReflection,
+  kSpecularTransmission,
+  kFresnelSpecular,
+  kMicrofacetReflection,
+  kMicrofacetTransmission,
+  kFresnelBlend,
+};
+
+struct Bxdf {
+  BxdfKind kind = BxdfKind::kLambertianReflection;
+  uint8_t flags = kReflection | kDiffuse;
+  TransportMode mode = TransportMode::kRadiance;
+  Rgb r;                       // reflectance (FresnelBlend: Rd)
+  Rgb t;                       // transmittance (FresnelBlend: Rs)
+  Rgb scale{1};                // mix weight
+  float eta_a = 1, eta_b = 1;  // outside (+z) and inside indices
+  float oren_a = 1, oren_b = 0;
+  Fresnel fresnel;
+  MicrofacetDistribution distribution;
+
+  // True when every flag of this lobe is among `mask`'s.
+  bool matches(uint8_t mask) const { return (flags & mask) == flags; }
+
+  Rgb f(Vec3 wo, Vec3 wi) const;
+  // Samples wi; *pdf is 0 when no direction could be sampled. *sampled_flags
+  // (optional) gets the flags of what was sampled (FresnelSpecular reports
+  // the reflection or the transmission it chose).
+  Rgb sample_f(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags = nullptr) const;
+  float pdf(Vec3 wo, Vec3 wi) const;
+};
+
+Bxdf make_lambertian_reflection(Rgb r);
+Bxdf make_lambertian_transmission(Rgb t);
+// sigma_degrees: the standard deviation of microfacet angles.
+Bxdf make_oren_nayar(Rgb r, float sigma_degrees);
+Bxdf make_specular_reflection(Rgb r, const Fresnel& fresnel);
+Bxdf make_specular_transmission(Rgb t, float eta_a, float eta_b, TransportMode mode);
+Bxdf make_fresnel_specular(Rgb r, Rgb t, float eta_a, float eta_b, TransportMode mode);
+Bxdf make_microfacet_reflection(Rgb r, const MicrofacetDistribution& d, const Fresnel& fresnel);
+Bxdf make_microfacet_transmission(Rgb t, const MicrofacetDistribution& d, float eta_a, float eta_b,
+                                  TransportMode mode);
+Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d);
+
+}  // namespace rt

@@ -1,0 +1,79 @@
+// runtime/material/materials.h — the scene's materials (book chapter 9) as
+// plain data, turned into a Bsdf at each shading point.
+//
+// MaterialSet::build() reads every archive.materials record (indices are the
+// archive's, as ShapeRecord.material uses them): matte, plastic, metal,
+// mirror, glass, uber, substrate, translucent, mix and the interface material
+// "none". Anything else fails with "not supported yet: <type> material
+// (file:line)". compute_bsdf() follows each pbrt-v3 material's
+// ComputeScatteringFunctions: bump mapping first (it updates si's shading
+// frame, which the Bsdf then uses), then the lobes. Mix materials weight the
+// first named material's lobes by `amount` and the second's by 1 - amount,
+// as pbrt-v3's MixMaterial does (s1 = amount goes to namedmaterial1).
+//
+// Thread safety: read-only after build(); the TextureSet passed to build()
+// must outlive the set.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "format/scene_archive.h"
+#include "runtime/core/interaction.h"
+#include "runtime/material/bsdf.h"
+#include "runtime/texture/textures.h"
+
+namespace rt {
+
+enum class MaterialKind : uint8_t {
+  kNone,
+  kMatte,
+  kPlastic,
+  kMetal,
+  kMirror,
+  kGlass,
+  kUber,
+  kSubstrate,
+  kTranslucent,
+  kMix,
+};
+
+// One material's inputs; which fields a kind reads is in materials.cpp.
+struct MaterialNode {
+  MaterialKind kind = MaterialKind::kNone;
+  bool has_bump = false;
+  bool remap_roughness = true;
+  FloatInput bump;
+  RgbInput kd, ks, kr, kt, opacity, reflect, transmit;
+  RgbInput metal_eta, metal_k;
+  RgbInput amount;  // mix
+  FloatInput sigma, roughness, uroughness, vroughness, eta;
+  uint32_t mix[2] = {kNone, kNone};
+};
+
+class MaterialSet {
+ public:
+  bool build(const pbrta::SceneArchive& archive, const TextureSet& textures, std::string* error);
+
+  uint32_t size() const { return uint32_t(nodes_.size()); }
+  const MaterialNode& node(uint32_t material) const { return nodes_[material]; }
+  // Type "none": no BSDF, rays pass through (the surface only bounds media).
+  bool is_interface(uint32_t material) const {
+    return nodes_[material].kind == MaterialKind::kNone;
+  }
+
+  // Applies bump mapping (updating si's shading frame) and fills *bsdf.
+  // False, with *bsdf untouched, for the interface material.
+  bool compute_bsdf(uint32_t material, SurfaceInteraction* si, TransportMode mode,
+                    bool allow_multiple_lobes, Bsdf* bsdf) const;
+
+ private:
+  void add_lobes(const MaterialNode& m, const SurfaceInteraction& si, TransportMode mode,
+                 bool allow_multiple_lobes, Bsdf* bsdf) const;
+
+  const TextureSet* textures_ = nullptr;
+  std::vector<MaterialNode> nodes_;
+};
+
+}  // namespace rt

@@ -1,0 +1,155 @@
+// runtime/render/camera.cpp — see camera.h.
+#include "runtime/render/camera.h"
+
+#include <cstring>
+
+#include "runtime/core/sampling.h"
+
+namespace rt {
+
+namespace {
+
+bool given(const pbrta::SceneArchive& a, uint32_t e, std::string_view name) {
+  const pbrta::ValueRecord* v = a.value(e, name);
+  return v && (v->flags & pbrta::kValueGiven) && v->count > 0;
+}
+
+}  // namespace
+
+bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error) {
+  const pbrta::SceneRecord& scene = a.scene();
+  uint32_t e = scene.camera;
+  std::string_view type = a.type_name(e);
+  if (type == "perspective")
+    type_ = Type::kPerspective;
+  else if (type == "orthographic")
+    type_ = Type::kOrthographic;
+  else if (type == "environment")
+    type_ = Type::kEnvironment;
+  else {
+    *error = "not supported yet: " + std::string(type) + " camera (" + a.where(e) + ")";
+    return false;
+  }
+  const pbrta::TransformRecord& t = a.transforms[scene.camera_transform];
+  if (std::memcmp(t.start, t.end, sizeof t.start) != 0) {
+    *error = "not supported yet: animated camera transform (motion blur) (" + a.where(e) + ")";
+    return false;
+  }
+  Transform camera_from_world = Transform::from_doubles(t.start);
+  if (!camera_from_world.invertible()) {
+    *error = a.where(e) + ": error: the camera transform is singular";
+    return false;
+  }
+  camera_to_world_ = camera_from_world.inverse();
+  resolution_ = res;
+  shutter_open_ = a.get_float(e, "shutteropen", 0);
+  shutter_close_ = a.get_float(e, "shutterclose", 1);
+  if (type_ == Type::kEnvironment) return true;
+
+  lens_radius_ = a.get_float(e, "lensradius", 0);
+  focal_distance_ = a.get_float(e, "focaldistance", 1e6f);
+  float frame = given(a, e, "frameaspectratio") ? a.get_float(e, "frameaspectratio")
+                                                : float(res.x) / float(res.y);
+  float sw[4];
+  if (given(a, e, "screenwindow")) {
+    const float* f = a.floats(*a.value(e, "screenwindow"));
+    std::memcpy(sw, f, sizeof sw);
+  } else if (frame > 1) {
+    sw[0] = -frame;
+    sw[1] = frame;
+    sw[2] = -1;
+    sw[3] = 1;
+  } else {
+    sw[0] = -1;
+    sw[1] = 1;
+    sw[2] = -1 / frame;
+    sw[3] = 1 / frame;
+  }
+  Transform camera_to_screen;
+  if (type_ == Type::kPerspective) {
+    float fov = a.get_float(e, "fov", 90);
+    float halffov = a.get_float(e, "halffov", -1);
+    if (halffov > 0) fov = 2 * halffov;
+    camera_to_screen = perspective(fov, 1e-2f, 1000.f);
+  } else {
+    // pbrt-v3's Orthographic(0, 1): z maps unchanged.
+    camera_to_screen = Transform();
+  }
+  Transform screen_to_raster = scale(float(res.x), float(res.y), 1) *
+                               scale(1 / (sw[1] - sw[0]), 1 / (sw[2] - sw[3]), 1) *
+                               translate({-sw[0], -sw[3], 0});
+  raster_to_camera_ = camera_to_screen.inverse() * screen_to_raster.inverse();
+  Vec3 o = raster_to_camera_.point({0, 0, 0});
+  dx_camera_ = raster_to_camera_.point({1, 0, 0}) - o;
+  dy_camera_ = raster_to_camera_.point({0, 1, 0}) - o;
+  if (type_ == Type::kOrthographic) {
+    dx_camera_ = raster_to_camera_.vector({1, 0, 0});
+    dy_camera_ = raster_to_camera_.vector({0, 1, 0});
+  }
+  return true;
+}
+
+float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
+  RayDifferential r;
+  r.time = lerp(s.time, shutter_open_, shutter_close_);
+  if (type_ == Type::kEnvironment) {
+    float theta = kPi * s.p_film.y / resolution_.y;
+    float phi = 2 * kPi * s.p_film.x / resolution_.x;
+    Vec3 d{std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+    r.o = {0, 0, 0};
+    r.d = d;
+    r.tmax = kInfinity;
+    // pbrt-v3's environment camera has no differentials.
+    r.has_differentials = false;
+  } else {
+    Vec3 p_camera = raster_to_camera_.point({s.p_film.x, s.p_film.y, 0});
+    auto thin_lens = [&](Vec3 o, Vec3 d, Vec3* lo, Vec3* ld) {
+      if (lens_radius_ > 0) {
+        Vec2 pl = concentric_sample_disk(s.p_lens) * lens_radius_;
+        float ft = focal_distance_ / d.z;
+        Vec3 focus = o + d * ft;
+        *lo = {o.x + pl.x, o.y + pl.y, o.z};
+        // Perspective rays start at the lens centre; orthographic at their raster point.
+        *ld = normalize(focus - *lo);
+      } else {
+        *lo = o;
+        *ld = d;
+      }
+    };
+    Vec3 o, d, o_pinhole, d_pinhole;
+    if (type_ == Type::kPerspective) {
+      o_pinhole = {0, 0, 0};
+      d_pinhole = normalize(p_camera);
+    } else {
+      o_pinhole = p_camera;
+      d_pinhole = {0, 0, 1};
+    }
+    thin_lens(o_pinhole, d_pinhole, &o, &d);
+    r.o = o;
+    r.d = d;
+    if (type_ == Type::kPerspective) {
+      thin_lens(o_pinhole, normalize(p_camera + dx_camera_), &r.rx_o, &r.rx_d);
+      thin_lens(o_pinhole, normalize(p_camera + dy_camera_), &r.ry_o, &r.ry_d);
+    } else {
+      thin_lens(p_camera + dx_camera_, d_pinhole, &r.rx_o, &r.rx_d);
+      thin_lens(p_camera + dy_camera_, d_pinhole, &r.ry_o, &r.ry_d);
+    }
+    r.has_differentials = true;
+  }
+  // To world space.
+  const Transform& w = camera_to_world_;
+  out->o = w.point(r.o);
+  out->d = normalize(w.vector(r.d));
+  out->tmax = kInfinity;
+  out->time = r.time;
+  out->has_differentials = r.has_differentials;
+  if (r.has_differentials) {
+    out->rx_o = w.point(r.rx_o);
+    out->ry_o = w.point(r.ry_o);
+    out->rx_d = normalize(w.vector(r.rx_d));
+    out->ry_d = normalize(w.vector(r.ry_d));
+  }
+  return 1;
+}
+
+}  // namespace rt

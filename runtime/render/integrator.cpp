@@ -1,0 +1,347 @@
+// runtime/render/integrator.cpp — see integrator.h. The algorithms are the
+// pbrt book's (3rd ed., ch. 14 and 16.1 for specular differentials).
+#include "runtime/render/integrator.h"
+
+#include <cmath>
+
+#include "runtime/core/sampling.h"
+#include "runtime/material/bsdf.h"
+
+namespace rt {
+
+bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::string* error) {
+  uint32_t e = a.scene().integrator;
+  std::string_view type = a.type_name(e);
+  if (type == "whitted")
+    s->type = IntegratorType::kWhitted;
+  else if (type == "directlighting")
+    s->type = IntegratorType::kDirectLighting;
+  else if (type == "path")
+    s->type = IntegratorType::kPath;
+  else {
+    *error = "not supported yet: " + std::string(type) + " integrator (" + a.where(e) + ")";
+    return false;
+  }
+  s->max_depth = a.get_int(e, "maxdepth", 5);
+  if (s->type == IntegratorType::kDirectLighting) {
+    std::string_view strategy = a.get_string(e, "strategy");
+    if (strategy == "one")
+      s->sample_all_lights = false;
+    else if (strategy == "all" || strategy.empty())
+      s->sample_all_lights = true;
+    else {
+      *error = a.where(e) + ": error: directlighting strategy \"" + std::string(strategy) +
+               "\" unknown (\"all\" or \"one\")";
+      return false;
+    }
+  }
+  if (s->type == IntegratorType::kPath) {
+    s->rr_threshold = a.get_float(e, "rrthreshold", 1);
+    std::string_view ls = a.get_string(e, "lightsamplestrategy");
+    s->light_strategy = ls.empty() ? "spatial" : std::string(ls);
+  }
+  const pbrta::ValueRecord* pb = a.value(e, "pixelbounds");
+  if (pb && (pb->flags & pbrta::kValueGiven) && pb->count == 4) {
+    const uint32_t* w = &a.words[pb->offset];
+    s->has_pixel_bounds = true;
+    s->pixel_bounds = {{int32_t(w[0]), int32_t(w[2])}, {int32_t(w[1]), int32_t(w[3])}};
+  }
+  return true;
+}
+
+template <bool kAreaLights, bool kInfinite>
+struct Kernels {
+  using Self = Integrator;
+
+  static bool intersect(const Self& I, const Ray& ray, SurfaceInteraction* si, RayCounters* c) {
+    ++c->rays;
+    return I.scene_->geometry.intersect(ray, si);
+  }
+
+  static Rgb emitted(const Self& I, const SurfaceInteraction& si, Vec3 w) {
+    if constexpr (kAreaLights) return I.scene_->lights.area_le(si, w);
+    return Rgb();
+  }
+
+  static Rgb escaped(const Self& I, const RayDifferential& ray) {
+    if constexpr (kInfinite) return I.scene_->lights.infinite_le(ray);
+    return Rgb();
+  }
+
+  // Material at a hit; false for the interface material (no BSDF).
+  static bool bsdf_at(const Self& I, SurfaceInteraction* si, const RayDifferential& ray,
+                      bool multiple_lobes, Bsdf* bsdf) {
+    si->compute_differentials(ray);
+    uint32_t m = I.scene_->shapes[si->shape].material;
+    if (m == kNone) return false;
+    return I.scene_->materials.compute_bsdf(m, si, TransportMode::kRadiance, multiple_lobes, bsdf);
+  }
+
+  // pbrt-v3's EstimateDirect: one light sample and one BSDF sample, MIS-weighted.
+  static Rgb estimate_direct(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
+                             Vec2 u_scattering, uint32_t light, Vec2 u_light, RayCounters* c) {
+    const LightSet& lights = I.scene_->lights;
+    const uint8_t flags = kAllBxdf & ~kSpecular;
+    Rgb ld;
+    LightSample ls;
+    Rgb li = lights.sample_li(light, it, u_light, &ls);
+    const bool delta = lights.is_delta(light);
+    if (ls.pdf > 0 && !li.is_black()) {
+      Rgb f = bsdf.f(it.wo, ls.wi, flags) * abs_dot(ls.wi, it.shading.n);
+      float scattering_pdf = bsdf.pdf(it.wo, ls.wi, flags);
+      if (!f.is_black()) {
+        ++c->shadow_rays;
+        if (!I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light))) {
+          if (delta)
+            ld += f * li / ls.pdf;
+          else
+            ld += f * li * (power_heuristic(1, ls.pdf, 1, scattering_pdf) / ls.pdf);
+        }
+      }
+    }
+    if (delta) return ld;
+    Vec3 wi;
+    float scattering_pdf = 0;
+    uint8_t sampled = 0;
+    Rgb f = bsdf.sample_f(it.wo, &wi, u_scattering, &scattering_pdf, flags, &sampled);
+    f *= abs_dot(wi, it.shading.n);
+    if (f.is_black() || scattering_pdf <= 0) return ld;
+    const bool sampled_specular = sampled & kSpecular;
+    Ray ray = it.spawn_ray(wi);
+    SurfaceInteraction hit;
+    bool found = intersect(I, ray, &hit, c);
+    Rgb le;
+    float light_pdf = 0;
+    if (found) {
+      if constexpr (kAreaLights) {
+        if (lights.area_light_at(hit) == light) {
+          le = lights.area_le(hit, -wi);
+          if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, &hit);
+        }
+      }
+    } else if constexpr (kInfinite) {
+      if (lights.kind(light) == LightKind::kInfinite) {
+        RayDifferential rd(ray);
+        le = lights.infinite_le_one(light, rd);
+        if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, nullptr);
+      }
+    }
+    if (le.is_black()) return ld;
+    float weight = 1;
+    if (!sampled_specular) {
+      if (light_pdf == 0) return ld;
+      weight = power_heuristic(1, scattering_pdf, 1, light_pdf);
+    }
+    return ld + f * le * (weight / scattering_pdf);
+  }
+
+  static Rgb sample_one_light(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
+                              Sampler& sampler, const Distribution1D* distribution,
+                              RayCounters* c) {
+    uint32_t n = I.scene_->lights.count();
+    if (n == 0) return Rgb();
+    uint32_t light;
+    float light_pmf;
+    if (distribution) {
+      light = uint32_t(distribution->sample_discrete(sampler.get_1d(), &light_pmf));
+      if (light_pmf == 0) return Rgb();
+    } else {
+      light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
+      light_pmf = 1.f / n;
+    }
+    Vec2 u_light = sampler.get_2d();
+    Vec2 u_scattering = sampler.get_2d();
+    return estimate_direct(I, it, bsdf, u_scattering, light, u_light, c) / light_pmf;
+  }
+
+  static Rgb sample_all_lights(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
+                               Sampler& sampler, RayCounters* c) {
+    Rgb l;
+    uint32_t n = I.scene_->lights.count();
+    for (uint32_t j = 0; j < n; ++j) {
+      int ns = I.light_samples_[j];
+      const Vec2* u_light = sampler.get_2d_array(ns);
+      const Vec2* u_scattering = sampler.get_2d_array(ns);
+      if (!u_light || !u_scattering) {
+        Vec2 ul = sampler.get_2d(), us = sampler.get_2d();
+        l += estimate_direct(I, it, bsdf, us, j, ul, c);
+      } else {
+        Rgb ld;
+        for (int k = 0; k < ns; ++k)
+          ld += estimate_direct(I, it, bsdf, u_scattering[k], j, u_light[k], c);
+        l += ld / float(ns);
+      }
+    }
+    return l;
+  }
+
+  // Perfect specular reflection or transmission, with pbrt-v3's ray differentials.
+  static Rgb specular(const Self& I, const RayDifferential& ray, const SurfaceInteraction& si,
+                      const Bsdf& bsdf, Sampler& sampler, int depth, bool transmit,
+                      RayCounters* c) {
+    Vec3 wo = si.wo, wi;
+    float pdf = 0;
+    uint8_t type = uint8_t((transmit ? kTransmission : kReflection) | kSpecular);
+    Rgb f = bsdf.sample_f(wo, &wi, sampler.get_2d(), &pdf, type);
+    Vec3 ns = si.shading.n;
+    if (pdf <= 0 || f.is_black() || abs_dot(wi, ns) == 0) return Rgb();
+    RayDifferential rd(si.spawn_ray(wi));
+    if (ray.has_differentials) {
+      rd.has_differentials = true;
+      rd.rx_o = si.p + si.dpdx;
+      rd.ry_o = si.p + si.dpdy;
+      Vec3 dndx = si.shading.dndu * si.dudx + si.shading.dndv * si.dvdx;
+      Vec3 dndy = si.shading.dndu * si.dudy + si.shading.dndv * si.dvdy;
+      Vec3 dwodx = -ray.rx_d - wo, dwody = -ray.ry_d - wo;
+      if (!transmit) {
+        float ddndx = dot(dwodx, ns) + dot(wo, dndx);
+        float ddndy = dot(dwody, ns) + dot(wo, dndy);
+        rd.rx_d = wi - dwodx + 2.f * (dot(wo, ns) * dndx + ddndx * ns);
+        rd.ry_d = wi - dwody + 2.f * (dot(wo, ns) * dndy + ddndy * ns);
+      } else {
+        float eta = 1 / bsdf.eta;
+        if (dot(wo, ns) < 0) {
+          eta = 1 / eta;
+          ns = -ns;
+          dndx = -dndx;
+          dndy = -dndy;
+        }
+        float ddndx = dot(dwodx, ns) + dot(wo, dndx);
+        float ddndy = dot(dwody, ns) + dot(wo, dndy);
+        float mu = eta * dot(wo, ns) - abs_dot(wi, ns);
+        float k = eta - (eta * eta * dot(wo, ns)) / abs_dot(wi, ns);
+        rd.rx_d = wi - eta * dwodx + (mu * dndx + (k * ddndx) * ns);
+        rd.ry_d = wi - eta * dwody + (mu * dndy + (k * ddndy) * ns);
+      }
+    }
+    return f * li_recursive(I, rd, sampler, depth + 1, c) * (abs_dot(wi, ns) / pdf);
+  }
+
+  // Whitted and direct lighting share the recursive structure.
+  static Rgb li_recursive(const Self& I, const RayDifferential& ray, Sampler& sampler, int depth,
+                          RayCounters* c) {
+    SurfaceInteraction si;
+    if (!intersect(I, ray, &si, c)) return escaped(I, ray);
+    Rgb l = emitted(I, si, si.wo);
+    Bsdf bsdf;
+    if (!bsdf_at(I, &si, ray, false, &bsdf))
+      return l + li_recursive(I, RayDifferential(si.spawn_ray(ray.d)), sampler, depth, c);
+    const LightSet& lights = I.scene_->lights;
+    if (I.settings_.type == IntegratorType::kWhitted) {
+      for (uint32_t j = 0; j < lights.count(); ++j) {
+        LightSample ls;
+        Rgb li = lights.sample_li(j, si, sampler.get_2d(), &ls);
+        if (li.is_black() || ls.pdf == 0) continue;
+        Rgb f = bsdf.f(si.wo, ls.wi);
+        if (f.is_black()) continue;
+        ++c->shadow_rays;
+        if (!I.scene_->geometry.occluded(si.spawn_ray_to(ls.p_light)))
+          l += f * li * (abs_dot(ls.wi, si.shading.n) / ls.pdf);
+      }
+    } else if (lights.count() > 0) {
+      if (I.settings_.sample_all_lights)
+        l += sample_all_lights(I, si, bsdf, sampler, c);
+      else
+        l += sample_one_light(I, si, bsdf, sampler, nullptr, c);
+    }
+    if (depth + 1 < I.settings_.max_depth) {
+      l += specular(I, ray, si, bsdf, sampler, depth, false, c);
+      l += specular(I, ray, si, bsdf, sampler, depth, true, c);
+    }
+    return l;
+  }
+
+  static Rgb li_whitted_or_direct(const Self& I, const RayDifferential& ray, Sampler& sampler,
+                                  RayCounters* c) {
+    return li_recursive(I, ray, sampler, 0, c);
+  }
+
+  static Rgb li_path(const Self& I, const RayDifferential& camera_ray, Sampler& sampler,
+                     RayCounters* c) {
+    Rgb l, beta(1.f);
+    RayDifferential ray = camera_ray;
+    bool specular_bounce = false;
+    float eta_scale = 1;
+    const int max_depth = I.settings_.max_depth;
+    for (int bounces = 0;; ++bounces) {
+      SurfaceInteraction si;
+      bool found = intersect(I, ray, &si, c);
+      if (bounces == 0 || specular_bounce) {
+        if (found)
+          l += beta * emitted(I, si, -ray.d);
+        else
+          l += beta * escaped(I, ray);
+      }
+      if (!found || bounces >= max_depth) break;
+      Bsdf bsdf;
+      if (!bsdf_at(I, &si, ray, true, &bsdf)) {
+        ray = RayDifferential(si.spawn_ray(ray.d));
+        --bounces;
+        continue;
+      }
+      if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
+        const Distribution1D& d = I.distribution_.lookup(si.p);
+        l += beta * sample_one_light(I, si, bsdf, sampler, &d, c);
+      }
+      Vec3 wo = -ray.d, wi;
+      float pdf = 0;
+      uint8_t flags = 0;
+      Rgb f = bsdf.sample_f(wo, &wi, sampler.get_2d(), &pdf, kAllBxdf, &flags);
+      if (f.is_black() || pdf == 0) break;
+      beta *= f * (abs_dot(wi, si.shading.n) / pdf);
+      specular_bounce = flags & kSpecular;
+      if ((flags & kSpecular) && (flags & kTransmission)) {
+        float eta = bsdf.eta;
+        eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);
+      }
+      ray = RayDifferential(si.spawn_ray(wi));
+      Rgb rr_beta = beta * eta_scale;
+      if (rr_beta.max_component() < I.settings_.rr_threshold && bounces > 3) {
+        float q = std::max(0.05f, 1 - rr_beta.max_component());
+        if (sampler.get_1d() < q) break;
+        beta /= 1 - q;
+      }
+    }
+    return l;
+  }
+
+  static Integrator::Kernel pick(IntegratorType t) {
+    return t == IntegratorType::kPath ? &li_path : &li_whitted_or_direct;
+  }
+};
+
+bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settings,
+                      std::string* error) {
+  scene_ = &scene;
+  settings_ = settings;
+  if (settings.type == IntegratorType::kPath &&
+      !distribution_.build(scene.lights, scene.geometry.world_bounds(), settings.light_strategy,
+                           error))
+    return false;
+  const bool area = scene.effects & pbrta::kEffectAreaLights;
+  const bool infinite = scene.effects & pbrta::kEffectInfiniteLights;
+  if (area && infinite)
+    kernel_ = Kernels<true, true>::pick(settings.type);
+  else if (area)
+    kernel_ = Kernels<true, false>::pick(settings.type);
+  else if (infinite)
+    kernel_ = Kernels<false, true>::pick(settings.type);
+  else
+    kernel_ = Kernels<false, false>::pick(settings.type);
+  return true;
+}
+
+void Integrator::preprocess(Sampler* sampler) {
+  light_samples_.clear();
+  if (settings_.type != IntegratorType::kDirectLighting || !settings_.sample_all_lights) return;
+  const LightSet& lights = scene_->lights;
+  for (uint32_t j = 0; j < lights.count(); ++j)
+    light_samples_.push_back(sampler->round_count(lights.nsamples(j)));
+  for (int d = 0; d < settings_.max_depth; ++d)
+    for (uint32_t j = 0; j < lights.count(); ++j) {
+      sampler->request_2d_array(light_samples_[j]);
+      sampler->request_2d_array(light_samples_[j]);
+    }
+}
+
+}  // namespace rt

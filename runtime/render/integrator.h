@@ -1,0 +1,67 @@
+// runtime/render/integrator.h — pbrt-v3's whitted, directlighting and path integrators.
+//
+// An Integrator computes the radiance along one camera ray. Its kernel is a
+// template instantiated for the effects the archive says the scene has
+// (area lights, infinite lights), picked once at construction: a scene
+// without area lights never looks up emission at a hit, one without an
+// infinite light never evaluates escaping rays. Per-thread counters (rays,
+// shadow rays) are passed in, so nothing here is shared and written.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "format/scene_archive.h"
+#include "runtime/core/rgb.h"
+#include "runtime/light/light_distribution.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+enum class IntegratorType : uint8_t { kWhitted, kDirectLighting, kPath };
+
+struct IntegratorSettings {
+  IntegratorType type = IntegratorType::kPath;
+  int max_depth = 5;
+  bool sample_all_lights = true;  // directlighting strategy "all" (else "one")
+  float rr_threshold = 1;
+  std::string light_strategy = "spatial";
+  bool has_pixel_bounds = false;
+  Bounds2i pixel_bounds;
+};
+
+// Reads the scene's integrator; "not supported yet: <type> integrator (file:line)"
+// for the ones this renderer does not have.
+[[nodiscard]] bool read_integrator(const pbrta::SceneArchive& archive, IntegratorSettings* out,
+                                   std::string* error);
+
+struct RayCounters {
+  uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
+};
+
+class Integrator {
+ public:
+  [[nodiscard]] bool init(const RenderScene& scene, const IntegratorSettings& settings,
+                          std::string* error);
+  // Requests the sampler arrays the integrator will use (before cloning it).
+  void preprocess(Sampler* sampler);
+  Rgb li(const RayDifferential& ray, Sampler& sampler, RayCounters* counters) const {
+    return kernel_(*this, ray, sampler, counters);
+  }
+  const IntegratorSettings& settings() const { return settings_; }
+
+ private:
+  template <bool kAreaLights, bool kInfinite>
+  friend struct Kernels;
+  using Kernel = Rgb (*)(const Integrator&, const RayDifferential&, Sampler&, RayCounters*);
+
+  const RenderScene* scene_ = nullptr;
+  IntegratorSettings settings_;
+  LightDistribution distribution_;
+  std::vector<int> light_samples_;  // per light, rounded by the sampler (strategy "all")
+  Kernel kernel_ = nullptr;
+};
+
+}  // namespace rt

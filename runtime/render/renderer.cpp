@@ -1,0 +1,160 @@
+// runtime/render/renderer.cpp — see renderer.h.
+#include "runtime/render/renderer.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rt {
+
+namespace {
+
+constexpr int kTileSize = 16;
+
+class ProgressBar {
+ public:
+  ProgressBar(int64_t total, bool quiet) : total_(total), quiet_(quiet) {
+    if (!quiet_) thread_ = std::thread([this] { loop(); });
+  }
+  ~ProgressBar() { finish(); }
+  void add(int64_t n) { done_ += n; }
+  void finish() {
+    if (!thread_.joinable()) return;
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+    print(true);
+    std::fputc('\n', stderr);
+  }
+
+ private:
+  void loop() {
+    std::unique_lock<std::mutex> lock(m_);
+    while (!cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stop_; }))
+      print(false);
+  }
+  void print(bool final) {
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    double f = total_ > 0 ? double(done_) / double(total_) : 1;
+    const int width = 40;
+    int bars = int(f * width);
+    char bar[width + 1];
+    for (int i = 0; i < width; ++i) bar[i] = i < bars ? '+' : ' ';
+    bar[width] = 0;
+    if (final || f >= 1)
+      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
+    else if (f > 0)
+      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs|%.1fs ETA)  ", bar, 100 * f, elapsed,
+                   elapsed / f - elapsed);
+    else
+      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
+    std::fflush(stderr);
+  }
+
+  std::atomic<int64_t> done_{0};
+  int64_t total_;
+  bool quiet_;
+  bool stop_ = false;
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::thread thread_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+};
+
+struct ThreadCounters {
+  RayCounters rays;
+  uint64_t samples = 0, nonfinite = 0;
+};
+
+}  // namespace
+
+RenderStats render(const Camera& camera, const Sampler& prototype, const Integrator& integrator,
+                   Film* film, const RenderOptions& options) {
+  auto t0 = std::chrono::steady_clock::now();
+  Bounds2i sb = film->sample_bounds();
+  const IntegratorSettings& is = integrator.settings();
+  if (is.has_pixel_bounds) sb = intersect(sb, is.pixel_bounds);
+  RenderStats stats;
+  if (sb.empty()) return stats;
+  const int nx = (sb.width() + kTileSize - 1) / kTileSize;
+  const int ny = (sb.height() + kTileSize - 1) / kTileSize;
+  const int ntiles = nx * ny;
+  std::vector<std::unique_ptr<FilmTile>> tiles(ntiles);
+  tbb::enumerable_thread_specific<ThreadCounters> counters;
+  ProgressBar progress(ntiles, options.quiet);
+  std::atomic<bool> first_done{false};
+  double first_tile = 0;
+  std::mutex first_mutex;
+  const float diff_scale = 1 / std::sqrt(float(prototype.samples_per_pixel()));
+
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, ntiles, 1),
+      [&](const tbb::blocked_range<int>& range) {
+        ThreadCounters& tc = counters.local();
+        for (int t = range.begin(); t != range.end(); ++t) {
+          int tx = t % nx, ty = t / nx;
+          Bounds2i tb{{sb.min.x + tx * kTileSize, sb.min.y + ty * kTileSize},
+                      {std::min(sb.min.x + (tx + 1) * kTileSize, sb.max.x),
+                       std::min(sb.min.y + (ty + 1) * kTileSize, sb.max.y)}};
+          std::unique_ptr<Sampler> sampler = prototype.clone();
+          std::unique_ptr<FilmTile> tile = film->make_tile(tb);
+          for (int y = tb.min.y; y < tb.max.y; ++y)
+            for (int x = tb.min.x; x < tb.max.x; ++x) {
+              Point2i pixel{x, y};
+              sampler->start_pixel(pixel);
+              do {
+                CameraSample cs;
+                Vec2 u = sampler->get_2d();
+                cs.p_film = {float(x) + u.x, float(y) + u.y};
+                cs.time = sampler->get_1d();
+                cs.p_lens = sampler->get_2d();
+                RayDifferential ray;
+                float w = camera.generate_ray_differential(cs, &ray);
+                ray.scale_differentials(diff_scale);
+                ++tc.rays.camera_rays;
+                Rgb l;
+                if (w > 0) l = integrator.li(ray, *sampler, &tc.rays);
+                if (!l.is_finite()) {
+                  ++tc.nonfinite;
+                  l = Rgb();
+                }
+                tile->add_sample(cs.p_film, l, w);
+                ++tc.samples;
+              } while (sampler->start_next_sample());
+            }
+          tiles[t] = std::move(tile);
+          progress.add(1);
+          if (!first_done.exchange(true)) {
+            std::lock_guard<std::mutex> lock(first_mutex);
+            first_tile =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+          }
+        }
+      },
+      tbb::simple_partitioner());
+  progress.finish();
+  for (int t = 0; t < ntiles; ++t) film->merge_tile(*tiles[t]);
+  for (const ThreadCounters& tc : counters) {
+    stats.samples += tc.samples;
+    stats.nonfinite_samples += tc.nonfinite;
+    stats.camera_rays += tc.rays.camera_rays;
+    stats.rays += tc.rays.rays;
+    stats.shadow_rays += tc.rays.shadow_rays;
+  }
+  stats.first_tile_seconds = first_tile;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats;
+}
+
+}  // namespace rt

@@ -1,0 +1,45 @@
+// pbrt-v3's GlobalSampler bookkeeping (pbrt book 3rd ed., section 7.2.5).
+#include "runtime/sampler/global_sampler.h"
+
+namespace rt {
+
+void GlobalSampler::start_pixel(Point2i p) {
+  Sampler::start_pixel(p);
+  dimension_ = 0;
+  interval_index_ = index_for_sample(0);
+  array_end_dim_ = kArrayStartDim + int(sizes_1d_.size()) + 2 * int(sizes_2d_.size());
+  for (size_t i = 0; i < sizes_1d_.size(); ++i) {
+    int64_t count = int64_t(sizes_1d_[i]) * spp_;
+    for (int64_t j = 0; j < count; ++j)
+      arrays_1d_[i][size_t(j)] = sample_dimension(index_for_sample(j), kArrayStartDim + int(i));
+  }
+  int dim = kArrayStartDim + int(sizes_1d_.size());
+  for (size_t i = 0; i < sizes_2d_.size(); ++i, dim += 2) {
+    int64_t count = int64_t(sizes_2d_[i]) * spp_;
+    for (int64_t j = 0; j < count; ++j) {
+      int64_t index = index_for_sample(j);
+      arrays_2d_[i][size_t(j)] = {sample_dimension(index, dim), sample_dimension(index, dim + 1)};
+    }
+  }
+}
+
+bool GlobalSampler::set_sample_number(int64_t n) {
+  dimension_ = 0;
+  interval_index_ = index_for_sample(n);
+  return Sampler::set_sample_number(n);
+}
+
+float GlobalSampler::get_1d() {
+  if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
+  return sample_dimension(interval_index_, dimension_++);
+}
+
+Vec2 GlobalSampler::get_2d() {
+  if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
+  Vec2 p{sample_dimension(interval_index_, dimension_),
+         sample_dimension(interval_index_, dimension_ + 1)};
+  dimension_ += 2;
+  return p;
+}
+
+}  // namespace rt

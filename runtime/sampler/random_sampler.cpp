@@ -1,0 +1,54 @@
+// pbrt-v3's RandomSampler: independent uniform values in every dimension and
+// array (the baseline the other samplers improve on).
+#include <memory>
+
+#include "runtime/core/rng.h"
+#include "runtime/sampler/pixel_seed.h"
+#include "runtime/sampler/sampler_kinds.h"
+
+namespace rt {
+namespace {
+
+class RandomSampler final : public Sampler {
+ public:
+  RandomSampler(int64_t spp, uint64_t seed) : Sampler(spp), seed_(seed) {}
+  RandomSampler(const RandomSampler&) = default;
+
+  std::unique_ptr<Sampler> clone() const override { return std::make_unique<RandomSampler>(*this); }
+
+  void start_pixel(Point2i p) override {
+    Rng rng = pixel_rng(seed_, p);
+    for (auto& a : arrays_1d_)
+      for (float& v : a) v = rng.next_float();
+    for (auto& a : arrays_2d_)
+      for (Vec2& v : a) {
+        v.x = rng.next_float();
+        v.y = rng.next_float();
+      }
+    Sampler::start_pixel(p);
+    rng_ = sample_rng(seed_, p, 0);
+  }
+
+  bool set_sample_number(int64_t n) override {
+    rng_ = sample_rng(seed_, pixel_, n);
+    return Sampler::set_sample_number(n);
+  }
+
+  float get_1d() override { return rng_.next_float(); }
+  Vec2 get_2d() override {
+    float x = rng_.next_float();
+    return {x, rng_.next_float()};
+  }
+
+ private:
+  uint64_t seed_;
+  Rng rng_;
+};
+
+}  // namespace
+
+std::unique_ptr<Sampler> make_random_sampler(int64_t spp, uint64_t seed) {
+  return std::make_unique<RandomSampler>(spp, seed);
+}
+
+}  // namespace rt

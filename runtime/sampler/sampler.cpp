@@ -1,0 +1,45 @@
+// The bookkeeping all samplers share: the current pixel and sample, and the
+// requested sample arrays handed out in request order (pbrt-v3's Sampler).
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+void Sampler::start_pixel(Point2i p) {
+  pixel_ = p;
+  sample_index_ = 0;
+  next_1d_array_ = next_2d_array_ = 0;
+}
+
+bool Sampler::start_next_sample() {
+  return set_sample_number(sample_index_ + 1);
+}
+
+bool Sampler::set_sample_number(int64_t n) {
+  next_1d_array_ = next_2d_array_ = 0;
+  sample_index_ = n;
+  return sample_index_ < spp_;
+}
+
+void Sampler::request_1d_array(int n) {
+  sizes_1d_.push_back(n);
+  arrays_1d_.emplace_back(size_t(n) * size_t(spp_));
+}
+
+void Sampler::request_2d_array(int n) {
+  sizes_2d_.push_back(n);
+  arrays_2d_.emplace_back(size_t(n) * size_t(spp_));
+}
+
+const float* Sampler::get_1d_array(int n) {
+  if (next_1d_array_ == arrays_1d_.size() || sample_index_ >= spp_) return nullptr;
+  if (sizes_1d_[next_1d_array_] != n) return nullptr;  // asked out of request order
+  return &arrays_1d_[next_1d_array_++][size_t(sample_index_) * size_t(n)];
+}
+
+const Vec2* Sampler::get_2d_array(int n) {
+  if (next_2d_array_ == arrays_2d_.size() || sample_index_ >= spp_) return nullptr;
+  if (sizes_2d_[next_2d_array_] != n) return nullptr;
+  return &arrays_2d_[next_2d_array_++][size_t(sample_index_) * size_t(n)];
+}
+
+}  // namespace rt

@@ -1,0 +1,74 @@
+// runtime/sampler/sampler.h — pbrt-v3's samplers: the sample values every
+// pixel sample draws, dimension by dimension.
+//
+// Contract: what a sampler returns for (pixel p, sample i, dimension d) depends
+// only on (settings, seed, p, i, d) — never on the thread, the tile or the
+// pixels rendered before — so images are bit-identical for any thread count.
+// (pbrt-v3 seeds its random generators per tile; these seed per pixel.)
+//
+// Use: request_*_array() first (as pbrt-v3's integrators do, after
+// round_count()), then clone() one sampler per thread (clones copy the
+// requests); per pixel start_pixel(), and per sample get_1d()/get_2d()/
+// get_*_array() until start_next_sample() returns false. Every value lies in
+// [0, 1).
+//
+// make_sampler() builds the scene's sampler entity: "halton", "sobol",
+// "02sequence" (alias "lowdiscrepancy"), "maxmindist", "stratified",
+// "random". spp_override > 0 replaces the scene's sample count as
+// /work/shared/refs/README.md says (stratified: xsamples * ysamples = N,
+// ysamples the largest divisor of N not above sqrt(N); sobol, 02sequence and
+// maxmindist round up to a power of two, maxmindist to at most 2^16). seed
+// changes every random choice (scrambles, permutations, jitter).
+// sample_bounds is the film's sample bounds (Halton and Sobol map pixels to
+// sample indices over it). Anything else fails with
+// "not supported yet: ... (file:line)".
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "format/scene_archive.h"
+#include "runtime/core/vec.h"
+
+namespace rt {
+
+class Sampler {
+ public:
+  virtual ~Sampler() = default;
+  virtual std::unique_ptr<Sampler> clone() const = 0;  // same settings, independent state
+  virtual void start_pixel(Point2i p);                 // sample 0 of that pixel, dimension 0
+  bool start_next_sample();  // next sample of the pixel; false once spp are done
+  virtual bool set_sample_number(int64_t n);
+  virtual float get_1d() = 0;  // next dimension, in [0,1)
+  virtual Vec2 get_2d() = 0;
+  void request_1d_array(int n);  // before rendering, as pbrt-v3's arrays
+  void request_2d_array(int n);
+  virtual int round_count(int n) const { return n; }
+  const float* get_1d_array(int n);  // nullptr when not requested / exhausted
+  const Vec2* get_2d_array(int n);
+  int64_t samples_per_pixel() const { return spp_; }
+  int64_t current_sample_number() const { return sample_index_; }
+
+ protected:
+  explicit Sampler(int64_t spp) : spp_(spp) {}
+  Sampler(const Sampler&) = default;
+  Sampler& operator=(const Sampler&) = delete;
+
+  int64_t spp_;
+  Point2i pixel_;
+  int64_t sample_index_ = 0;
+  // Requested array sizes, and per request n * spp values (sample s's array
+  // starts at s * n), filled by the subclass in start_pixel().
+  std::vector<int> sizes_1d_, sizes_2d_;
+  std::vector<std::vector<float>> arrays_1d_;
+  std::vector<std::vector<Vec2>> arrays_2d_;
+  size_t next_1d_array_ = 0, next_2d_array_ = 0;
+};
+
+std::unique_ptr<Sampler> make_sampler(const pbrta::SceneArchive& archive, int spp_override,
+                                      uint64_t seed, const Bounds2i& sample_bounds,
+                                      std::string* error);
+
+}  // namespace rt

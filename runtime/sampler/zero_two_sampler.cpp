@@ -1,0 +1,46 @@
+// pbrt-v3's ZeroTwoSequenceSampler (pbrt book 3rd ed., section 7.5): each of
+// the first `dimensions` 1-D and 2-D dimensions of a pixel's samples is a
+// freshly scrambled (0,2)-sequence (van der Corput for 1-D), shuffled across
+// the pixel's samples so dimensions do not correlate. Counts are powers of
+// two, so each pixel's set is a full (0,2)-net.
+#include <memory>
+
+#include "runtime/sampler/pixel_sampler.h"
+#include "runtime/sampler/pixel_seed.h"
+#include "runtime/sampler/sample_patterns.h"
+#include "runtime/sampler/sampler_kinds.h"
+
+namespace rt {
+namespace {
+
+class ZeroTwoSampler final : public PixelSampler {
+ public:
+  ZeroTwoSampler(int64_t spp, int dimensions, uint64_t seed)
+      : PixelSampler(spp, dimensions, seed) {}
+  ZeroTwoSampler(const ZeroTwoSampler&) = default;
+
+  std::unique_ptr<Sampler> clone() const override {
+    return std::make_unique<ZeroTwoSampler>(*this);
+  }
+  int round_count(int n) const override { return int(round_up_pow2(uint32_t(std::max(n, 1)))); }
+
+  void start_pixel(Point2i p) override {
+    pixel_rng_ = pixel_rng(seed_, p);
+    int spp = int(spp_);
+    for (auto& d : dims_1d_) van_der_corput_pattern(1, spp, d.data(), pixel_rng_);
+    for (auto& d : dims_2d_) sobol_2d_pattern(1, spp, d.data(), pixel_rng_);
+    for (size_t i = 0; i < sizes_1d_.size(); ++i)
+      van_der_corput_pattern(sizes_1d_[i], spp, arrays_1d_[i].data(), pixel_rng_);
+    for (size_t i = 0; i < sizes_2d_.size(); ++i)
+      sobol_2d_pattern(sizes_2d_[i], spp, arrays_2d_[i].data(), pixel_rng_);
+    PixelSampler::start_pixel(p);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Sampler> make_zero_two_sampler(int64_t spp, int dimensions, uint64_t seed) {
+  return std::make_unique<ZeroTwoSampler>(spp, dimensions, seed);
+}
+
+}  // namespace rt

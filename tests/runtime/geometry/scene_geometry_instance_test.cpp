@@ -1,0 +1,243 @@
+// SceneGeometry with object instances, transform groups and quadrics: hits
+// land where the transforms put them, transformed and identity meshes agree,
+// unsupported transforms are reported.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "runtime/core/rng.h"
+#include "scene_geometry_test_support.h"
+
+namespace rt {
+namespace {
+
+void expect_vec_near(Vec3 a, Vec3 b, float tol) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+const char* kInstances = R"(
+ObjectBegin "tri"
+  Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-1 -1 0  1 -1 0  0 1 0]
+    "float uv" [0 0 1 0 0 1]
+ObjectEnd
+ObjectBegin "lifted"
+  Translate 0 0 1
+  Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-1 -1 0  1 -1 0  0 1 0]
+ObjectEnd
+AttributeBegin
+  Translate 10 0 5
+  ObjectInstance "tri"
+AttributeEnd
+AttributeBegin
+  Translate -10 0 5
+  Scale 2 2 2
+  ObjectInstance "tri"
+AttributeEnd
+AttributeBegin
+  Translate 0 10 5
+  Scale -1 1 1
+  ObjectInstance "tri"
+AttributeEnd
+AttributeBegin
+  Translate 0 -10 5
+  ObjectInstance "lifted"
+AttributeEnd
+)";
+
+TEST(SceneGeometryInstance, HitsWhereTheInstanceTransformPutsThem) {
+  auto s = load_world("sg_inst", kInstances);
+  ASSERT_TRUE(s->built) << s->error;
+  const GeometryStats& st = s->geometry.stats();
+  EXPECT_EQ(st.instances, 4u);
+  EXPECT_EQ(st.triangles, 2u);      // one per object definition, shared by the instances
+  EXPECT_EQ(st.copied_meshes, 1u);  // "lifted" has its own transform inside the object
+  SurfaceInteraction si;
+
+  // The definition itself is not in the world.
+  EXPECT_FALSE(s->geometry.intersect(make_ray({0, 0, -5}, {0, 0, 1}), &si));
+
+  ASSERT_TRUE(s->geometry.intersect(make_ray({10.25f, 0, 0}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.instance, 0u);
+  EXPECT_EQ(si.shape, 0u);
+  expect_vec_near(si.p, {10.25f, 0, 5}, 1e-5f);
+  expect_vec_near(si.n, {0, 0, 1}, 1e-6f);
+  // Object-space barycentrics of (0.25, 0): b1 = 0.375, b2 = 0.5 -> uv.
+  EXPECT_NEAR(si.uv.x, 0.375f, 1e-5f);
+  EXPECT_NEAR(si.uv.y, 0.5f, 1e-5f);
+  expect_vec_near(si.dpdu, {2, 0, 0}, 1e-5f);
+
+  // The scaled instance: twice as large, same uv at the scaled point.
+  ASSERT_TRUE(s->geometry.intersect(make_ray({-9.5f, 0, 0}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.instance, 1u);
+  expect_vec_near(si.p, {-9.5f, 0, 5}, 1e-5f);
+  EXPECT_NEAR(si.uv.x, 0.375f, 1e-5f);
+  expect_vec_near(si.dpdu, {4, 0, 0}, 1e-5f);
+  EXPECT_GT(si.p_error.x, 0);
+
+  // The mirrored instance: the normal goes through the transform as a normal.
+  ASSERT_TRUE(s->geometry.intersect(make_ray({0.25f, 10, 0}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.instance, 2u);
+  expect_vec_near(si.n, {0, 0, 1}, 1e-6f);
+
+  // A shape with its own transform inside the object: both transforms apply.
+  ASSERT_TRUE(s->geometry.intersect(make_ray({0, -10, 0}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.instance, 3u);
+  EXPECT_EQ(si.shape, 1u);
+  expect_vec_near(si.p, {0, -10, 6}, 1e-5f);
+
+  Bounds3 b = s->geometry.world_bounds();
+  expect_vec_near(b.lo, {-12, -11, 5}, 1e-5f);
+  expect_vec_near(b.hi, {11, 11, 6}, 1e-5f);
+}
+
+TEST(SceneGeometryInstance, QuadricsInWorldAndInInstances) {
+  auto s = load_world("sg_inst_quadric", R"(
+AttributeBegin
+  Translate 0 20 0
+  Shape "sphere" "float radius" 1
+AttributeEnd
+ObjectBegin "ball"
+  Translate 0 0 1
+  Shape "sphere" "float radius" 0.5
+ObjectEnd
+AttributeBegin
+  Translate 0 -20 0
+  ObjectInstance "ball"
+AttributeEnd
+AttributeBegin
+  Translate 5 -20 0
+  ObjectInstance "ball"
+AttributeEnd
+Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-100 -100 -3  100 -100 -3  0 100 -3]
+)");
+  ASSERT_TRUE(s->built) << s->error;
+  EXPECT_EQ(s->geometry.stats().quadrics, 2u);
+  SurfaceInteraction si;
+  ASSERT_TRUE(s->geometry.intersect(make_ray({0, 20, -2}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.shape, 0u);
+  EXPECT_EQ(si.instance, kNone);
+  expect_vec_near(si.p, {0, 20, -1}, 1e-5f);
+  expect_vec_near(si.n, {0, 0, -1}, 1e-5f);
+
+  ASSERT_TRUE(s->geometry.intersect(make_ray({5, -20, -2}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.shape, 1u);
+  EXPECT_EQ(si.instance, 1u);
+  expect_vec_near(si.p, {5, -20, 0.5f}, 1e-5f);
+  expect_vec_near(si.n, {0, 0, -1}, 1e-5f);
+
+  // Closest hit between a quadric and a triangle, both orders.
+  ASSERT_TRUE(s->geometry.intersect(make_ray({0, -20, -10}, {0, 0, 1}), &si));
+  EXPECT_EQ(si.shape, 2u);  // the triangle at z = -3 comes first
+  ASSERT_TRUE(s->geometry.intersect(make_ray({0, -20, 10}, {0, 0, -1}), &si));
+  EXPECT_EQ(si.shape, 1u);  // the ball's top at z = 1.5
+  expect_vec_near(si.p, {0, -20, 1.5f}, 1e-5f);
+
+  // tmax and occlusion for quadrics: the world sphere is hit at t = 1.
+  EXPECT_FALSE(s->geometry.occluded(make_ray({0, 20, -2}, {0, 0, 1}, 0.99f)));
+  EXPECT_TRUE(s->geometry.occluded(make_ray({0, 20, -2}, {0, 0, 1}, 1.01f)));
+  EXPECT_FALSE(s->geometry.occluded(make_ray({5, -20, -2}, {0, 0, 1}, 2.49f)));
+  EXPECT_TRUE(s->geometry.occluded(make_ray({5, -20, -2}, {0, 0, 1}, 2.51f)));
+  EXPECT_FALSE(s->geometry.intersect(make_ray({0, 20, -2}, {0, 0, 1}, 0.99f), &si));
+}
+
+// The same world triangles as one transformed mesh (a transform group,
+// instanced) and written out directly (top level): identical hits.
+TEST(SceneGeometryInstance, TransformedAndIdentityGroupsAgree) {
+  std::string indices, P, uv;
+  const int n = 12;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      float x = i - n / 2.f, y = j - n / 2.f, z = 0.3f * std::sin(0.7f * x) * std::cos(0.5f * y);
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " %.9g %.9g %.9g", x, y, z);
+      P += buf;
+      std::snprintf(buf, sizeof buf, " %.9g %.9g", float(i) / n, float(j) / n);
+      uv += buf;
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      indices += " " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(d) + " " +
+                 std::to_string(a) + " " + std::to_string(d) + " " + std::to_string(c);
+    }
+  auto mesh = [&](const std::string& points) {
+    return "Shape \"trianglemesh\" \"integer indices\" [" + indices + "] \"point P\" [" + points +
+           "] \"float uv\" [" + uv + "]\n";
+  };
+  auto moved = load_world("sg_group_moved",
+                          "Translate 3 -2 40\nRotate 35 1 0.5 0.2\nScale 1.5 0.8 1.2\n" + mesh(P));
+  ASSERT_TRUE(moved->built) << moved->error;
+  const ShapeInfo& info = moved->shapes[0];
+  std::string world_p;
+  for (uint32_t v = 0; v < info.mesh.num_vertices; ++v) {
+    Vec3 w = info.object_to_world.point(info.mesh.position(v));
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " %.9g %.9g %.9g", w.x, w.y, w.z);
+    world_p += buf;
+  }
+  auto direct = load_world("sg_group_direct", mesh(world_p));
+  ASSERT_TRUE(direct->built) << direct->error;
+
+  Rng rng(7);
+  int compared = 0;
+  for (uint32_t prim = 0; prim < info.mesh.num_triangles; ++prim) {
+    const uint32_t* idx = info.mesh.indices + 3 * prim;
+    Vec3 c;
+    for (int k = 0; k < 3; ++k) c += info.object_to_world.point(info.mesh.position(idx[k])) / 3.f;
+    Vec3 o = c + Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 20};
+    Ray ray = make_ray(o, c - o);
+    SurfaceInteraction a, b;
+    bool ha = moved->geometry.intersect(ray, &a), hb = direct->geometry.intersect(ray, &b);
+    ASSERT_EQ(ha, hb) << "prim " << prim;
+    if (!ha) continue;
+    ++compared;
+    EXPECT_EQ(a.prim, b.prim);
+    expect_vec_near(a.p, b.p, 1e-4f);
+    expect_vec_near(a.n, b.n, 1e-5f);
+    EXPECT_NEAR(a.uv.x, b.uv.x, 1e-5f);
+    EXPECT_NEAR(a.uv.y, b.uv.y, 1e-5f);
+    expect_vec_near(a.dpdu, b.dpdu, 1e-4f);
+    // The instanced hit carries the extra rounding of Embree's instance
+    // transform: its bound is at least the direct one.
+    EXPECT_GE(a.p_error.z, b.p_error.z);
+  }
+  EXPECT_GT(compared, int(info.mesh.num_triangles) / 2);
+  EXPECT_EQ(moved->geometry.stats().copied_meshes, 0u);
+  Bounds3 ba = moved->geometry.world_bounds(), bb = direct->geometry.world_bounds();
+  expect_vec_near(ba.lo, bb.lo, 0);
+  expect_vec_near(ba.hi, bb.hi, 0);
+}
+
+TEST(SceneGeometryInstance, UnsupportedTransforms) {
+  auto animated = load_world("sg_anim_shape", R"(
+ActiveTransform EndTime
+Translate 1 0 0
+ActiveTransform All
+Shape "sphere"
+)");
+  EXPECT_FALSE(animated->built);
+  EXPECT_NE(
+      animated->error.find("not supported yet: animated transform (motion blur) (scene.pbrt:"),
+      std::string::npos)
+      << animated->error;
+
+  auto animated_instance = load_world("sg_anim_inst", R"(
+ObjectBegin "o"
+  Shape "sphere"
+ObjectEnd
+ActiveTransform EndTime
+Translate 1 0 0
+ActiveTransform All
+ObjectInstance "o"
+)");
+  EXPECT_FALSE(animated_instance->built);
+  EXPECT_NE(animated_instance->error.find(
+                "not supported yet: animated transform (motion blur) (scene.pbrt:10)"),
+            std::string::npos)
+      << animated_instance->error;
+}
+
+}  // namespace
+}  // namespace rt

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Renders reference scenes of ../shared/refs and checks that each converges to
+# pbrt-v3's image (the rule is in tools/compare/convergence.h): pbrtc compiles
+# the scene, pbrtrun renders it twice at half the reference's spp with seeds 1
+# and 2 at the reference's --resdiv, and ref-compare judges the pair and
+# writes ours | pbrt-v3 | signed difference as a PNG for people to look at.
+#
+#   tools/convergence.sh [--build DIR] [--out DIR] [--ci] [NAME-FILTER]
+#
+# --ci runs only the scenes marked "ci" in tests/convergence/scenes.txt.
+# Exit status: 0 when every scene run converges; 1 otherwise.
+set -uo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$root/build"
+out="$root/build/convergence"
+only_ci=0
+filter=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build) build="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --ci) only_ci=1; shift ;;
+    -h|--help) sed -n 2,13p "$0"; exit 0 ;;
+    *) filter="$1"; shift ;;
+  esac
+done
+shared="${PBRTC_SHARED_DIR:-$root/../shared}"
+if [ ! -d "$shared/scenes" ] || [ ! -d "$shared/refs" ]; then
+  echo "convergence: error: shared corpus not found at $shared (set PBRTC_SHARED_DIR)" >&2
+  exit 2
+fi
+for tool in pbrtc pbrtrun ref-compare; do
+  if [ ! -x "$build/$tool" ]; then
+    echo "convergence: error: $build/$tool is not built" >&2
+    exit 2
+  fi
+done
+mkdir -p "$out"
+
+status=0
+ran=0
+printf '%-62s %s\n' "scene" "result"
+while read -r entry ref spp resdiv ci; do
+  case "$entry" in ''|'#'*) continue ;; esac
+  [ "$only_ci" = 1 ] && [ "$ci" != "ci" ] && continue
+  [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
+  name="$(basename "${ref%.exr}")"
+  archive="$out/$name.pbrta"
+  half=$((spp / 2))
+  log="$out/$name.log"
+  ran=$((ran + 1))
+  if ! "$build/pbrtc" -q "$shared/scenes/$entry" -o "$archive" >"$log" 2>&1; then
+    printf '%-62s %s\n' "$entry" "COMPILE FAILED: $(grep -m1 error "$log")"
+    status=1
+    continue
+  fi
+  ok=1
+  for seed in 1 2; do
+    if ! "$build/pbrtrun" --quiet "$archive" --spp "$half" --resdiv "$resdiv" --seed "$seed" \
+        --outfile "$out/$name.$seed.exr" >>"$log" 2>&1; then
+      ok=0
+      break
+    fi
+  done
+  if [ "$ok" = 0 ]; then
+    printf '%-62s %s\n' "$entry" "NOT RENDERED: $(tail -n1 "$log")"
+    status=1
+    continue
+  fi
+  result="$("$build/ref-compare" "$out/$name.1.exr" "$out/$name.2.exr" "$shared/refs/$ref" \
+      --png "$out/$name.png" 2>&1)"
+  rc=$?
+  printf '%-62s %s\n' "$entry" "${result#*: }"
+  [ $rc -ne 0 ] && status=1
+done < "$root/tests/convergence/scenes.txt"
+if [ "$ran" = 0 ]; then
+  echo "convergence: error: no scene matched" >&2
+  exit 2
+fi
+exit $status
