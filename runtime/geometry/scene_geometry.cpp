@@ -223,7 +223,13 @@ void init_ray(const Ray& ray, RTCRay* r) {
   r->dir_x = ray.d.x;
   r->dir_y = ray.d.y;
   r->dir_z = ray.d.z;
-  r->tnear = 0;
+  // pbrt's own triangle test rejects t within its conservative error bound
+  // of zero; Embree's has no such bound and reports a hit at t ~ 0 when an
+  // offset origin lies exactly on its surface (an axis-aligned plane, whose
+  // error bound is 0 along the normal). A start a few ulps of the origin's
+  // magnitude out along the ray stands in for that bound.
+  const float scale = std::max(std::fabs(ray.o.x), std::max(std::fabs(ray.o.y), std::fabs(ray.o.z)));
+  r->tnear = gamma_bound(7) * scale / length(ray.d);
   r->tfar = open_tfar(ray.tmax);
   r->time = 0;
   r->mask = 0xFFFFFFFFu;

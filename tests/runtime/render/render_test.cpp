@@ -132,6 +132,28 @@ WorldEnd
   }
 }
 
+// A floor exactly on y = 0 has a zero error bound along its normal, so
+// shadow rays start exactly on it; they must not hit it again. Every floor
+// pixel sees the light: its value is Kd/pi * I cos / r^2 > 0.
+TEST(Render, FloorOnAnAxisPlaneIsNotSelfShadowed) {
+  Rendered r = render_text("render_floor", R"(
+LookAt 0 1.2 -4.5   0 0.6 0   0 1 0
+Camera "perspective" "float fov" 42
+Film "image" "integer xresolution" 32 "integer yresolution" 24
+Sampler "halton" "integer pixelsamples" 4
+Integrator "directlighting"
+WorldBegin
+LightSource "point" "point from" [0 2 0] "rgb I" [5 5 5]
+Material "matte" "rgb Kd" [0.5 0.5 0.5]
+Shape "trianglemesh" "point P" [-4 0 -4   4 0 -4   4 0 4   -4 0 4]
+  "integer indices" [0 1 2  0 2 3]
+WorldEnd
+)", 2);
+  ASSERT_TRUE(r.ok) << r.error;
+  for (int y = 14; y < 24; ++y)
+    for (int x = 0; x < 32; ++x) EXPECT_GT(r.pixels[y * 32 + x].g, 0.f) << x << "," << y;
+}
+
 TEST(Render, CropWindowRendersOnlyItsPixels) {
   FilmOptions fo;
   fo.has_crop = true;
