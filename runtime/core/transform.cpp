@@ -37,11 +37,14 @@ Matrix4 transpose(const Matrix4& a) {
   return r;
 }
 
-bool inverse(const Matrix4& a, Matrix4* out) {
+namespace {
+
+// Gauss-Jordan elimination with partial pivoting in double precision.
+bool invert(const double in[4][4], double out[4][4]) {
   double w[4][8];
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j) {
-      w[i][j] = a.m[i][j];
+      w[i][j] = in[i][j];
       w[i][j + 4] = i == j ? 1 : 0;
     }
   for (int c = 0; c < 4; ++c) {
@@ -60,7 +63,19 @@ bool inverse(const Matrix4& a, Matrix4* out) {
     }
   }
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) out->m[i][j] = float(w[i][j + 4]);
+    for (int j = 0; j < 4; ++j) out[i][j] = w[i][j + 4];
+  return true;
+}
+
+}  // namespace
+
+bool inverse(const Matrix4& a, Matrix4* out) {
+  double in[4][4], inv[4][4];
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) in[i][j] = a.m[i][j];
+  if (!invert(in, inv)) return false;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) out->m[i][j] = float(inv[i][j]);
   return true;
 }
 
@@ -72,39 +87,20 @@ Transform::Transform(const Matrix4& m) : m_(m) {
 Transform Transform::from_doubles(const double* v) {
   // Invert in double before rounding, so the pair stays as consistent as the
   // archive's precision allows.
-  double w[4][8];
+  double in[4][4], inv[4][4];
   Matrix4 m;
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) {
-      m.m[i][j] = float(v[i * 4 + j]);
-      w[i][j] = v[i * 4 + j];
-      w[i][j + 4] = i == j ? 1 : 0;
-    }
-  for (int c = 0; c < 4; ++c) {
-    int piv = c;
-    for (int r = c + 1; r < 4; ++r)
-      if (std::fabs(w[r][c]) > std::fabs(w[piv][c])) piv = r;
-    if (w[piv][c] == 0) {
-      Transform t;
-      t.m_ = m;
-      t.inv_ = Matrix4{{{0}}};
-      t.invertible_ = false;
-      return t;
-    }
-    if (piv != c)
-      for (int j = 0; j < 8; ++j) std::swap(w[piv][j], w[c][j]);
-    double inv = 1 / w[c][c];
-    for (int j = 0; j < 8; ++j) w[c][j] *= inv;
-    for (int r = 0; r < 4; ++r) {
-      if (r == c || w[r][c] == 0) continue;
-      double f = w[r][c];
-      for (int j = 0; j < 8; ++j) w[r][j] -= f * w[c][j];
-    }
+    for (int j = 0; j < 4; ++j) m.m[i][j] = float(in[i][j] = v[i * 4 + j]);
+  Transform t;
+  t.m_ = m;
+  if (!invert(in, inv)) {
+    t.inv_ = Matrix4{{{0}}};
+    t.invertible_ = false;
+    return t;
   }
-  Matrix4 inv;
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) inv.m[i][j] = float(w[i][j + 4]);
-  return Transform(m, inv);
+    for (int j = 0; j < 4; ++j) t.inv_.m[i][j] = float(inv[i][j]);
+  return t;
 }
 
 bool Transform::is_projective() const {
