@@ -1,6 +1,7 @@
 // runtime/render/camera.cpp — see camera.h.
 #include "runtime/render/camera.h"
 
+#include <cmath>
 #include <cstring>
 
 #include "runtime/core/sampling.h"
@@ -26,6 +27,8 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
     type_ = Type::kOrthographic;
   else if (type == "environment")
     type_ = Type::kEnvironment;
+  else if (type == "realistic")
+    type_ = Type::kRealistic;
   else {
     *error = "not supported yet: " + std::string(type) + " camera (" + a.where(e) + ")";
     return false;
@@ -45,6 +48,7 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   shutter_open_ = a.get_float(e, "shutteropen", 0);
   shutter_close_ = a.get_float(e, "shutterclose", 1);
   if (type_ == Type::kEnvironment) return true;
+  if (type_ == Type::kRealistic) return build_realistic(a, e, error);
 
   lens_radius_ = a.get_float(e, "lensradius", 0);
   focal_distance_ = a.get_float(e, "focaldistance", 1e6f);
@@ -89,7 +93,83 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   return true;
 }
 
+bool Camera::build_realistic(const pbrta::SceneArchive& a, uint32_t e, std::string* error) {
+  const pbrta::ValueRecord* data = a.value(e, "lensdata");
+  if (!data || data->count == 0) {
+    *error = a.where(e) + ": error: the realistic camera has no lens data";
+    return false;
+  }
+  float diagonal =
+      film_diagonal_ > 0 ? film_diagonal_ : a.get_float(a.scene().film, "diagonal", 35) * 0.001f;
+  simple_weighting_ = a.get_int(e, "simpleweighting", 1) != 0;
+  std::string lens_error;
+  if (!lens_.build(a.floats(*data), data->count, a.get_float(e, "aperturediameter", 1),
+                   a.get_float(e, "focusdistance", 10), diagonal, &lens_error, pupil_samples_)) {
+    *error = a.where(e) + ": error: realistic camera: " + lens_error;
+    return false;
+  }
+  // pbrt-v3's Film::GetPhysicalExtent: the diagonal at the image's aspect ratio.
+  float aspect = float(resolution_.y) / float(resolution_.x);
+  float x = std::sqrt(diagonal * diagonal / (1 + aspect * aspect));
+  film_extent_ = {x, aspect * x};
+  return true;
+}
+
+float Camera::realistic_ray(const CameraSample& s, Ray* ray) const {
+  Vec2 u{s.p_film.x / float(resolution_.x), s.p_film.y / float(resolution_.y)};
+  // The film is seen from behind the lens: x mirrored.
+  Vec3 p_film{-lerp(u.x, -film_extent_.x / 2, film_extent_.x / 2),
+              lerp(u.y, -film_extent_.y / 2, film_extent_.y / 2), 0};
+  float area;
+  Vec3 p_rear = lens_.sample_exit_pupil({p_film.x, p_film.y}, s.p_lens, &area);
+  Ray film_ray;
+  film_ray.o = p_film;
+  film_ray.d = p_rear - p_film;
+  film_ray.time = lerp(s.time, shutter_open_, shutter_close_);
+  if (!lens_.trace_from_film(film_ray, ray)) return 0;
+  ray->time = film_ray.time;
+  ray->tmax = kInfinity;
+  float cos_theta = normalize(film_ray.d).z;
+  float cos4 = (cos_theta * cos_theta) * (cos_theta * cos_theta);
+  if (simple_weighting_) return cos4 * area / lens_.pupil_bounds()[0].area();
+  float rz = lens_.rear_z();
+  return (shutter_close_ - shutter_open_) * (cos4 * area) / (rz * rz);
+}
+
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
+  if (type_ == Type::kRealistic) {
+    const Transform& w = camera_to_world_;
+    auto world_ray = [&](const CameraSample& cs, Ray* r) {
+      float weight = realistic_ray(cs, r);
+      if (weight > 0) {
+        r->o = w.point(r->o);
+        r->d = normalize(w.vector(r->d));
+      }
+      return weight;
+    };
+    Ray central;
+    float weight = world_ray(s, &central);
+    if (weight == 0) return 0;
+    *out = RayDifferential(central);
+    // Finite differences a twentieth of a pixel away, on whichever side the lens lets through.
+    for (int axis = 0; axis < 2; ++axis) {
+      float shifted_weight = 0;
+      for (float eps : {0.05f, -0.05f}) {
+        CameraSample shifted = s;
+        (axis == 0 ? shifted.p_film.x : shifted.p_film.y) += eps;
+        Ray r;
+        shifted_weight = world_ray(shifted, &r);
+        Vec3 o = central.o + (r.o - central.o) / eps;
+        Vec3 d = central.d + (r.d - central.d) / eps;
+        (axis == 0 ? out->rx_o : out->ry_o) = o;
+        (axis == 0 ? out->rx_d : out->ry_d) = d;
+        if (shifted_weight != 0) break;
+      }
+      if (shifted_weight == 0) return 0;
+    }
+    out->has_differentials = true;
+    return weight;
+  }
   RayDifferential r;
   r.time = lerp(s.time, shutter_open_, shutter_close_);
   if (type_ == Type::kEnvironment) {
