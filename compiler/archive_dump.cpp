@@ -47,23 +47,34 @@ std::string quoted(std::string_view s) {
 
 std::string_view decl_type(Kind k) {
   switch (k) {
-    case Kind::kInt: return "integer";
+    case Kind::kInt:
+      return "integer";
     case Kind::kFloat:
-    case Kind::kFloatTex: return "float";
-    case Kind::kBool: return "bool";
-    case Kind::kString: return "string";
-    case Kind::kPoint2: return "point2";
-    case Kind::kVector2: return "vector2";
-    case Kind::kPoint3: return "point3";
-    case Kind::kVector3: return "vector3";
-    case Kind::kNormal3: return "normal";
-    default: return "rgb";
+    case Kind::kFloatTex:
+      return "float";
+    case Kind::kBool:
+      return "bool";
+    case Kind::kString:
+      return "string";
+    case Kind::kPoint2:
+      return "point2";
+    case Kind::kVector2:
+      return "vector2";
+    case Kind::kPoint3:
+      return "point3";
+    case Kind::kVector3:
+      return "vector3";
+    case Kind::kNormal3:
+      return "normal";
+    default:
+      return "rgb";
   }
 }
 
 class Dumper {
  public:
-  Dumper(const pbrta::SceneArchive& a, std::string outdir) : a_(a), outdir_(std::move(outdir)) {}
+  Dumper(const pbrta::SceneArchive& a, std::string outdir, DumpOptions options)
+      : a_(a), outdir_(std::move(outdir)), opts_(std::move(options)) {}
 
   // The given parameters of an entity, as a pbrt parameter list.
   bool params(uint32_t entity, std::string* out) {
@@ -73,8 +84,9 @@ class Dumper {
       const pbrta::ValueRecord& v = a_.values[e.first_value + p];
       const pbrta::ParamSpec& ps = ts.params[p];
       if (!(v.flags & pbrta::kValueGiven)) continue;
-      if (v.count == 0) continue;  // bulk mesh arrays: written from the mesh
+      if (v.count == 0) continue;                     // bulk mesh arrays: written from the mesh
       if (ps.flags & pbrta::kParamDerived) continue;  // re-derived from the file written below
+      if (skip_filename_ && ps.name == "filename") continue;  // a plymesh written inline
       std::string name(ps.name);
       if (v.texture != kNoIndex) {
         *out += " \"texture " + name + "\" \"tex" + std::to_string(v.texture) + "\"";
@@ -92,6 +104,13 @@ class Dumper {
             break;
           case pbrta::KindStore::kString:
             if (word == 0 && (ps.flags & pbrta::kParamFilename)) {
+              if (opts_.original_files && !(ts.name == "plymesh" && name == "filename")) {
+                std::string_view original = a_.path_of(entity);
+                if (!original.empty()) {
+                  vals += quoted(original);
+                  break;
+                }
+              }
               // File data must come from the archive: meshes, lens files and images.
               if (ts.name == "realistic" && name == "lensfile") {
                 if (!write_lens(entity, &vals)) return false;
@@ -225,9 +244,12 @@ class Dumper {
     times(ct);
     if (s.camera_medium != kNoIndex) o += "MediumInterface \"\" " + medium(s.camera_medium) + "\n";
     transform(ct, &o);
-    for (auto [entity, directive] :
-         {std::pair{s.camera, "Camera"}, {s.film, "Film"}, {s.filter, "PixelFilter"},
-          {s.sampler, "Sampler"}, {s.integrator, "Integrator"}, {s.accelerator, "Accelerator"}}) {
+    for (auto [entity, directive] : {std::pair{s.camera, "Camera"},
+                                     {s.film, "Film"},
+                                     {s.filter, "PixelFilter"},
+                                     {s.sampler, "Sampler"},
+                                     {s.integrator, "Integrator"},
+                                     {s.accelerator, "Accelerator"}}) {
       std::string p;
       if (!params(entity, &p)) return false;
       o += std::string(directive) + " \"" + std::string(a_.type_name(entity)) + "\"" + p + "\n";
@@ -277,8 +299,8 @@ class Dumper {
     for (uint32_t i = 0; i < a_.instances.size; ++i) {
       o += "AttributeBegin\n";
       transform(a_.transforms[a_.instances[i].transform], &o);
-      o += "ObjectInstance \"object" + std::to_string(a_.instances[i].object) +
-           "\"\nAttributeEnd\n";
+      o +=
+          "ObjectInstance \"object" + std::to_string(a_.instances[i].object) + "\"\nAttributeEnd\n";
     }
     o += "WorldEnd\n";
     return true;
@@ -366,15 +388,30 @@ class Dumper {
     transform(a_.transforms[sh.transform], &o);
     std::string p;
     uint32_t m = sh.mesh;
-    if (type == "plymesh") {
-      if (m == kNoIndex) {
-        error_ = "plymesh shape " + std::to_string(i) + " has no mesh";
-        return false;
-      }
-      ply_name_ = "meshes/mesh" + std::to_string(m) + ".ply";
-      if (!pbrta::write_ply(outdir_ + "/" + ply_name_, a_.mesh_arrays(m), &error_)) return false;
+    const bool is_mesh = type == "plymesh" || type == "trianglemesh";
+    const bool as_ply = is_mesh && (opts_.meshes == DumpMeshes::kAllPly ||
+                                    (type == "plymesh" && opts_.meshes == DumpMeshes::kAsCompiled));
+    if (is_mesh && m == kNoIndex) {
+      error_ = std::string(type) + " shape " + std::to_string(i) + " has no mesh";
+      return false;
     }
-    if (!params(sh.entity, &p)) return false;
+    if (as_ply) {
+      ply_name_ = opts_.mesh_prefix + std::to_string(m) + ".ply";
+      size_t slash = ply_name_.find_last_of('/');
+      if (slash != std::string::npos &&
+          !make_dir(outdir_ + "/" + ply_name_.substr(0, slash), &error_))
+        return false;
+      if (written_meshes_.insert(m).second &&
+          !pbrta::write_ply(outdir_ + "/" + ply_name_, a_.mesh_arrays(m), &error_))
+        return false;
+    }
+    skip_filename_ = is_mesh && !as_ply;
+    bool ok = params(sh.entity, &p);
+    skip_filename_ = false;
+    if (!ok) return false;
+    if (as_ply && type == "trianglemesh")
+      p = " \"string filename\" [" + quoted(ply_name_) + "]" + p;
+    if (is_mesh) type = as_ply ? "plymesh" : "trianglemesh";
     o += "Shape \"" + std::string(type) + "\"" + p;
     if (type == "trianglemesh") {
       const pbrta::MeshRecord& mr = a_.meshes[m];
@@ -411,8 +448,11 @@ class Dumper {
   std::string error_;
   std::string ply_name_;
   uint32_t mix_[2] = {kNoIndex, kNoIndex};
-  uint32_t image_ = kNoIndex;        // the image of the texture or light being written
+  uint32_t image_ = kNoIndex;          // the image of the texture or light being written
   std::set<uint32_t> written_images_;  // images shared by several users are written once
+  std::set<uint32_t> written_meshes_;  // instanced meshes likewise
+  DumpOptions opts_;
+  bool skip_filename_ = false;  // writing a plymesh's shape as an inline trianglemesh
 };
 
 }  // namespace
@@ -420,8 +460,8 @@ class Dumper {
 bool write_pfm(const std::string& path, const float* texels, uint32_t width, uint32_t height,
                uint32_t channels, std::string* error) {
   if (channels != 1 && channels != 3) {
-    *error = "cannot write '" + path + "': PFM holds 1 or 3 channels, not " +
-             std::to_string(channels);
+    *error =
+        "cannot write '" + path + "': PFM holds 1 or 3 channels, not " + std::to_string(channels);
     return false;
   }
   // A negative scale says little-endian; PFM stores the bottom row first.
@@ -447,15 +487,22 @@ bool write_pfm(const std::string& path, const float* texels, uint32_t width, uin
   return true;
 }
 
-bool dump_archive(const pbrta::SceneArchive& archive, const std::string& outdir,
-                  const std::string& scene_name, std::string* error) {
-  if (!make_dir(outdir, error) || !make_dir(outdir + "/meshes", error)) return false;
-  Dumper d(archive, outdir);
-  std::string text;
-  if (!d.run(&text)) {
+bool dump_archive_text(const pbrta::SceneArchive& archive, const std::string& outdir,
+                       const DumpOptions& options, std::string* text, std::string* error) {
+  Dumper d(archive, outdir, options);
+  text->clear();
+  if (!d.run(text)) {
     *error = d.error();
     return false;
   }
+  return true;
+}
+
+bool dump_archive(const pbrta::SceneArchive& archive, const std::string& outdir,
+                  const std::string& scene_name, std::string* error) {
+  if (!make_dir(outdir, error) || !make_dir(outdir + "/meshes", error)) return false;
+  std::string text;
+  if (!dump_archive_text(archive, outdir, DumpOptions(), &text, error)) return false;
   std::string path = outdir + "/" + scene_name;
   std::string tmp = path + ".tmp";
   {

@@ -2,6 +2,7 @@
 // pbrt book's (3rd ed., ch. 14 and 16.1 for specular differentials).
 #include "runtime/render/integrator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/core/sampling.h"
@@ -18,6 +19,8 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->type = IntegratorType::kDirectLighting;
   else if (type == "path")
     s->type = IntegratorType::kPath;
+  else if (type == "ambientocclusion")
+    s->type = IntegratorType::kAmbientOcclusion;
   else {
     *error = "not supported yet: " + std::string(type) + " integrator (" + a.where(e) + ")";
     return false;
@@ -39,6 +42,14 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->rr_threshold = a.get_float(e, "rrthreshold", 1);
     std::string_view ls = a.get_string(e, "lightsamplestrategy");
     s->light_strategy = ls.empty() ? "spatial" : std::string(ls);
+  }
+  if (s->type == IntegratorType::kAmbientOcclusion) {
+    s->cos_sample = a.get_int(e, "cossample", 1) != 0;
+    s->ao_samples = a.get_int(e, "nsamples", 64);
+    if (s->ao_samples < 1) {
+      *error = a.where(e) + ": error: ambientocclusion \"nsamples\" must be at least 1";
+      return false;
+    }
   }
   const pbrta::ValueRecord* pb = a.value(e, "pixelbounds");
   if (pb && (pb->flags & pbrta::kValueGiven) && pb->count == 4) {
@@ -305,7 +316,49 @@ struct Kernels {
     return l;
   }
 
+  // pbrt-v3's AOIntegrator: the unoccluded fraction of the hemisphere about
+  // the geometric normal (facing the ray), cosine-weighted, times pi: an
+  // open plane gives pi. The frame is (dpdu, n x dpdu, n) as pbrt-v3's, so
+  // the same samples make the same rays.
+  static Rgb li_ambient_occlusion(const Self& I, const RayDifferential& camera_ray,
+                                  Sampler& sampler, RayCounters* c) {
+    RayDifferential ray = camera_ray;
+    SurfaceInteraction si;
+    Bsdf bsdf;
+    for (;;) {
+      if (!intersect(I, ray, &si, c)) return Rgb();
+      if (bsdf_at(I, &si, ray, true, &bsdf)) break;
+      ray = RayDifferential(si.spawn_ray(ray.d));  // interface material: not a surface
+    }
+    Vec3 n = face_forward(si.n, -ray.d);
+    Vec3 s = normalize(si.dpdu);
+    Vec3 t = cross(si.n, s);
+    const int ns = I.ao_samples_;
+    const Vec2* u = sampler.get_2d_array(ns);
+    float sum = 0;
+    for (int i = 0; i < ns; ++i) {
+      Vec2 ui = u ? u[i] : sampler.get_2d();
+      Vec3 w;
+      float pdf;
+      if (I.settings_.cos_sample) {
+        w = cosine_sample_hemisphere(ui);
+        pdf = cosine_hemisphere_pdf(std::abs(w.z));
+      } else {
+        w = uniform_sample_hemisphere(ui);
+        pdf = uniform_hemisphere_pdf();
+      }
+      // A sample on the disk's rim gives a grazing ray of pdf 0 (0/0 in pbrt-v3,
+      // which then drops the whole camera sample as not-a-number); it adds nothing.
+      if (pdf == 0) continue;
+      Vec3 wi = s * w.x + t * w.y + n * w.z;
+      ++c->shadow_rays;
+      if (!I.scene_->geometry.occluded(si.spawn_ray(wi))) sum += dot(wi, n) / (pdf * ns);
+    }
+    return Rgb(sum);
+  }
+
   static Integrator::Kernel pick(IntegratorType t) {
+    if (t == IntegratorType::kAmbientOcclusion) return &li_ambient_occlusion;
     return t == IntegratorType::kPath ? &li_path : &li_whitted_or_direct;
   }
 };
@@ -333,10 +386,16 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
 
 void Integrator::preprocess(Sampler* sampler) {
   light_samples_.clear();
+  if (settings_.type == IntegratorType::kAmbientOcclusion) {
+    ao_samples_ = sampler->round_count(settings_.ao_samples);
+    sampler->request_2d_array(ao_samples_);
+    return;
+  }
   if (settings_.type != IntegratorType::kDirectLighting || !settings_.sample_all_lights) return;
   const LightSet& lights = scene_->lights;
   for (uint32_t j = 0; j < lights.count(); ++j)
-    light_samples_.push_back(sampler->round_count(lights.nsamples(j)));
+    light_samples_.push_back(sampler->round_count(
+        std::max(1, lights.nsamples(j) / std::max(1, settings_.light_nsamples_divisor))));
   for (int d = 0; d < settings_.max_depth; ++d)
     for (uint32_t j = 0; j < lights.count(); ++j) {
       sampler->request_2d_array(light_samples_[j]);

@@ -1,4 +1,5 @@
-// runtime/render/integrator.h — pbrt-v3's whitted, directlighting and path integrators.
+// runtime/render/integrator.h — pbrt-v3's whitted, directlighting, path and
+// ambientocclusion integrators.
 //
 // An Integrator computes the radiance along one camera ray. Its kernel is a
 // template instantiated for the effects the archive says the scene has
@@ -20,7 +21,7 @@
 
 namespace rt {
 
-enum class IntegratorType : uint8_t { kWhitted, kDirectLighting, kPath };
+enum class IntegratorType : uint8_t { kWhitted, kDirectLighting, kPath, kAmbientOcclusion };
 
 struct IntegratorSettings {
   IntegratorType type = IntegratorType::kPath;
@@ -28,8 +29,13 @@ struct IntegratorSettings {
   bool sample_all_lights = true;  // directlighting strategy "all" (else "one")
   float rr_threshold = 1;
   std::string light_strategy = "spatial";
+  // ambientocclusion: cosine-weighted (else uniform) hemisphere rays, and how many.
+  bool cos_sample = true;
+  int ao_samples = 64;
   bool has_pixel_bounds = false;
   Bounds2i pixel_bounds;
+  // Lights' "nsamples" are divided by this (at least 1 left): pbrt-v3's --quick uses 4.
+  int light_nsamples_divisor = 1;
 };
 
 // Reads the scene's integrator; "not supported yet: <type> integrator (file:line)"
@@ -61,6 +67,7 @@ class Integrator {
   IntegratorSettings settings_;
   LightDistribution distribution_;
   std::vector<int> light_samples_;  // per light, rounded by the sampler (strategy "all")
+  int ao_samples_ = 0;              // ambientocclusion's, rounded by the sampler
   Kernel kernel_ = nullptr;
 };
 

@@ -22,13 +22,7 @@
 #include <vector>
 
 #include "format/scene_archive.h"
-#include "runtime/film/film.h"
-#include "runtime/render/camera.h"
-#include "runtime/render/effects.h"
-#include "runtime/render/integrator.h"
-#include "runtime/render/render_scene.h"
-#include "runtime/render/renderer.h"
-#include "runtime/sampler/sampler.h"
+#include "runtime/render/render_job.h"
 
 namespace {
 
@@ -87,80 +81,23 @@ int main(int argc, char** argv) {
   if (!archive.load(input, threads, &error)) return fail("error: " + error);
   double t_archive = seconds_since(t_start);
 
-  rt::FilmOptions film_options;
-  film_options.resdiv = resdiv;
+  rt::RenderJobOptions job;
+  job.outfile = outfile;
+  job.preview = preview;
+  job.spp = spp;
+  job.resdiv = resdiv;
   if (!crop.empty()) {
-    film_options.has_crop = true;
-    for (int i = 0; i < 4; ++i) film_options.crop[i] = crop[i];
+    job.has_crop = true;
+    for (int i = 0; i < 4; ++i) job.crop[i] = crop[i];
   }
-  rt::Film film;
-  if (!film.build(archive, film_options, &error)) return fail(error);
-  std::string out = outfile.empty() ? film.filename() : outfile;
-  if (out.empty()) out = "pbrt.exr";
-  if (!rt::check_output_path(out, &error)) return fail("error: " + error, 2);
-  if (!preview.empty() && !rt::check_output_path(preview, &error))
-    return fail("error: " + error, 2);
-
-  rt::Camera camera;
-  if (!camera.build(archive, film.full_resolution(), &error)) return fail(error);
-  rt::IntegratorSettings settings;
-  if (!rt::read_integrator(archive, &settings, &error)) return fail(error);
-
-  auto t_build = std::chrono::steady_clock::now();
-  rt::RenderScene scene;
-  std::string warnings;
-  if (!rt::load_render_scene(archive, &scene, &warnings, &error)) return fail(error);
-  if ((scene.effects & pbrta::kEffectMedia) && !quiet)
-    std::cerr << "Warning: Scene has scattering media but \""
-              << archive.type_name(archive.scene().integrator)
-              << "\" integrator doesn't support volume scattering. Consider using \"volpath\", "
-                 "\"bdpt\", or \"mlt\".\n";
-  if (!warnings.empty() && !quiet) std::cerr << warnings;
-
-  std::unique_ptr<rt::Sampler> sampler =
-      rt::make_sampler(archive, spp, seed, film.sample_bounds(), &error);
-  if (!sampler) return fail(error);
-  rt::Integrator integrator;
-  if (!integrator.init(scene, settings, &error)) return fail(error);
-  integrator.preprocess(sampler.get());
-  double t_built = seconds_since(t_build);
-  double t_to_render = seconds_since(t_start);
-
-  rt::RenderOptions ro;
-  ro.quiet = quiet;
-  rt::RenderStats rs = rt::render(camera, *sampler, integrator, &film, ro);
-
-  if (!film.write(out, &error)) return fail("error: " + error);
-  if (!preview.empty() && !film.write(preview, &error)) return fail("error: " + error);
-  if (rs.nonfinite_samples > 0)
-    std::cerr << "pbrtrun: " << rs.nonfinite_samples
-              << " samples had NaN or infinite radiance; they were counted as black\n";
-  if (show_stats) {
-    const rt::GeometryStats& gs = scene.geometry.stats();
-    std::fprintf(stderr,
-                 "pbrtrun statistics for %s\n"
-                 "  effects simulated      %s\n"
-                 "  integrator             %s (maxdepth %d)\n"
-                 "  samples per pixel      %lld\n"
-                 "  shapes                 %u triangles, %u quadrics, %u instances (%u meshes "
-                 "copied)\n"
-                 "  load archive           %.3f s\n"
-                 "  build scene            %.3f s (Embree %.3f s, %.1f MiB)\n"
-                 "  time to first pixels   %.3f s\n"
-                 "  render                 %.3f s (%.3g samples/s)\n"
-                 "  rays                   %llu camera, %llu intersection, %llu shadow\n"
-                 "  non-finite samples     %llu\n"
-                 "  threads                %d\n"
-                 "  peak memory            %.1f MiB\n",
-                 input.c_str(), rt::effect_names(scene.effects).c_str(),
-                 std::string(archive.type_name(archive.scene().integrator)).c_str(),
-                 settings.max_depth, (long long)sampler->samples_per_pixel(), gs.triangles,
-                 gs.quadrics, gs.instances, gs.copied_meshes, t_archive, t_built, gs.build_seconds,
-                 double(gs.embree_bytes) / (1 << 20), t_to_render + rs.first_tile_seconds,
-                 rs.seconds, rs.seconds > 0 ? double(rs.samples) / rs.seconds : 0.0,
-                 (unsigned long long)rs.camera_rays, (unsigned long long)rs.rays,
-                 (unsigned long long)rs.shadow_rays, (unsigned long long)rs.nonfinite_samples,
-                 threads, peak_memory_mib());
-  }
+  job.seed = seed;
+  job.quiet = quiet;
+  rt::RenderJobResult result;
+  if (!rt::render_archive(archive, job, &result, &error))
+    return fail(error, result.bad_output ? 2 : 1);
+  if (show_stats)
+    std::fputs(
+        rt::format_render_stats(input, result, t_archive, threads, peak_memory_mib()).c_str(),
+        stderr);
   return 0;
 }

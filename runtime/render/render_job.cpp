@@ -1,0 +1,123 @@
+#include "runtime/render/render_job.h"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "runtime/film/film.h"
+#include "runtime/film/image_io.h"
+#include "runtime/render/camera.h"
+#include "runtime/render/effects.h"
+#include "runtime/render/integrator.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& options,
+                    RenderJobResult* result, std::string* error) {
+  auto t_start = std::chrono::steady_clock::now();
+  FilmOptions film_options;
+  film_options.resdiv = options.resdiv;
+  if (options.has_crop) {
+    film_options.has_crop = true;
+    for (int i = 0; i < 4; ++i) film_options.crop[i] = options.crop[i];
+  }
+  Film film;
+  if (!film.build(archive, film_options, error)) return false;
+  std::string out = options.outfile.empty() ? film.filename() : options.outfile;
+  if (out.empty()) out = "pbrt.exr";
+  result->outfile = out;
+  for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
+    if (path->empty() || check_output_path(*path, error)) continue;
+    *error = "error: " + *error;
+    result->bad_output = true;
+    return false;
+  }
+
+  Camera camera;
+  if (!camera.build(archive, film.full_resolution(), error)) return false;
+  IntegratorSettings settings;
+  if (!read_integrator(archive, &settings, error)) return false;
+  settings.light_nsamples_divisor = options.light_nsamples_divisor;
+
+  auto t_build = std::chrono::steady_clock::now();
+  RenderScene scene;
+  std::string warnings;
+  if (!load_render_scene(archive, &scene, &warnings, error)) return false;
+  result->integrator = std::string(archive.type_name(archive.scene().integrator));
+  if ((scene.effects & pbrta::kEffectMedia) && !options.quiet)
+    std::cerr << "Warning: Scene has scattering media but \"" << result->integrator
+              << "\" integrator doesn't support volume scattering. Consider using \"volpath\", "
+                 "\"bdpt\", or \"mlt\".\n";
+  if (!warnings.empty() && !options.quiet) std::cerr << warnings;
+
+  std::unique_ptr<Sampler> sampler =
+      make_sampler(archive, options.spp, options.seed, film.sample_bounds(), error);
+  if (!sampler) return false;
+  Integrator integrator;
+  if (!integrator.init(scene, settings, error)) return false;
+  integrator.preprocess(sampler.get());
+  result->build_seconds = seconds_since(t_build);
+  result->setup_seconds = seconds_since(t_start);
+
+  RenderOptions ro;
+  ro.quiet = options.quiet;
+  result->render = render(camera, *sampler, integrator, &film, ro);
+
+  for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
+    if (path->empty() || film.write(*path, error)) continue;
+    *error = "error: " + *error;
+    return false;
+  }
+  if (result->render.nonfinite_samples > 0)
+    std::cerr << options.program << ": " << result->render.nonfinite_samples
+              << " samples had NaN or infinite radiance; they were counted as black\n";
+  result->effects = effect_names(scene.effects);
+  result->max_depth = settings.max_depth;
+  result->samples_per_pixel = (long long)sampler->samples_per_pixel();
+  result->geometry = scene.geometry.stats();
+  return true;
+}
+
+std::string format_render_stats(const std::string& input, const RenderJobResult& r,
+                                double archive_seconds, int threads, double peak_memory_mib) {
+  const GeometryStats& gs = r.geometry;
+  const RenderStats& rs = r.render;
+  char buf[2048];
+  std::snprintf(
+      buf, sizeof buf,
+      "pbrtrun statistics for %s\n"
+      "  effects simulated      %s\n"
+      "  integrator             %s (maxdepth %d)\n"
+      "  samples per pixel      %lld\n"
+      "  shapes                 %u triangles, %u quadrics, %u instances (%u meshes "
+      "copied)\n"
+      "  load archive           %.3f s\n"
+      "  build scene            %.3f s (Embree %.3f s, %.1f MiB)\n"
+      "  time to first pixels   %.3f s\n"
+      "  render                 %.3f s (%.3g samples/s)\n"
+      "  rays                   %llu camera, %llu intersection, %llu shadow\n"
+      "  non-finite samples     %llu\n"
+      "  threads                %d\n"
+      "  peak memory            %.1f MiB\n",
+      input.c_str(), r.effects.c_str(), r.integrator.c_str(), r.max_depth, r.samples_per_pixel,
+      gs.triangles, gs.quadrics, gs.instances, gs.copied_meshes, archive_seconds, r.build_seconds,
+      gs.build_seconds, double(gs.embree_bytes) / (1 << 20),
+      archive_seconds + r.setup_seconds + rs.first_tile_seconds, rs.seconds,
+      rs.seconds > 0 ? double(rs.samples) / rs.seconds : 0.0, (unsigned long long)rs.camera_rays,
+      (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
+      (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
+  return buf;
+}
+
+}  // namespace rt
