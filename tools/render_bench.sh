@@ -29,7 +29,7 @@ echo "|---|---|---|---|---|---|---|"
 while read -r entry ref spp resdiv ci; do
   case "$entry" in ''|'#'*) continue ;; esac
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
-  pbrt_rate="$(awk -F'|' -v e="$entry" '$2 ~ e {gsub(/ /,"",$10); print $10; exit}' "$shared/refs/README.md")"
+  pbrt_rate="$(awk -F'|' -v e="$entry" '$2 ~ e {gsub(/ /,"",$9); print $9; exit}' "$shared/refs/README.md")"
   if ! "$build/pbrtc" -q "$shared/scenes/$entry" -o "$out/s.pbrta" 2>/dev/null; then
     echo "| $entry | $spp | - | compile failed | $pbrt_rate | | |"
     continue
