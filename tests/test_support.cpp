@@ -1,5 +1,7 @@
 #include "test_support.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -37,6 +39,10 @@ std::vector<std::string> shared_entry_scenes() {
 
 std::string scratch_dir(const std::string& test_name) {
   fs::path p = fs::path(PBRTC_BINARY_DIR) / "test-scratch" / test_name;
+  // CTest runs each test case as its own process, in parallel: fixtures that
+  // share a name must not empty each other's folders.
+  if (const ::testing::TestInfo* t = ::testing::UnitTest::GetInstance()->current_test_info())
+    p /= std::string(t->test_suite_name()) + "." + t->name();
   std::error_code ec;
   fs::remove_all(p, ec);
   fs::create_directories(p);
