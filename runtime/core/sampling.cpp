@@ -55,13 +55,43 @@ Distribution1D::Distribution1D(const float* f, int n) : func_(f, f + n), cdf_(n 
   } else {
     for (int i = 1; i <= n; ++i) cdf_[i] /= integral_;
   }
+  // guide_[j]: how many cdf entries are <= j / n (what upper_bound returns).
+  // Only for a finite, hence sorted, cdf.
+  if (!std::isfinite(integral_)) return;
+  guide_.resize(size_t(n) + 1);
+  int i = 0;
+  for (int j = 0; j <= n; ++j) {
+    float t = float(j) / float(n);
+    while (i <= n && cdf_[i] <= t) ++i;
+    guide_[j] = i;
+  }
 }
 
+namespace {
+
+// The last i with cdf[i] <= u, clamped to a valid bucket.
+int cdf_interval(const float* cdf, int n, float u) {
+  const float* it = std::upper_bound(cdf, cdf + n + 1, u);
+  return clamp(int(it - cdf) - 1, 0, n - 1);
+}
+
+}  // namespace
+
 int Distribution1D::find_interval(float u) const {
-  // The last i with cdf[i] <= u, clamped to a valid bucket.
-  auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-  int i = int(it - cdf_.begin()) - 1;
-  return clamp(i, 0, int(func_.size()) - 1);
+  const int n = count();
+  const float* cdf = cdf_.data();
+  if (n > 8 && !guide_.empty() && u >= 0 && u < 1) {
+    int j = std::min(int(u * float(n)), n - 1);
+    int lo = guide_[j], hi = guide_[j + 1];
+    // The answer (the count of entries <= u) lies in [lo, hi] when cdf[lo-1]
+    // <= u < cdf[hi]; float rounding of u * n could break that at a cutpoint,
+    // so check and fall back to the full search.
+    if ((lo == 0 || cdf[lo - 1] <= u) && (hi > n || cdf[hi] > u)) {
+      const float* it = std::upper_bound(cdf + lo, cdf + std::min(hi, n + 1), u);
+      return clamp(int(it - cdf) - 1, 0, n - 1);
+    }
+  }
+  return cdf_interval(cdf, n, u);
 }
 
 float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const {
@@ -73,13 +103,25 @@ float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const 
   return (i + du) / count();
 }
 
+void Distribution1D::discrete_result(const float* func, const float* cdf, int n, float integral,
+                                     int i, float u, float* pmf, float* remapped) {
+  if (pmf) *pmf = integral > 0 ? func[i] / (integral * n) : 0;
+  if (remapped) {
+    float w = cdf[i + 1] - cdf[i];
+    *remapped = w > 0 ? std::min((u - cdf[i]) / w, kOneMinusEpsilon) : 0;
+  }
+}
+
+int Distribution1D::sample_discrete(const float* func, const float* cdf, int n, float integral,
+                                    float u, float* pmf, float* remapped) {
+  int i = cdf_interval(cdf, n, u);
+  discrete_result(func, cdf, n, integral, i, u, pmf, remapped);
+  return i;
+}
+
 int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const {
   int i = find_interval(u);
-  if (pmf) *pmf = discrete_pdf(i);
-  if (remapped) {
-    float w = cdf_[i + 1] - cdf_[i];
-    *remapped = w > 0 ? std::min((u - cdf_[i]) / w, kOneMinusEpsilon) : 0;
-  }
+  discrete_result(func_.data(), cdf_.data(), count(), integral_, i, u, pmf, remapped);
   return i;
 }
 

@@ -47,6 +47,11 @@ inline float balance_heuristic(int nf, float f_pdf, int ng, float g_pdf) {
   return (nf * f_pdf) / (nf * f_pdf + ng * g_pdf);
 }
 
+// find_interval() starts from a guide table (the cutpoint method): guide_[j]
+// is the search result at u = j/n, so a lookup searches only the entries
+// between two neighbouring cutpoints instead of the whole cdf (large
+// environment-map tables otherwise miss the cache at every step). The result
+// is checked against the cdf and is the same as a full binary search.
 class Distribution1D {
  public:
   Distribution1D() = default;
@@ -59,10 +64,20 @@ class Distribution1D {
   // A bucket, with probability value / sum; *remapped is u rescaled within it.
   int sample_discrete(float u, float* pmf = nullptr, float* remapped = nullptr) const;
   float discrete_pdf(int i) const;
+  // The same choice made from a copy of func (n values), cdf (n + 1) and the
+  // integral, so a flat copy kept elsewhere samples identically.
+  static int sample_discrete(const float* func, const float* cdf, int n, float integral, float u,
+                             float* pmf, float* remapped);
+  const float* func_data() const { return func_.data(); }
+  const float* cdf_data() const { return cdf_.data(); }
 
  private:
   int find_interval(float u) const;
+  // sample_discrete's pmf and remapped u once the bucket i is known.
+  static void discrete_result(const float* func, const float* cdf, int n, float integral, int i,
+                              float u, float* pmf, float* remapped);
   std::vector<float> func_, cdf_;
+  std::vector<int> guide_;  // n + 1 cutpoints
   float integral_ = 0;
 };
 

@@ -121,15 +121,6 @@ bool Transform::has_scale() const {
   return not_one(len2({1, 0, 0})) || not_one(len2({0, 1, 0})) || not_one(len2({0, 0, 1}));
 }
 
-Vec3 Transform::point(Vec3 p) const {
-  const auto& m = m_.m;
-  float x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
-  float y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
-  float z = m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3];
-  float w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
-  return w == 1 ? Vec3{x, y, z} : Vec3{x, y, z} / w;
-}
-
 Vec3 Transform::point(Vec3 p, Vec3* err) const {
   const auto& m = m_.m;
   Vec3 r = point(p);
@@ -154,26 +145,12 @@ Vec3 Transform::point(Vec3 p, Vec3 pe, Vec3* err) const {
   return r;
 }
 
-Vec3 Transform::vector(Vec3 v) const {
-  const auto& m = m_.m;
-  return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
-          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
-}
-
 Vec3 Transform::vector(Vec3 v, Vec3* err) const {
   const auto& m = m_.m;
   for (int i = 0; i < 3; ++i)
     (*err)[i] = gamma_bound(3) *
                 (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) + std::fabs(m[i][2] * v.z));
   return vector(v);
-}
-
-Vec3 Transform::normal(Vec3 n) const {
-  const auto& i = inv_.m;
-  return {i[0][0] * n.x + i[1][0] * n.y + i[2][0] * n.z,
-          i[0][1] * n.x + i[1][1] * n.y + i[2][1] * n.z,
-          i[0][2] * n.x + i[1][2] * n.y + i[2][2] * n.z};
 }
 
 Bounds3 Transform::bounds(const Bounds3& b) const {

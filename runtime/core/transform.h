@@ -43,6 +43,7 @@ class Transform {
   // The upper 3x3 is not a rotation (lengths change).
   bool has_scale() const;
 
+  // Defined inline below: they run several times per ray hit.
   Vec3 point(Vec3 p) const;
   // p transformed, and the absolute error bound of the result in *err.
   Vec3 point(Vec3 p, Vec3* err) const;
@@ -60,6 +61,29 @@ class Transform {
   Matrix4 m_, inv_;
   bool invertible_ = true;
 };
+
+inline Vec3 Transform::point(Vec3 p) const {
+  const auto& m = m_.m;
+  float x = m[0][0] * p.x + m[0][1] * p.y + m[0][2] * p.z + m[0][3];
+  float y = m[1][0] * p.x + m[1][1] * p.y + m[1][2] * p.z + m[1][3];
+  float z = m[2][0] * p.x + m[2][1] * p.y + m[2][2] * p.z + m[2][3];
+  float w = m[3][0] * p.x + m[3][1] * p.y + m[3][2] * p.z + m[3][3];
+  return w == 1 ? Vec3{x, y, z} : Vec3{x, y, z} / w;
+}
+
+inline Vec3 Transform::vector(Vec3 v) const {
+  const auto& m = m_.m;
+  return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
+          m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+          m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+}
+
+inline Vec3 Transform::normal(Vec3 n) const {
+  const auto& i = inv_.m;
+  return {i[0][0] * n.x + i[1][0] * n.y + i[2][0] * n.z,
+          i[0][1] * n.x + i[1][1] * n.y + i[2][1] * n.z,
+          i[0][2] * n.x + i[1][2] * n.y + i[2][2] * n.z};
+}
 
 Transform translate(Vec3 d);
 Transform scale(float x, float y, float z);

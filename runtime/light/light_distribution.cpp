@@ -1,8 +1,10 @@
 // runtime/light/light_distribution.cpp — see light_distribution.h.
 #include "runtime/light/light_distribution.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace rt {
@@ -11,6 +13,16 @@ namespace {
 
 constexpr int kMaxVoxels = 64;
 constexpr int kVoxelSamples = 128;
+// Flat records: a state word, the integral, n values and n + 1 cdf entries,
+// padded to a power of two of at most 16 words (64 bytes, one cache line).
+constexpr int kFlatLights = 6;
+constexpr int kFlatEmpty = 0, kFlatWriting = 1, kFlatReady = 2;
+
+int flat_stride(int n) {
+  int words = 2 * n + 3, stride = 1;
+  while (stride < words) stride *= 2;
+  return stride;
+}
 
 // The radical inverse of i in a prime base (van der Corput), as pbrt-v3
 // computes it: the reversed digits scaled by base^-digits, below 1.
@@ -40,6 +52,19 @@ struct LightDistribution::VoxelCache {
   size_t size;
 };
 
+struct LightDistribution::FlatTable {
+  FlatTable(size_t voxels, int lights)
+      : n(lights), stride(size_t(flat_stride(lights))), words(voxels * stride + 16, 0u) {
+    // Start on a 64-byte boundary so no record straddles two cache lines.
+    uintptr_t at = reinterpret_cast<uintptr_t>(words.data());
+    base = words.data() + ((64 - at % 64) % 64) / sizeof(uint32_t);
+  }
+  int n;
+  size_t stride;
+  std::vector<uint32_t> words;
+  uint32_t* base;
+};
+
 bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bounds,
                               std::string_view strategy, std::string* error) {
   lights_ = &lights;
@@ -47,6 +72,7 @@ bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bound
   spatial_ = false;
   nvoxels_ = {1, 1, 1};
   cache_.reset();
+  flat_.reset();
   uint32_t n = lights.count();
   if (strategy == "uniform" || (strategy == "spatial" && n <= 1)) {
     // One light needs no grid: every voxel would give it probability 1.
@@ -70,25 +96,58 @@ bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bound
   float bmax = diag[max_dimension(diag)];
   for (int i = 0; i < 3; ++i)
     nvoxels_[i] = bmax > 0 ? std::max(1, int(std::round(diag[i] / bmax * kMaxVoxels))) : 1;
-  cache_ = std::make_shared<VoxelCache>(size_t(nvoxels_[0]) * nvoxels_[1] * nvoxels_[2]);
+  const size_t voxels = size_t(nvoxels_[0]) * nvoxels_[1] * nvoxels_[2];
+  cache_ = std::make_shared<VoxelCache>(voxels);
+  if (n <= uint32_t(kFlatLights)) flat_ = std::make_shared<FlatTable>(voxels, int(n));
   return true;
+}
+
+size_t LightDistribution::voxel_index(Vec3 p) const {
+  Vec3 o = bounds_.offset(p);
+  int v[3];
+  for (int i = 0; i < 3; ++i) v[i] = clamp(int(o[i] * nvoxels_[i]), 0, nvoxels_[i] - 1);
+  return (size_t(v[2]) * nvoxels_[1] + v[1]) * nvoxels_[0] + v[0];
 }
 
 const Distribution1D& LightDistribution::lookup(Vec3 p) const {
   if (!spatial_) return single_;
-  Vec3 o = bounds_.offset(p);
-  int v[3];
-  for (int i = 0; i < 3; ++i) v[i] = clamp(int(o[i] * nvoxels_[i]), 0, nvoxels_[i] - 1);
-  return voxel_distribution(v[0], v[1], v[2]);
+  return voxel_distribution(voxel_index(p));
 }
 
-const Distribution1D& LightDistribution::voxel_distribution(int x, int y, int z) const {
-  std::atomic<const Distribution1D*>& slot =
-      cache_->slots[(size_t(z) * nvoxels_[1] + y) * nvoxels_[0] + x];
+int LightDistribution::sample(Vec3 p, float u, float* pmf) const {
+  if (!spatial_) return single_.sample_discrete(u, pmf);
+  const size_t index = voxel_index(p);
+  if (!flat_) return voxel_distribution(index).sample_discrete(u, pmf);
+  uint32_t* rec = flat_->base + index * flat_->stride;
+  const int n = flat_->n;
+  if (__atomic_load_n(rec, __ATOMIC_ACQUIRE) == kFlatReady) {
+    float f[2 * kFlatLights + 2];  // integral, func, cdf
+    std::memcpy(f, rec + 1, sizeof(float) * size_t(2 * n + 2));
+    return Distribution1D::sample_discrete(f + 1, f + 1 + n, n, f[0], u, pmf, nullptr);
+  }
+  const Distribution1D& d = voxel_distribution(index);
+  // The first thread here copies the distribution into the flat record; the
+  // others (rarely: only while it writes) use the distribution itself.
+  uint32_t expected = kFlatEmpty;
+  if (__atomic_compare_exchange_n(rec, &expected, uint32_t(kFlatWriting), false, __ATOMIC_ACQUIRE,
+                                  __ATOMIC_RELAXED)) {
+    float integral = d.integral();
+    std::memcpy(rec + 1, &integral, sizeof(float));
+    std::memcpy(rec + 2, d.func_data(), sizeof(float) * size_t(n));
+    std::memcpy(rec + 2 + n, d.cdf_data(), sizeof(float) * size_t(n + 1));
+    __atomic_store_n(rec, uint32_t(kFlatReady), __ATOMIC_RELEASE);
+  }
+  return d.sample_discrete(u, pmf);
+}
+
+const Distribution1D& LightDistribution::voxel_distribution(size_t index) const {
+  std::atomic<const Distribution1D*>& slot = cache_->slots[index];
   if (const Distribution1D* d = slot.load(std::memory_order_acquire)) return *d;
 
   // The voxel's box, as pbrt-v3 computes it from the grid fractions.
-  int v[3] = {x, y, z};
+  int v[3] = {int(index % size_t(nvoxels_[0])),
+              int(index / size_t(nvoxels_[0]) % size_t(nvoxels_[1])),
+              int(index / (size_t(nvoxels_[0]) * size_t(nvoxels_[1])))};
   Vec3 lo, hi;
   for (int i = 0; i < 3; ++i) {
     float t0 = float(v[i]) / float(nvoxels_[i]), t1 = float(v[i] + 1) / float(nvoxels_[i]);

@@ -147,14 +147,14 @@ struct Kernels {
   }
 
   static Rgb sample_one_light(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
-                              Sampler& sampler, const Distribution1D* distribution,
+                              Sampler& sampler, const LightDistribution* distribution,
                               RayCounters* c) {
     uint32_t n = I.scene_->lights.count();
     if (n == 0) return Rgb();
     uint32_t light;
     float light_pmf;
     if (distribution) {
-      light = uint32_t(distribution->sample_discrete(sampler.get_1d(), &light_pmf));
+      light = uint32_t(distribution->sample(it.p, sampler.get_1d(), &light_pmf));
       if (light_pmf == 0) return Rgb();
     } else {
       light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
@@ -291,8 +291,7 @@ struct Kernels {
         continue;
       }
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
-        const Distribution1D& d = I.distribution_.lookup(si.p);
-        l += beta * sample_one_light(I, si, bsdf, sampler, &d, c);
+        l += beta * sample_one_light(I, si, bsdf, sampler, &I.distribution_, c);
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;

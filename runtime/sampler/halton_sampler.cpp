@@ -82,7 +82,25 @@ class HaltonSampler final : public GlobalSampler {
  protected:
   int64_t index_for_sample(int64_t n) override { return pixel_offset_ + n * stride_; }
 
-  float sample_dimension(int64_t index, int dim) const override {
+  float sample_dimension(int64_t index, int dim) const override { return value(index, dim); }
+
+ public:
+  // GlobalSampler's bookkeeping, with the sequence values computed without a
+  // virtual call (these run for every dimension of every sample).
+  float get_1d() override {
+    if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
+    return value(interval_index_, dimension_++);
+  }
+  Vec2 get_2d() override {
+    if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_)
+      dimension_ = array_end_dim_;
+    Vec2 p{value(interval_index_, dimension_), value(interval_index_, dimension_ + 1)};
+    dimension_ += 2;
+    return p;
+  }
+
+ private:
+  float value(int64_t index, int dim) const {
     if (center_ && dim < 2) return 0.5f;
     double v;
     if (dim == 0)
@@ -90,8 +108,7 @@ class HaltonSampler final : public GlobalSampler {
     else if (dim == 1)
       v = radical_inverse(3, uint64_t(index) / uint64_t(base_scales_[1]));
     else if (dim < kHaltonDimensions)
-      v = scrambled_radical_inverse(halton_prime(dim), uint64_t(index),
-                                    permutations_->for_dimension(dim));
+      v = permutations_->scrambled(dim, uint64_t(index));
     else
       return hashed_uniform(seed_, pixel_, uint64_t(index), uint64_t(dim));
     return std::min(float(v), kOneMinusEpsilon);

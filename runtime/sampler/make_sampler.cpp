@@ -28,9 +28,9 @@ void split_stratified(int n, int* x, int* y) {
 
 std::unique_ptr<Sampler> make_sampler(const pbrta::SceneArchive& archive, int spp_override,
                                       uint64_t seed, const Bounds2i& sample_bounds,
-                                      std::string* error) {
+                                      std::string* error, std::string_view type_override) {
   const uint32_t entity = archive.scene().sampler;
-  const std::string type(archive.type_name(entity));
+  const std::string type(type_override.empty() ? archive.type_name(entity) : type_override);
   const std::string where = archive.where(entity);
   auto count = [&](int64_t* spp) {
     *spp = spp_override > 0 ? spp_override : archive.get_int(entity, "pixelsamples", 16);

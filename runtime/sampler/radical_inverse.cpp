@@ -32,6 +32,40 @@ uint32_t halton_prime(int d) {
   return primes()[size_t(d)];
 }
 
+namespace {
+
+// The generic loop with the base known at compile time, so the division
+// becomes a multiplication; the same operations, so the same result.
+template <uint32_t kBase>
+double radical_inverse_in(uint64_t a) {
+  const double inv_base = 1.0 / kBase;
+  uint64_t reversed = 0;
+  double inv_base_n = 1;
+  while (a > 0xffffffffull) {
+    uint64_t next = a / kBase;
+    reversed = reversed * kBase + (a - next * kBase);
+    inv_base_n *= inv_base;
+    a = next;
+  }
+  // The rest in 32 bits, where the division by a constant is cheaper.
+  for (uint32_t a32 = uint32_t(a); a32;) {
+    uint32_t next = a32 / kBase;
+    reversed = reversed * kBase + (a32 - next * kBase);
+    inv_base_n *= inv_base;
+    a32 = next;
+  }
+  return double(reversed) * inv_base_n;
+}
+
+// Bases up to this have a table of digit pairs (61^2 entries fit in 16 bits).
+constexpr uint32_t kMaxPairBase = 61;
+
+inline uint32_t div_by_reciprocal(uint64_t recip, uint32_t a) {
+  return uint32_t((static_cast<unsigned __int128>(recip) * a) >> 64);
+}
+
+}  // namespace
+
 double radical_inverse(uint32_t base, uint64_t a) {
   if (base == 2) {
     // Mirroring binary digits is a bit reversal.
@@ -44,6 +78,7 @@ double radical_inverse(uint32_t base, uint64_t a) {
     r = (r >> 32) | (r << 32);
     return double(r) * 0x1p-64;
   }
+  if (base == 3) return radical_inverse_in<3>(a);  // Halton's second dimension
   const double inv_base = 1.0 / base;
   uint64_t reversed = 0;
   double inv_base_n = 1;
@@ -94,6 +129,76 @@ DigitPermutations::DigitPermutations(uint64_t seed) {
     for (uint32_t i = 0; i < base; ++i) perm[i] = uint16_t(i);
     for (uint32_t i = 0; i < base; ++i) std::swap(perm[i], perm[i + rng.next_u32(base - i)]);
   }
+  dims_.resize(size_t(kHaltonDimensions));
+  std::vector<size_t> pair_offsets(size_t(kHaltonDimensions), ~size_t(0));
+  for (int d = 0; d < kHaltonDimensions && halton_prime(d) <= kMaxPairBase; ++d) {
+    const uint32_t base = halton_prime(d);
+    const uint16_t* perm = for_dimension(d);
+    pair_offsets[size_t(d)] = pairs_.size();
+    for (uint32_t r = 0; r < base * base; ++r)
+      pairs_.push_back(uint16_t(perm[r % base] * base + perm[r / base]));
+  }
+  for (int d = 0; d < kHaltonDimensions; ++d) {
+    Dimension& dim = dims_[size_t(d)];
+    dim.perm = for_dimension(d);
+    dim.base = halton_prime(d);
+    dim.recip = ~uint64_t(0) / dim.base + 1;
+    // The reference loop's digit count and scale, replayed with its own
+    // operations so the rounding is the same.
+    const double inv_base = 1.0 / dim.base;
+    double inv_base_n = 1;
+    int n = 0;
+    while (1.f - float((dim.base - 1) * inv_base_n) < 1.f) {
+      inv_base_n *= inv_base;
+      ++n;
+    }
+    dim.digits = n;
+    dim.scale = inv_base_n;
+    dim.tail = inv_base * dim.perm[0] / (1 - inv_base);
+    dim.pairs = pair_offsets[size_t(d)] == ~size_t(0) ? nullptr : &pairs_[pair_offsets[size_t(d)]];
+    dim.base2 = dim.base * dim.base;
+    dim.recip2 = ~uint64_t(0) / dim.base2 + 1;
+    dim.powers = uint32_t(pow_.size());
+    uint64_t pw = 1, fill = 0;
+    for (int k = 0; k <= n; ++k) {
+      pow_.push_back(pw);
+      fill_.push_back(fill);
+      fill = fill * dim.base + dim.perm[0];
+      pw *= dim.base;
+    }
+  }
+}
+
+double DigitPermutations::scrambled(int d, uint64_t a) const {
+  const Dimension& dim = dims_[size_t(d)];
+  const uint32_t base = dim.base;
+  // The reference accumulates the reversed digits in a double; they are an
+  // integer below 2^53, so a 64-bit integer holds the same value exactly.
+  uint64_t reversed = 0;
+  int k = dim.digits;
+  for (; k > 0 && a > 0xffffffffull; --k) {
+    uint64_t next = a / base;
+    reversed = reversed * base + dim.perm[a - next * base];
+    a = next;
+  }
+  uint32_t a32 = uint32_t(a);
+  if (dim.pairs) {
+    // Past a's last digit the pair's upper digit is 0, mapped to perm[0] as
+    // the reference maps it.
+    for (; k >= 2 && a32 != 0; k -= 2) {
+      uint32_t next = div_by_reciprocal(dim.recip2, a32);
+      reversed = reversed * dim.base2 + dim.pairs[a32 - next * dim.base2];
+      a32 = next;
+    }
+  }
+  for (; k > 0 && a32 != 0; --k) {
+    uint32_t next = div_by_reciprocal(dim.recip, a32);
+    reversed = reversed * base + dim.perm[a32 - next * base];
+    a32 = next;
+  }
+  // The remaining k digits of a are zeros, each mapped to perm[0].
+  reversed = reversed * pow_[dim.powers + uint32_t(k)] + fill_[dim.powers + uint32_t(k)];
+  return dim.scale * (double(reversed) + dim.tail);
 }
 
 }  // namespace rt

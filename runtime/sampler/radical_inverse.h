@@ -25,15 +25,40 @@ double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm
 // The index whose first `digits` base-b digits, mirrored, are `inverse`.
 uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits);
 
-// One random permutation of the digits per Halton dimension.
+// One random permutation of the digits per Halton dimension, with what
+// scrambled() needs to evaluate that dimension without a hardware divide.
 class DigitPermutations {
  public:
   explicit DigitPermutations(uint64_t seed);
   const uint16_t* for_dimension(int d) const { return &digits_[offsets_[size_t(d)]]; }
+  // Bit-identical to scrambled_radical_inverse(halton_prime(d), a,
+  // for_dimension(d)), several times faster: the digit count and the scale
+  // base^-digits depend only on the base and are precomputed, digits are
+  // split off (two at a time for small bases) by multiplying with a per-base
+  // reciprocal (exact for 32-bit values), and once a runs out of digits the remaining perm[0]
+  // digits are added in one step.
+  double scrambled(int d, uint64_t a) const;
 
  private:
+  struct Dimension {
+    const uint16_t* perm;
+    uint32_t base;
+    int digits;       // how many digits pbrt-v3's loop takes in this base
+    uint64_t recip;   // ceil(2^64 / base): a / base = (recip * a) >> 64 for a < 2^32
+    double scale;     // base^-digits, rounded exactly as the reference loop rounds it
+    double tail;      // the digits past `digits`, a geometric series in perm[0]
+    uint32_t powers;  // offset of base^k and perm[0] * (1 + base + ... + base^(k-1))
+    // Small bases also split two digits at a time: pairs[r] for r < base^2
+    // is the permuted, mirrored pair of digits (r % base, r / base).
+    const uint16_t* pairs;
+    uint32_t base2;
+    uint64_t recip2;  // ceil(2^64 / base^2)
+  };
   std::vector<uint16_t> digits_;
   std::vector<uint32_t> offsets_;
+  std::vector<Dimension> dims_;
+  std::vector<uint64_t> pow_, fill_;  // per dimension, k = 0..digits
+  std::vector<uint16_t> pairs_;
 };
 
 }  // namespace rt

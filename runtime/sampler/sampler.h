@@ -21,12 +21,14 @@
 // changes every random choice (scrambles, permutations, jitter).
 // sample_bounds is the film's sample bounds (Halton and Sobol map pixels to
 // sample indices over it). Anything else fails with
-// "not supported yet: ... (file:line)".
+// "not supported yet: ... (file:line)". type_override (non-empty) replaces the
+// entity's type; its parameters (counts, dimensions) are still read from the entity.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "format/scene_archive.h"
@@ -69,6 +71,6 @@ class Sampler {
 
 std::unique_ptr<Sampler> make_sampler(const pbrta::SceneArchive& archive, int spp_override,
                                       uint64_t seed, const Bounds2i& sample_bounds,
-                                      std::string* error);
+                                      std::string* error, std::string_view type_override = {});
 
 }  // namespace rt

@@ -153,7 +153,19 @@ const DirectionNumbers kJoeKuo[kSobolDimensions - 1] = {
 
 struct SobolMatrices {
   uint32_t columns[kSobolDimensions][kSobolColumns];
+  uint32_t nibbles[kSobolDimensions][kSobolNibbleTable];
   SobolMatrices() {
+    make_columns();
+    for (int d = 0; d < kSobolDimensions; ++d)
+      for (int j = 0; j < kSobolColumns / 4; ++j)
+        for (uint32_t x = 0; x < 16; ++x) {
+          uint32_t v = 0;
+          for (int b = 0; b < 4; ++b)
+            if ((x >> b) & 1) v ^= columns[d][4 * j + b];
+          nibbles[d][j * 16 + int(x)] = v;
+        }
+  }
+  void make_columns() {
     // Dimension 0: van der Corput (bit k of the index becomes fraction bit k).
     for (int k = 0; k < kSobolColumns; ++k) columns[0][k] = k < 32 ? 1u << (31 - k) : 0u;
     for (int d = 1; d < kSobolDimensions; ++d) {
@@ -186,6 +198,10 @@ uint32_t top_bits(uint32_t v, int m) {
 
 const uint32_t* sobol_columns(int d) {
   return matrices().columns[d];
+}
+
+const uint32_t* sobol_nibble_table(int d) {
+  return matrices().nibbles[d];
 }
 
 SobolPixelIndexer::SobolPixelIndexer(int m) : m_(m) {

@@ -16,13 +16,23 @@ inline constexpr int kSobolColumns = 64;      // one per bit of a 64-bit index
 // The kSobolColumns columns of dimension d's generator matrix.
 const uint32_t* sobol_columns(int d);
 
+// Dimension d's columns four at a time: entry [j * 16 + x] is the xor of
+// columns 4j..4j+3 selected by the bits of x (so a lookup per index nibble,
+// with no branch per index bit, gives the same xor). Dimension d's table is
+// sobol_nibble_table(0) + d * kSobolNibbleTable.
+inline constexpr int kSobolNibbleTable = kSobolColumns / 4 * 16;
+const uint32_t* sobol_nibble_table(int d);
+
+// Coordinate of point `index` from a dimension's nibble table, as 32 fraction bits.
+inline uint32_t sobol_bits(uint64_t index, const uint32_t* nibbles) {
+  uint32_t v = 0;
+  for (; index; index >>= 4, nibbles += 16) v ^= nibbles[index & 15];
+  return v;
+}
+
 // Coordinate d of point `index`, as 32 fraction bits.
 inline uint32_t sobol_bits(uint64_t index, int d) {
-  const uint32_t* c = sobol_columns(d);
-  uint32_t v = 0;
-  for (int k = 0; index; index >>= 1, ++k)
-    if (index & 1) v ^= c[k];
-  return v;
+  return sobol_bits(index, sobol_nibble_table(d));
 }
 
 // For an image of 2^m x 2^m pixels: every block of 4^m consecutive points of

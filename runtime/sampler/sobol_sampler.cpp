@@ -21,6 +21,7 @@ namespace {
 struct SobolTables {
   SobolPixelIndexer indexer;
   uint32_t scramble[kSobolDimensions];
+  const uint32_t* nibbles = sobol_nibble_table(0);  // all dimensions, one after another
   SobolTables(int m, uint64_t seed) : indexer(m) {
     Rng rng(mix_seed(seed, SeedPurpose::kGlobalTable, 0x50b01));
     for (uint32_t& s : scramble) s = rng.next_u32();
@@ -57,7 +58,9 @@ class SobolSampler final : public GlobalSampler {
   float sample_dimension(int64_t index, int dim) const override {
     if (dim >= kSobolDimensions)
       return hashed_uniform(seed_, pixel_, uint64_t(index), uint64_t(dim));
-    uint32_t bits = sobol_bits(uint64_t(index), dim) ^ tables_->scramble[dim];
+    uint32_t bits =
+        sobol_bits(uint64_t(index), tables_->nibbles + size_t(dim) * kSobolNibbleTable) ^
+        tables_->scramble[dim];
     if (dim < 2) {
       // The top m bits name the pixel; the rest is the offset inside it
       // (exact, where pbrt-v3 scales a float by the resolution).

@@ -1,0 +1,68 @@
+// Distribution1D's guide table must not change any result: every bucket,
+// pmf, pdf and remapped value equals a plain binary search over the cdf.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "runtime/core/rng.h"
+#include "runtime/core/sampling.h"
+
+namespace rt {
+namespace {
+
+// The reference: last i with cdf[i] <= u, clamped to a bucket.
+int reference_bucket(const std::vector<float>& cdf, float u) {
+  int n = int(cdf.size()) - 1;
+  int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1;
+  return clamp(i, 0, n - 1);
+}
+
+TEST(DistributionGuide, SameBucketsAsFullSearch) {
+  Rng rng(5);
+  for (int trial = 0; trial < 60; ++trial) {
+    int n = 1 + int(rng.next_u32(trial < 30 ? 40 : 3000));
+    std::vector<float> f(static_cast<size_t>(n), 0.f);
+    for (float& v : f) {
+      float r = rng.next_float();
+      // Runs of zeros and rare spikes make cutpoints cluster and gaps wide.
+      v = r < 0.4f ? 0.f : (r > 0.98f ? 1000 * r : r);
+    }
+    if (trial % 10 == 0) std::fill(f.begin(), f.end(), 0.f);
+    Distribution1D d(f.data(), n);
+    // The cdf as the constructor computes it.
+    std::vector<float> cdf(size_t(n) + 1, 0.f);
+    for (int i = 1; i <= n; ++i) cdf[i] = cdf[i - 1] + std::fabs(f[i - 1]) / n;
+    float integral = cdf[n];
+    for (int i = 1; i <= n; ++i) cdf[i] = integral == 0 ? float(i) / n : cdf[i] / integral;
+
+    std::vector<float> us;
+    for (int k = 0; k < 3000; ++k) us.push_back(rng.next_float());
+    for (int j = 0; j <= n; ++j) {  // cutpoints and their neighbours
+      float t = float(j) / float(n);
+      for (float u : {t, std::nextafter(t, 0.f), std::nextafter(t, 1.f)})
+        if (u >= 0 && u < 1) us.push_back(u);
+    }
+    for (float c : cdf)
+      for (float u : {c, std::nextafter(c, 0.f), std::nextafter(c, 1.f)})
+        if (u >= 0 && u < 1) us.push_back(u);
+    for (float u : us) {
+      int expect = reference_bucket(cdf, u);
+      float pmf, remapped, pdf;
+      ASSERT_EQ(d.sample_discrete(u, &pmf, &remapped), expect) << "n " << n << " u " << u;
+      int off = -1;
+      d.sample_continuous(u, &pdf, &off);
+      ASSERT_EQ(off, expect) << "n " << n << " u " << u;
+      float pmf2, remapped2;
+      ASSERT_EQ(Distribution1D::sample_discrete(d.func_data(), d.cdf_data(), n, d.integral(), u,
+                                                &pmf2, &remapped2),
+                expect);
+      ASSERT_EQ(pmf, pmf2);
+      ASSERT_EQ(remapped, remapped2);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rt
