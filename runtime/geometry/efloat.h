@@ -75,19 +75,18 @@ inline EFloat sqrt(EFloat a) {
                              next_float_up(std::sqrt(std::max(0.f, a.hi))));
 }
 
-// Roots of a t^2 + b t + c, t0 <= t1 by value, with bounds that contain the
-// roots of every a, b, c within their bounds. The book forms the
-// discriminant from the values alone and so can under-estimate the roots'
-// error near grazing hits; here its interval is propagated too, while the
-// value still comes from double for accuracy.
+// Roots of a t^2 + b t + c, t0 <= t1 by value, as pbrt-v3 (book 3rd ed.,
+// 3.9.4) finds them: the discriminant from the values alone, in double, and
+// its root given only its own rounding error. Propagating the discriminant's
+// interval instead is more conservative but makes the roots' bounds, and so
+// the hit's error box, some 30x wider than pbrt-v3's away from normal
+// incidence: spawned rays then start visibly off the surface (brighter
+// silhouettes on textures/2d-mappings.pbrt).
 inline bool solve_quadratic(EFloat a, EFloat b, EFloat c, EFloat* t0, EFloat* t1) {
   double disc = double(b.v) * double(b.v) - 4.0 * double(a.v) * double(c.v);
   if (disc < 0) return false;
-  EFloat disc_e = b * b - 4.f * (a * c);
-  EFloat root_e = sqrt(disc_e);
-  root_e.v = float(std::sqrt(disc));
-  root_e.lo = std::min(root_e.lo, next_float_down(root_e.v));
-  root_e.hi = std::max(root_e.hi, next_float_up(root_e.v));
+  double root = std::sqrt(disc);
+  EFloat root_e(float(root), float(kMachineEpsilon * root));
   EFloat q = b.v < 0 ? -0.5f * (b - root_e) : -0.5f * (b + root_e);
   *t0 = q / a;
   *t1 = c / q;

@@ -154,9 +154,13 @@ TEST(QuadricIntersect, AgreesWithLongDoubleReference) {
     }
     EXPECT_GT(hits, n / 5);
     EXPECT_LT(excused, n / 200);
-    EXPECT_EQ(box_misses, 0);
-    EXPECT_EQ(outside_exact, 0);
-    EXPECT_EQ(normal_violations, 0);
+    // pbrt-v3's root bound (the discriminant's root with only its own
+    // rounding, efloat.h) is not strictly conservative: for the shapes whose
+    // point is not re-projected the exact hit rarely falls just outside the
+    // box. We keep its bound to render as it does; the misses stay rare.
+    EXPECT_LE(box_misses, hits / 1000);
+    EXPECT_LE(outside_exact, hits / 100);
+    EXPECT_LE(normal_violations, hits / 1000);
   }
 }
 
@@ -279,6 +283,32 @@ TEST(QuadricIntersect, TransformedQuadricsHitWhereTheTransformSays) {
       }
       EXPECT_GT(hits, 300);
     }
+  }
+}
+
+// pbrt-v3 (book 3.9.4) gives the discriminant's root only its own rounding
+// error. Carrying the discriminant's whole interval instead made the roots'
+// bounds, and with them the hit's error box, ~30x wider on the hyperboloids
+// of textures/2d-mappings.pbrt: shadow rays then started 1e-3 off the
+// surface near silhouettes and those rendered brighter than pbrt-v3's.
+TEST(QuadricIntersect, HitErrorBoxIsAsTightAsPbrtV3s) {
+  QuadricParams h = params(0, 0, 0, 360, 0, 0, {0.6f, 0.6f, 1}, {0.6f, -0.6f, -1});
+  ShapeInfo s = make_shape(ShapeKind::kHyperboloid, h);
+  QuadricShape q = make_quadric_shape(s);
+  for (float x : {0.f, 0.3f, 0.5f, 0.59f, 0.5999f}) {
+    SCOPED_TRACE(x);
+    Ray r{{x, 15, 0.3f}, {0, -1, 0}};  // the scene's camera, towards a silhouette
+    float t;
+    SurfaceInteraction si;
+    ASSERT_TRUE(intersect_quadric(s, r, &t, &si));
+    auto ref = reference_hit(q, to_ld(r.o), to_ld(r.d), r.tmax);
+    ASSERT_TRUE(ref);
+    EXPECT_NEAR(t, double(ref->t), 1e-4);
+    EXPECT_TRUE(surface_in_box(q, si.p, si.p_error));
+    // A few ulps of t ~ 15 along the ray: about 4.5e-5 (it was 1.3e-3 to 2.7e-3).
+    EXPECT_LT(si.p_error.y, 1e-4f);
+    EXPECT_LT(si.p_error.x, 1e-5f);
+    EXPECT_LT(si.p_error.z, 1e-5f);
   }
 }
 
