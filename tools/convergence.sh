@@ -57,7 +57,10 @@ while read -r entry ref spp resdiv ci; do
   fi
   ok=1
   for seed in 1 2; do
+    # Each render has half the samples; textures are filtered as for the
+    # reference's count (pbrt-v3 scales differentials by 1/sqrt(spp)).
     if ! "$build/pbrtrun" --quiet "$archive" --spp "$half" --resdiv "$resdiv" --seed "$seed" \
+        --differential-spp "$spp" \
         --outfile "$out/$name.$seed.exr" >>"$log" 2>&1; then
       ok=0
       break

@@ -14,6 +14,7 @@
 
 #include "runtime/geometry/quadric_intersect.h"
 #include "runtime/geometry/triangle_hit.h"
+#include "runtime/geometry/watertight.h"
 #include "runtime/texture/textures.h"
 
 namespace rt {
@@ -68,6 +69,8 @@ struct SceneGeometry::Impl {
   std::vector<InstanceData> instances;
   std::deque<GeomData> geoms;             // stable addresses for Embree's user pointers
   std::deque<std::vector<float>> copies;  // transformed vertex copies (padded for Embree)
+  std::deque<VertexPatches> patches;      // watertight vertex fallback (watertight.h)
+  bool watertight = false;                // SceneGeometry::set_watertight
 
   std::mutex error_mutex;
   std::string embree_error;
@@ -228,7 +231,8 @@ void init_ray(const Ray& ray, RTCRay* r) {
   // offset origin lies exactly on its surface (an axis-aligned plane, whose
   // error bound is 0 along the normal). A start a few ulps of the origin's
   // magnitude out along the ray stands in for that bound.
-  const float scale = std::max(std::fabs(ray.o.x), std::max(std::fabs(ray.o.y), std::fabs(ray.o.z)));
+  const float scale =
+      std::max(std::fabs(ray.o.x), std::max(std::fabs(ray.o.y), std::fabs(ray.o.z)));
   r->tnear = gamma_bound(7) * scale / length(ray.d);
   r->tfar = open_tfar(ray.tmax);
   r->time = 0;
@@ -386,6 +390,10 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
+  // Embree's robust test leaks at shared vertices; masked meshes keep its own.
+  if (impl_->watertight && !has_alpha_mask(s) && !has_shadow_mask(s))
+    attach_vertex_patches(impl_->device, scene, positions, m.indices, m.num_vertices,
+                          m.num_triangles, id, &impl_->patches.emplace_back());
   stats_->triangles += m.num_triangles;
   return id;
 }
@@ -549,6 +557,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   rtcSetDeviceErrorFunction(impl_->device, on_embree_error, impl_.get());
   rtcSetDeviceMemoryMonitorFunction(impl_->device, on_embree_memory, impl_.get());
 
+  impl_->watertight = watertight_;
   Builder builder(impl_.get(), &stats_, &world_bounds_, error);
   if (!builder.run()) {
     impl_.reset();

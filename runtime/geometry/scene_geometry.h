@@ -48,6 +48,12 @@ class SceneGeometry {
   // shadowalpha textures; it may be null when no shape has one.
   [[nodiscard]] bool build(const pbrta::SceneArchive& archive, const ShapeTable& shapes,
                            const TextureSet* textures, std::string* error);
+  // Before build(): also give every unmasked mesh the watertight vertex
+  // patches of watertight.h. Embree's ROBUST test lets a few rays aimed
+  // exactly at shared vertices through (runtime_stability_tests measures
+  // how many); the patches close those cracks at the cost of a box per
+  // vertex in the BVH, so they are opt-in (pbrtrun --watertight).
+  void set_watertight(bool on) { watertight_ = on; }
 
   // Closest hit in (0, ray.tmax): fills p, p_error, n, wo, time, uv, dpdu,
   // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
@@ -59,6 +65,7 @@ class SceneGeometry {
   // pbrt-v3's world bound: mesh vertices, quadric boxes through their
   // transforms, instances' object boxes through the instance transforms.
   Bounds3 world_bounds() const { return world_bounds_; }
+  bool watertight() const { return watertight_; }
   const GeometryStats& stats() const { return stats_; }
 
   // Internal to the Embree callbacks (scene_geometry.cpp).
@@ -67,6 +74,7 @@ class SceneGeometry {
  private:
   std::unique_ptr<Impl> impl_;
   Bounds3 world_bounds_;
+  bool watertight_ = false;
   GeometryStats stats_;
 };
 

@@ -65,6 +65,15 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--seed", seed, "Seed for every random choice (same seed, same image)");
   app.add_flag("-q,--quiet", quiet, "No progress bar or messages");
+  bool watertight = false;
+  app.add_flag("--watertight", watertight,
+               "Close the cracks Embree leaves at shared mesh vertices (a box per vertex in the "
+               "BVH: slower to build)");
+  int differential_spp = 0;
+  app.add_option("--differential-spp", differential_spp,
+                 "Scale ray differentials (texture filtering) as for this many samples per pixel "
+                 "instead of the rendered count (a render that is one of several averaged)")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--stats", show_stats,
                "Print the effects simulated, rays traced, load/build/render times and peak memory");
   CLI11_PARSE(app, argc, argv);
@@ -92,6 +101,8 @@ int main(int argc, char** argv) {
   }
   job.seed = seed;
   job.quiet = quiet;
+  job.watertight = watertight;
+  job.differential_spp = differential_spp;
   rt::RenderJobResult result;
   if (!rt::render_archive(archive, job, &result, &error))
     return fail(error, result.bad_output ? 2 : 1);

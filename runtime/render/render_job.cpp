@@ -21,6 +21,39 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The integrator and light-strategy overrides of RenderJobOptions, on top of
+// the scene's settings (so its maxdepth stays).
+bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::string* error) {
+  if (!o.integrator.empty()) {
+    static const struct {
+      const char* name;
+      IntegratorType type;
+    } kTypes[] = {{"whitted", IntegratorType::kWhitted},
+                  {"directlighting", IntegratorType::kDirectLighting},
+                  {"path", IntegratorType::kPath},
+                  {"ambientocclusion", IntegratorType::kAmbientOcclusion}};
+    bool found = false;
+    for (const auto& t : kTypes)
+      if (o.integrator == t.name) {
+        s->type = t.type;
+        found = true;
+      }
+    if (!found) {
+      *error = "not supported yet: " + o.integrator + " integrator (override)";
+      return false;
+    }
+  }
+  if (!o.light_strategy.empty()) {
+    if (s->type != IntegratorType::kPath) {
+      *error = "error: light strategy \"" + o.light_strategy +
+               "\" given, but only the path integrator samples lights by a strategy";
+      return false;
+    }
+    s->light_strategy = o.light_strategy;
+  }
+  return true;
+}
+
 }  // namespace
 
 bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& options,
@@ -38,7 +71,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   if (out.empty()) out = "pbrt.exr";
   result->outfile = out;
   for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
-    if (path->empty() || check_output_path(*path, error)) continue;
+    if (!options.write_files || path->empty() || check_output_path(*path, error)) continue;
     *error = "error: " + *error;
     result->bad_output = true;
     return false;
@@ -49,10 +82,12 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   IntegratorSettings settings;
   if (!read_integrator(archive, &settings, error)) return false;
   settings.light_nsamples_divisor = options.light_nsamples_divisor;
+  if (!apply_overrides(options, &settings, error)) return false;
 
   auto t_build = std::chrono::steady_clock::now();
   RenderScene scene;
   std::string warnings;
+  scene.geometry.set_watertight(options.watertight);
   if (!load_render_scene(archive, &scene, &warnings, error)) return false;
   result->integrator = std::string(archive.type_name(archive.scene().integrator));
   if ((scene.effects & pbrta::kEffectMedia) && !options.quiet)
@@ -61,8 +96,8 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
                  "\"bdpt\", or \"mlt\".\n";
   if (!warnings.empty() && !options.quiet) std::cerr << warnings;
 
-  std::unique_ptr<Sampler> sampler =
-      make_sampler(archive, options.spp, options.seed, film.sample_bounds(), error);
+  std::unique_ptr<Sampler> sampler = make_sampler(archive, options.spp, options.seed,
+                                                  film.sample_bounds(), error, options.sampler);
   if (!sampler) return false;
   Integrator integrator;
   if (!integrator.init(scene, settings, error)) return false;
@@ -72,10 +107,12 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
 
   RenderOptions ro;
   ro.quiet = options.quiet;
+  ro.differential_spp = options.differential_spp;
   result->render = render(camera, *sampler, integrator, &film, ro);
 
+  if (options.keep_image) result->image = film.image();
   for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
-    if (path->empty() || film.write(*path, error)) continue;
+    if (!options.write_files || path->empty() || film.write(*path, error)) continue;
     *error = "error: " + *error;
     return false;
   }

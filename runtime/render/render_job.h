@@ -17,6 +17,7 @@
 #include <string>
 
 #include "format/scene_archive.h"
+#include "runtime/film/image_io.h"
 #include "runtime/geometry/scene_geometry.h"
 #include "runtime/render/renderer.h"
 
@@ -32,7 +33,18 @@ struct RenderJobOptions {
   int light_nsamples_divisor = 1;  // pbrt --quick divides light "nsamples" by 4
   uint64_t seed = 0;
   bool quiet = false;
+  bool watertight = false;  // SceneGeometry::set_watertight: close Embree's vertex cracks
+  // > 0: scale camera ray differentials by 1/sqrt(this) instead of 1/sqrt(spp),
+  // so a render averaged with others filters textures as the total would.
+  int differential_spp = 0;
   std::string program = "pbrtrun";  // prefixes the non-finite sample note
+  // Configuration overrides for tools that compare configurations (tools/accuracy):
+  // "" keeps the scene's own. sampler: a make_sampler() type; integrator: a
+  // read_integrator() type (the scene's maxdepth stays); light_strategy: the path
+  // integrator's lightsamplestrategy (an error with any other integrator).
+  std::string sampler, integrator, light_strategy;
+  bool write_files = true;  // false: no EXR/PNG (outfile and preview unused)
+  bool keep_image = false;  // result->image receives the film's pixels
 };
 
 struct RenderJobResult {
@@ -46,6 +58,7 @@ struct RenderJobResult {
   double build_seconds = 0;  // render scene, sampler and integrator
   double setup_seconds = 0;  // everything before the render loop (film through preprocess)
   bool bad_output = false;
+  ImageRgb image;  // with options.keep_image
 };
 
 [[nodiscard]] bool render_archive(const pbrta::SceneArchive& archive,

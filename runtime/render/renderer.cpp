@@ -96,7 +96,9 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
   std::atomic<bool> first_done{false};
   double first_tile = 0;
   std::mutex first_mutex;
-  const float diff_scale = 1 / std::sqrt(float(prototype.samples_per_pixel()));
+  const float diff_scale =
+      1 / std::sqrt(float(options.differential_spp > 0 ? options.differential_spp
+                                                       : prototype.samples_per_pixel()));
 
   tbb::parallel_for(
       tbb::blocked_range<int>(0, ntiles, 1),

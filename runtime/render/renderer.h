@@ -20,6 +20,9 @@ namespace rt {
 
 struct RenderOptions {
   bool quiet = false;
+  // > 0: camera differentials scaled as for this many samples per pixel
+  // (pbrt-v3 uses the sampler's count; see RenderJobOptions::differential_spp).
+  int differential_spp = 0;
 };
 
 struct RenderStats {

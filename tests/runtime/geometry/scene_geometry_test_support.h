@@ -27,7 +27,8 @@ struct LoadedScene {
 // Compiles `world` (the text between WorldBegin and WorldEnd) and builds the
 // geometry; the archive must compile (the test fails otherwise), build() may
 // fail, leaving its message in error.
-inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const std::string& world) {
+inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const std::string& world,
+                                               bool watertight = false) {
   auto s = std::make_unique<LoadedScene>();
   std::string text = "Camera \"perspective\"\nWorldBegin\n" + world + "\nWorldEnd\n";
   bool ok = testing_support::compile_text(testing_support::scratch_dir(name), text, &s->archive);
@@ -35,6 +36,7 @@ inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const st
   if (!ok) return s;
   if (!s->shapes.build(s->archive, &s->error)) return s;
   if (!s->textures.build(s->archive, &s->error)) return s;
+  s->geometry.set_watertight(watertight);
   s->built = s->geometry.build(s->archive, s->shapes, &s->textures, &s->error);
   return s;
 }
