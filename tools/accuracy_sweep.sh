@@ -1,0 +1,208 @@
+#!/usr/bin/env bash
+# Accuracy against time for a few shared scenes, and what pbrtc's lossy
+# choices cost: writes docs/accuracy/<scene>.csv and .png and
+# docs/accuracy/README.md (the tables). Figures come from the runs it makes.
+#
+#   tools/accuracy_sweep.sh [--build DIR] [--out DIR] [--work DIR] [--nthreads N] [NAME-FILTER]
+#
+# Per scene: pbrtc compiles it; pbrt-converge --make-reference renders this
+# project's reference at 16x the ladder's largest spp as two halves, which
+# ref-compare (tools/compare/convergence.h) checks against pbrt-v3's image;
+# then pbrt-converge sweeps the configurations against our reference. Then
+# v3-killeroo-simple is compiled lossless and with --draco-bits 11/14/16 and
+# each archive is rendered with the same seed and spp (shared noise) and
+# measured against the lossless render.
+# Exit status: 0 when everything ran (a failed reference check is reported in
+# the README, not fatal); 1 when a step failed; 2 on bad usage.
+set -uo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$root/build"
+out="$root/docs/accuracy"
+work=""
+nthreads=1
+filter=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build) build="$2"; shift 2 ;;
+    --out) out="$2"; shift 2 ;;
+    --work) work="$2"; shift 2 ;;
+    --nthreads) nthreads="$2"; shift 2 ;;
+    -h|--help) sed -n 2,17p "$0"; exit 0 ;;
+    *) filter="$1"; shift ;;
+  esac
+done
+[ -n "$work" ] || work="$build/accuracy"
+shared="${PBRTC_SHARED_DIR:-$root/../shared}"
+if [ ! -d "$shared/scenes" ] || [ ! -d "$shared/refs" ]; then
+  echo "accuracy_sweep: error: shared corpus not found at $shared (set PBRTC_SHARED_DIR)" >&2
+  exit 2
+fi
+for tool in pbrtc pbrtrun pbrt-converge ref-compare; do
+  if [ ! -x "$build/$tool" ]; then
+    echo "accuracy_sweep: error: $build/$tool is not built" >&2
+    exit 2
+  fi
+done
+mkdir -p "$out" "$work"
+
+# name | entry scene | pbrt-v3 reference | --resdiv (the reference's) | max spp |
+# max seconds per configuration | samplers | integrators | light strategies ("-": the scene's)
+scenes="
+halton|hm-samplers/pbrt-v3-rs/scenes/samplers/halton.pbrt|hm-samplers__pbrt-v3-rs_scenes_samplers_halton.exr|1|1024|60|random,stratified,halton,sobol,02sequence,maxmindist|-|-
+point|hm-lights/pbrt-v3-rs/scenes/lights/point.pbrt|hm-lights__pbrt-v3-rs_scenes_lights_point.exr|1|32|30|random,stratified,halton,sobol,02sequence,maxmindist|-|-
+veach-mis|rs-veach-mis/veach-mis/mis.pbrt|rs-veach-mis__veach-mis_mis.exr|3|32|40|-|path,directlighting|uniform,power,spatial
+"
+status=0
+list() { [ "$1" = "-" ] && echo "" || echo "$1"; }
+run() {  # run LOG CMD...: the command's output to LOG; a failure is reported and remembered
+  local log="$1"; shift
+  if ! "$@" >>"$log" 2>&1; then
+    echo "accuracy_sweep: failed: $* (see $log)" >&2
+    status=1
+    return 1
+  fi
+}
+
+while IFS='|' read -r name entry ref resdiv maxspp maxsec samplers integrators strategies; do
+  [ -z "$name" ] && continue
+  [ -n "$filter" ] && [[ "$name" != *"$filter"* ]] && continue
+  log="$work/$name.log"
+  : >"$log"
+  echo "== $name: $entry (resdiv $resdiv, up to $maxspp spp, $maxsec s per configuration)"
+  archive="$work/$name.pbrta"
+  run "$log" "$build/pbrtc" -q "$shared/scenes/$entry" -o "$archive" || continue
+  refspp=$((16 * maxspp))
+  start=$(date +%s.%N)
+  run "$log" "$build/pbrt-converge" "$archive" --name "$name" --resdiv "$resdiv" \
+      --max-spp "$maxspp" --make-reference "$work/$name-ref.exr" --reference-spp "$refspp" \
+      --nthreads "$nthreads" || continue
+  refsec=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')
+  check="$("$build/ref-compare" "$work/$name-ref-a.exr" "$work/$name-ref-b.exr" \
+      "$shared/refs/$ref" --png "$work/$name-check.png" 2>&1)"
+  echo "   reference ($refspp spp, $(printf %.0f "$refsec") s) against pbrt-v3: ${check#*: }"
+  # Table cells cannot hold a bare "|" (ref-compare prints "|z|").
+  echo "| $name | $refspp | $(printf %.0f "$refsec") | $(echo "${check#*: }" | sed 's/|/\\|/g') |" \
+      >"$work/$name.check"
+  run "$log" "$build/pbrt-converge" "$archive" --name "$name" --resdiv "$resdiv" \
+      --reference "$work/$name-ref.exr" --max-spp "$maxspp" --max-seconds "$maxsec" \
+      --samplers "$(list "$samplers")" --integrators "$(list "$integrators")" \
+      --strategies "$(list "$strategies")" --nthreads "$nthreads" \
+      --csv "$out/$name.csv" --plot "$out/$name.png" --table "$work/$name.md" || continue
+done <<<"$scenes"
+
+# ---- pbrtc's lossy choices: Draco position bits, against the lossless archive ----
+lresdiv=4
+lspp=8
+if [ -z "$filter" ] || [[ "killeroo" == *"$filter"* ]]; then
+  entry="v3-killeroo-simple/killeroo-simple.pbrt"
+  log="$work/killeroo.log"
+  : >"$log"
+  echo "== lossy: $entry (resdiv $lresdiv, $lspp spp, seed 1)"
+  if run "$log" "$build/pbrtc" -q "$shared/scenes/$entry" -o "$work/killeroo-lossless.pbrta" &&
+     run "$log" "$build/pbrtrun" --quiet "$work/killeroo-lossless.pbrta" --spp "$lspp" \
+         --resdiv "$lresdiv" --seed 1 --nthreads "$nthreads" --outfile "$work/killeroo-lossless.exr"; then
+    : >"$work/lossy.md"
+    # "noise": the lossless archive with another seed, the error that sampling noise alone
+    # gives at this spp; the Draco rows mean something only below it.
+    for bits in lossless noise 16 14 11; do
+      a="$work/killeroo-$bits.pbrta"
+      seed=1
+      case "$bits" in
+        lossless) ;;
+        noise) a="$work/killeroo-lossless.pbrta"; seed=2 ;;
+        *) run "$log" "$build/pbrtc" -q --draco-bits "$bits" "$shared/scenes/$entry" -o "$a" || continue ;;
+      esac
+      size=$(stat -c %s "$a")
+      best=""
+      # The load takes milliseconds and the machine is shared: the fastest of three runs.
+      for i in 1 2 3; do
+        res="$("$build/pbrt-converge" "$a" --name "killeroo-$bits" --resdiv "$lresdiv" \
+            --min-spp "$lspp" --max-spp "$lspp" --seed "$seed" --nthreads "$nthreads" --quiet \
+            --reference "$work/killeroo-lossless.exr" --csv "$work/killeroo-$bits.csv" 2>>"$log")" ||
+          { status=1; echo "accuracy_sweep: failed: killeroo $bits" >&2; break; }
+        t=$(echo "$res" | sed -n 's/.*archive loaded in \([0-9.]*\) s.*/\1/p')
+        best=$(awk -v a="$best" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
+      done
+      case "$bits" in
+        lossless) label="lossless (zstd), seed 1" ;;
+        noise) label="lossless, seed 2 (noise floor)" ;;
+        *) label="--draco-bits $bits, seed 1" ;;
+      esac
+      line=$(sed -n 2p "$work/killeroo-$bits.csv" | awk -F, -v label="$label" -v size="$size" \
+          -v load="$best" '{ printf "| %s | %.3f | %.1f | %.3g | %.3g | %.3g | %.3g |", label,
+          size / 1048576, load * 1000, sqrt($5), $5, $6, $7 }')
+      echo "   $line"
+      echo "$line" >>"$work/lossy.md"
+    done
+  fi
+fi
+
+# ---- the README ----
+{
+  echo "# Accuracy against time"
+  echo
+  echo "Made by \`tools/accuracy_sweep.sh\` (pbrt-converge, tools/accuracy/) on $(date -u +%Y-%m-%d);"
+  echo "every figure below comes from its runs (a filtered run redoes its part; the pieces stay in its work folder). **The machine was shared** (2 cores, a CI run"
+  echo "and several other engineers building and rendering at the same time), and every render"
+  echo "used --nthreads $nthreads, so seconds are slower and noisier than on an idle machine;"
+  echo "compare configurations within one scene rather than absolute times."
+  echo
+  echo "**Error.** Against this project's own reference (below), per pixel and channel:"
+  echo "relMSE = mean (x - r)^2 / (r^2 + 0.01); RMSE = sqrt(mean (x - r)^2); MARE = mean"
+  echo "|x - r| / sqrt(r^2 + 0.01). The *relative error* of the tables and plots is"
+  echo "**sqrt(relMSE)**. Seconds are the wall time of one render after the archive is loaded"
+  echo "(scene build, sampler and integrator setup, and the render loop), one rung at a time."
+  echo "The ladder is 1, 2, 4, ... spp up to the scene's budget, stopping early when the next"
+  echo "rung is predicted (2x the last) to exceed the per-configuration seconds."
+  echo
+  echo "**References.** Each is our render at 16x the ladder's largest spp, made as two halves"
+  echo "with other seeds; the halves are checked against pbrt-v3's image with the convergence"
+  echo "test of tools/compare (the halves have at least as many samples as pbrt-v3's"
+  echo "reference, so the test's noise allowance is if anything too small):"
+  echo
+  echo "| scene | reference spp | seconds | against pbrt-v3 |"
+  echo "|---|---:|---:|---|"
+  while IFS='|' read -r name _; do
+    [ -n "$name" ] && [ -f "$work/$name.check" ] && cat "$work/$name.check"
+  done <<<"$scenes"
+  echo
+  echo "A scene whose check says DIFFERS has a reference that fails that test (at the time of"
+  echo "the run); its figures still compare configurations with one another, but not with pbrt-v3."
+  echo
+  echo "## Time to reach 5% / 2% / 1% relative error"
+  echo
+  echo "The first rung at or below the target (its measured seconds and spp; no interpolation,"
+  echo "so up to 2x pessimistic); \"> N spp\": not reached within the ladder. Every"
+  echo "configuration is measured against the reference of the scene's own integrator and light"
+  echo "strategy: one that converges to another image (directlighting leaves out indirect light)"
+  echo "shows that difference as an error floor, not as noise."
+  echo
+  echo "| scene | configuration | 5% | 2% | 1% |"
+  echo "|---|---|---:|---:|---:|"
+  while IFS='|' read -r name _; do
+    [ -n "$name" ] && [ -f "$work/$name.md" ] && grep -v -e '^| scene |' -e '^|---' "$work/$name.md"
+  done <<<"$scenes"
+  echo
+  for png in "$out"/*.png; do
+    [ -e "$png" ] || continue
+    b="$(basename "$png" .png)"
+    echo "![$b]($b.png) ([CSV]($b.csv))"
+    echo
+  done
+  echo "## pbrtc's lossy choices"
+  echo
+  echo "v3-killeroo-simple at --resdiv $lresdiv, $lspp spp, seed 1 for every archive, measured"
+  echo "against the render of the lossless archive. The seed shares the sample values, but a hit"
+  echo "point that moves can change a path's later choices, so part of a Draco row's error is"
+  echo "decorrelated noise; the seed-2 row (pure noise) bounds it. Load: the fastest of three loads"
+  echo "(pbrt-converge, --nthreads $nthreads). pbrtc has no texture storage precision option:"
+  echo "texels are stored as f32 after pbrt-v3's processing (format/ARCHIVE.md, images), so"
+  echo "there is no lossy texture choice to measure."
+  echo
+  echo "| archive | MiB | load ms | sqrt(relMSE) | relMSE | RMSE | MARE |"
+  echo "|---|---:|---:|---:|---:|---:|---:|"
+  [ -f "$work/lossy.md" ] && cat "$work/lossy.md"
+} >"$out/README.md"
+echo "wrote $out/README.md"
+exit $status
