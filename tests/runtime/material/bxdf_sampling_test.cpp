@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "chi2_directions.h"
+#include "lobe_checks.h"
 #include "runtime/core/sampling.h"
 #include "runtime/material/bxdf.h"
 
@@ -14,6 +15,8 @@ namespace rt {
 namespace {
 
 using material_test::chi2_directions;
+using material_test::expect_albedo_estimates_agree;
+using material_test::expect_sample_matches_evaluation;
 
 struct LobeCase {
   std::string name;
@@ -110,47 +113,14 @@ TEST(BxdfSampling, ChiSquareMatchesPdf) {
 TEST(BxdfSampling, SampleAgreesWithEvaluation) {
   Rng rng(7);
   for (const LobeCase& c : lobe_cases())
-    for (Vec3 wo : kOutgoing)
-      for (int i = 0; i < 2000; ++i) {
-        Vec3 wi;
-        float pdf;
-        Rgb f = c.lobe.sample_f(wo, &wi, {rng.next_float(), rng.next_float()}, &pdf);
-        if (pdf == 0) continue;
-        Rgb fe = c.lobe.f(wo, wi);
-        float pe = c.lobe.pdf(wo, wi);
-        ASSERT_NEAR(pdf, pe, 2e-3f * std::max(1.f, pe)) << c.name;
-        for (int k = 0; k < 3; ++k)
-          ASSERT_NEAR(f[k], fe[k], 2e-3f * std::max(1.f, fe[k])) << c.name;
-      }
+    for (Vec3 wo : kOutgoing) expect_sample_matches_evaluation(c.lobe, wo, 2000, rng, c.name);
 }
 
 // E[f cos / pdf] under the lobe's own sampling equals the same integral
 // estimated with uniform sphere samples: f and pdf tell one story.
 TEST(BxdfSampling, ImportanceAndUniformAlbedoAgree) {
   for (const LobeCase& c : lobe_cases())
-    for (Vec3 wo : kOutgoing) {
-      Rng rng(11);
-      const int n = 100000;
-      double is = 0, uni = 0, uni2 = 0;
-      for (int i = 0; i < n; ++i) {
-        Vec3 wi;
-        float pdf;
-        Rgb f = c.lobe.sample_f(wo, &wi, {rng.next_float(), rng.next_float()}, &pdf);
-        if (pdf > 0) is += f.g * std::fabs(wi.z) / pdf;
-        // Lobes leave the reflection/transmission choice to the BSDF, so
-        // count only the side(s) the lobe's flags cover.
-        Vec3 wu = uniform_sample_sphere({rng.next_float(), rng.next_float()});
-        bool same = wo.z * wu.z > 0;
-        bool covered = same ? (c.lobe.flags & kReflection) : (c.lobe.flags & kTransmission);
-        double v = covered ? c.lobe.f(wo, wu).g * std::fabs(wu.z) / uniform_sphere_pdf() : 0;
-        uni += v;
-        uni2 += v * v;
-      }
-      is /= n;
-      uni /= n;
-      double sigma = std::sqrt((uni2 / n - uni * uni) / n);
-      EXPECT_NEAR(is, uni, 5 * sigma + 2e-3) << c.name << " wo.z=" << wo.z;
-    }
+    for (Vec3 wo : kOutgoing) expect_albedo_estimates_agree(c.lobe, wo, 100000, 11, c.name);
 }
 
 }  // namespace
