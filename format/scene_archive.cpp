@@ -34,9 +34,10 @@ class Checker {
              const char* array, bool none_ok) {
     if (i == kNoIndex && none_ok) return true;
     if (i < count) return true;
-    return fail(std::string(record) + " " + std::to_string(at) + ": " + field + " " +
-                (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
-                (i == kNoIndex ? "" : " out of range (" + std::to_string(count) + " " + array + ")"));
+    return fail(
+        std::string(record) + " " + std::to_string(at) + ": " + field + " " +
+        (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
+        (i == kNoIndex ? "" : " out of range (" + std::to_string(count) + " " + array + ")"));
   }
   bool failed() const { return failed_; }
   const std::string& message() const { return message_; }
@@ -62,12 +63,19 @@ const TypeSpec& SceneArchive::type_of(uint32_t entity) const {
   return category_spec(Category(e.category)).types[e.type];
 }
 
-std::string_view SceneArchive::type_name(uint32_t entity) const { return type_of(entity).name; }
+std::string_view SceneArchive::type_name(uint32_t entity) const {
+  return type_of(entity).name;
+}
 
 const ValueRecord* SceneArchive::value(uint32_t entity, std::string_view name) const {
   int p = find_param(type_of(entity), name);
   if (p < 0) return nullptr;
   return &values[entities[entity].first_value + uint32_t(p)];
+}
+
+bool SceneArchive::given(uint32_t entity, std::string_view name) const {
+  const ValueRecord* v = value(entity, name);
+  return v && (v->flags & kValueGiven);
 }
 
 const float* SceneArchive::floats(const ValueRecord& v) const {
@@ -104,9 +112,8 @@ const float* SceneArchive::normals(uint32_t m) const {
                                         : nullptr;
 }
 const float* SceneArchive::tangents(uint32_t m) const {
-  return meshes[m].flags & kMeshTangents
-             ? at<float>(reader_, meshes[m].section, meshes[m].tangents)
-             : nullptr;
+  return meshes[m].flags & kMeshTangents ? at<float>(reader_, meshes[m].section, meshes[m].tangents)
+                                         : nullptr;
 }
 const float* SceneArchive::uvs(uint32_t m) const {
   return meshes[m].flags & kMeshUV ? at<float>(reader_, meshes[m].section, meshes[m].uv) : nullptr;
@@ -180,8 +187,8 @@ bool SceneArchive::validate(std::string* error) {
   }
   auto sec = [&](SectionKind k) { return where_kind[uint32_t(k)]; };
   if (sec(SectionKind::kScene) < 0 || sec(SectionKind::kStrings) < 0) {
-    *error = path_ + ": no " +
-             std::string(sec(SectionKind::kScene) < 0 ? "scene" : "strings") + " section";
+    *error = path_ + ": no " + std::string(sec(SectionKind::kScene) < 0 ? "scene" : "strings") +
+             " section";
     return false;
   }
   // The scene record.
@@ -361,7 +368,9 @@ bool SceneArchive::validate(std::string* error) {
     for (uint32_t p = 0; p < e.num_values; ++p) {
       const ValueRecord& v = values[e.first_value + p];
       const ParamSpec& ps = ts.params[p];
-      auto vat = [&]() { return at() + std::string(ts.name) + " \"" + std::string(ps.name) + "\": "; };
+      auto vat = [&]() {
+        return at() + std::string(ts.name) + " \"" + std::string(ps.name) + "\": ";
+      };
       uint64_t width = uint64_t(kind_width(ps.kind));
       if (v.flags & ~uint32_t(kValueGiven)) {
         c.fail(vat() + "unknown value flags");
@@ -415,8 +424,8 @@ bool SceneArchive::validate(std::string* error) {
         entity_of(sr.sampler, Category::kSampler, "scene", 0, "sampler") &&
         entity_of(sr.integrator, Category::kIntegrator, "scene", 0, "integrator") &&
         entity_of(sr.accelerator, Category::kAccelerator, "scene", 0, "accelerator") &&
-        c.index(sr.camera_transform, transforms.size, "scene", 0, "camera transform",
-                "transforms", false) &&
+        c.index(sr.camera_transform, transforms.size, "scene", 0, "camera transform", "transforms",
+                false) &&
         c.index(sr.camera_medium, media.size, "scene", 0, "camera medium", "media", true);
   }
   c.in(sec(SectionKind::kTextures));
@@ -441,7 +450,7 @@ bool SceneArchive::validate(std::string* error) {
       const ValueRecord& v = values[e.first_value + p];
       if (v.texture == kNoIndex) continue;
       Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
-                                                          : Category::kSpectrumTexture;
+                                                           : Category::kSpectrumTexture;
       if (entities[textures[v.texture].entity].category != uint8_t(want)) {
         c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
                "\": texture " + std::to_string(v.texture) + " is not a " +
@@ -454,7 +463,8 @@ bool SceneArchive::validate(std::string* error) {
   for (uint32_t i = 0; i < materials.size && !c.failed(); ++i) {
     const MaterialRecord& m = materials[i];
     entity_of(m.entity, Category::kMaterial, "material", i, "entity") &&
-        (m.reserved == 0 || c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
+        (m.reserved == 0 ||
+         c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
         c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
         c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   }
@@ -509,13 +519,15 @@ bool SceneArchive::validate(std::string* error) {
     c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
         c.index(in.transform, transforms.size, "instance", i, "transform", "transforms", false) &&
         c.index(in.provenance, provenance.size, "instance", i, "provenance", "records", false) &&
-        (in.reserved == 0 || c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
+        (in.reserved == 0 ||
+         c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   }
   c.in(sec(SectionKind::kMeshes));
   for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
     const MeshRecord& m = meshes[i];
     auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
-    if (m.section >= r.section_count() || r.entry(m.section).kind != uint32_t(SectionKind::kGeometry)) {
+    if (m.section >= r.section_count() ||
+        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry)) {
       c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
       break;
     }
@@ -564,7 +576,8 @@ bool SceneArchive::validate(std::string* error) {
   for (uint32_t i = 0; i < images.size && !c.failed(); ++i) {
     const ImageRecord& im = images[i];
     std::string at = "image " + std::to_string(i) + ": ";
-    if (im.section >= r.section_count() || r.entry(im.section).kind != uint32_t(SectionKind::kTexels)) {
+    if (im.section >= r.section_count() ||
+        r.entry(im.section).kind != uint32_t(SectionKind::kTexels)) {
       c.fail(at + "section is not a texels section");
       break;
     }
@@ -574,8 +587,9 @@ bool SceneArchive::validate(std::string* error) {
       c.fail(at + "malformed header");
       break;
     }
-    uint64_t bytes_per = im.format == uint32_t(PixelFormat::kFloat32) ? 4
-                         : im.format == uint32_t(PixelFormat::kHalf16) ? 2 : 1;
+    uint64_t bytes_per = im.format == uint32_t(PixelFormat::kFloat32)  ? 4
+                         : im.format == uint32_t(PixelFormat::kHalf16) ? 2
+                                                                       : 1;
     uint64_t off = im.offset, size = r.section_size(im.section);
     for (uint32_t l = 0; l < im.levels && !c.failed(); ++l) {
       uint64_t w = std::max<uint64_t>(1, uint64_t(im.width) >> l);
@@ -610,8 +624,8 @@ bool SceneArchive::validate(std::string* error) {
           src.width != im.source_width || src.height != im.source_height ||
           src.channels != im.channels || src.format != im.format || src.wrap != im.wrap) {
         c.fail(at + "source image " + std::to_string(im.source_image) + " is not " +
-               std::to_string(im.source_width) + " x " + std::to_string(im.source_height) +
-               " x " + std::to_string(im.channels) +
+               std::to_string(im.source_width) + " x " + std::to_string(im.source_height) + " x " +
+               std::to_string(im.channels) +
                " in the same format and wrap, with one level and no source of its own");
         break;
       }

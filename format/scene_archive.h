@@ -67,6 +67,9 @@ class SceneArchive {
   std::string_view type_name(uint32_t entity) const;
   // The value of parameter `name`, or nullptr if the type has none.
   const ValueRecord* value(uint32_t entity, std::string_view name) const;
+  // The scene wrote parameter `name` (its value is not the schema default);
+  // readers of computed defaults (sphere "zmin", camera "screenwindow") ask this.
+  bool given(uint32_t entity, std::string_view name) const;
   float get_float(uint32_t entity, std::string_view name, float fallback = 0) const;
   int32_t get_int(uint32_t entity, std::string_view name, int32_t fallback = 0) const;
   std::string_view get_string(uint32_t entity, std::string_view name) const;

@@ -18,11 +18,6 @@ ShapeKind kind_of(std::string_view type) {
   return ShapeKind::kTriangles;
 }
 
-bool given(const pbrta::SceneArchive& a, uint32_t e, std::string_view name) {
-  const pbrta::ValueRecord* v = a.value(e, name);
-  return v && (v->flags & pbrta::kValueGiven);
-}
-
 Vec3 get_point(const pbrta::SceneArchive& a, uint32_t e, std::string_view name, Vec3 fallback) {
   const pbrta::ValueRecord* v = a.value(e, name);
   if (!v || v->count == 0) return fallback;
@@ -56,8 +51,8 @@ bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
     switch (s.kind) {
       case ShapeKind::kSphere:
         q.radius = a.get_float(e, "radius", 1);
-        q.zmin = given(a, e, "zmin") ? a.get_float(e, "zmin") : -q.radius;
-        q.zmax = given(a, e, "zmax") ? a.get_float(e, "zmax") : q.radius;
+        q.zmin = a.given(e, "zmin") ? a.get_float(e, "zmin") : -q.radius;
+        q.zmax = a.given(e, "zmax") ? a.get_float(e, "zmax") : q.radius;
         break;
       case ShapeKind::kCylinder:
       case ShapeKind::kParaboloid:

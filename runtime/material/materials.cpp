@@ -41,11 +41,6 @@ int max_lobes(const std::vector<MaterialNode>& nodes, uint32_t m, int depth) {
   return 0;
 }
 
-bool given(const pbrta::SceneArchive& archive, uint32_t entity, std::string_view param) {
-  const pbrta::ValueRecord* v = archive.value(entity, param);
-  return v && (v->flags & pbrta::kValueGiven);
-}
-
 // A spectrum parameter whose default is computed: `fallback` unless given
 // (the archive may hold count 0 or the schema's placeholder then).
 RgbInput rgb_or(const pbrta::SceneArchive& archive, uint32_t entity, std::string_view param,
@@ -77,6 +72,10 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
     MaterialNode& m = nodes_[i];
     auto fin = [&](std::string_view p) { return float_input(archive, e, p); };
     auto rin = [&](std::string_view p) { return rgb_input(archive, e, p); };
+    // metal and uber: pbrt-v3 uses u/vroughness only when given, else roughness.
+    auto axis_roughness = [&](std::string_view p) {
+      return archive.given(e, p) ? fin(p) : fin("roughness");
+    };
     if (type == "none") {
       m.kind = MaterialKind::kNone;
       continue;
@@ -94,9 +93,8 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       m.kind = MaterialKind::kMetal;
       m.metal_eta = rgb_or(archive, e, "eta", kCopperEta);
       m.metal_k = rgb_or(archive, e, "k", kCopperK);
-      // pbrt-v3 uses u/vroughness only when given, else roughness.
-      m.uroughness = given(archive, e, "uroughness") ? fin("uroughness") : fin("roughness");
-      m.vroughness = given(archive, e, "vroughness") ? fin("vroughness") : fin("roughness");
+      m.uroughness = axis_roughness("uroughness");
+      m.vroughness = axis_roughness("vroughness");
     } else if (type == "mirror") {
       m.kind = MaterialKind::kMirror;
       m.kr = rin("Kr");
@@ -115,8 +113,8 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       m.kt = rin("Kt");
       m.opacity = rin("opacity");
       m.eta = fin("eta");
-      m.uroughness = given(archive, e, "uroughness") ? fin("uroughness") : fin("roughness");
-      m.vroughness = given(archive, e, "vroughness") ? fin("vroughness") : fin("roughness");
+      m.uroughness = axis_roughness("uroughness");
+      m.vroughness = axis_roughness("vroughness");
     } else if (type == "substrate") {
       m.kind = MaterialKind::kSubstrate;
       m.kd = rin("Kd");
@@ -145,7 +143,7 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       return false;
     }
     if (m.kind != MaterialKind::kMix) {
-      m.has_bump = given(archive, e, "bumpmap");
+      m.has_bump = archive.given(e, "bumpmap");
       if (m.has_bump) m.bump = fin("bumpmap");
       const pbrta::ValueRecord* remap = archive.value(e, "remaproughness");
       if (remap) m.remap_roughness = archive.get_int(e, "remaproughness", 1) != 0;

@@ -10,9 +10,9 @@ namespace rt {
 
 namespace {
 
-bool given(const pbrta::SceneArchive& a, uint32_t e, std::string_view name) {
-  const pbrta::ValueRecord* v = a.value(e, name);
-  return v && (v->flags & pbrta::kValueGiven) && v->count > 0;
+// Given and holding a value: computed defaults may be stored with count 0.
+bool given_value(const pbrta::SceneArchive& a, uint32_t e, std::string_view name) {
+  return a.given(e, name) && a.value(e, name)->count > 0;
 }
 
 }  // namespace
@@ -52,10 +52,10 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
 
   lens_radius_ = a.get_float(e, "lensradius", 0);
   focal_distance_ = a.get_float(e, "focaldistance", 1e6f);
-  float frame = given(a, e, "frameaspectratio") ? a.get_float(e, "frameaspectratio")
-                                                : float(res.x) / float(res.y);
+  float frame = given_value(a, e, "frameaspectratio") ? a.get_float(e, "frameaspectratio")
+                                                      : float(res.x) / float(res.y);
   float sw[4];
-  if (given(a, e, "screenwindow")) {
+  if (given_value(a, e, "screenwindow")) {
     const float* f = a.floats(*a.value(e, "screenwindow"));
     std::memcpy(sw, f, sizeof sw);
   } else if (frame > 1) {
