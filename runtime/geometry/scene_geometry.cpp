@@ -12,6 +12,7 @@
 #include <mutex>
 #include <vector>
 
+#include "runtime/core/clock.h"
 #include "runtime/geometry/quadric_intersect.h"
 #include "runtime/geometry/triangle_hit.h"
 #include "runtime/geometry/watertight.h"
@@ -564,8 +565,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
     return false;
   }
   stats_.embree_bytes = uint64_t(std::max<int64_t>(0, impl_->embree_bytes.load()));
-  stats_.build_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats_.build_seconds = seconds_since(start);
   return true;
 }
 

@@ -22,13 +22,10 @@
 #include <vector>
 
 #include "format/scene_archive.h"
+#include "runtime/core/clock.h"
 #include "runtime/render/render_job.h"
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 double peak_memory_mib() {
   rusage u{};
@@ -88,7 +85,7 @@ int main(int argc, char** argv) {
   pbrta::SceneArchive archive;
   std::string error;
   if (!archive.load(input, threads, &error)) return fail("error: " + error);
-  double t_archive = seconds_since(t_start);
+  double t_archive = rt::seconds_since(t_start);
 
   rt::RenderJobOptions job;
   job.outfile = outfile;

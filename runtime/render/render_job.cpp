@@ -5,6 +5,7 @@
 #include <iostream>
 #include <memory>
 
+#include "runtime/core/clock.h"
 #include "runtime/film/film.h"
 #include "runtime/film/image_io.h"
 #include "runtime/render/camera.h"
@@ -16,10 +17,6 @@
 namespace rt {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The integrator and light-strategy overrides of RenderJobOptions, on top of
 // the scene's settings (so its maxdepth stays).

@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "runtime/core/clock.h"
+
 namespace rt {
 
 namespace {
@@ -45,7 +47,7 @@ class ProgressBar {
       print(false);
   }
   void print(bool final) {
-    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    double elapsed = seconds_since(t0_);
     double f = total_ > 0 ? double(done_) / double(total_) : 1;
     const int width = 40;
     int bars = int(f * width);
@@ -139,8 +141,7 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
           progress.add(1);
           if (!first_done.exchange(true)) {
             std::lock_guard<std::mutex> lock(first_mutex);
-            first_tile =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            first_tile = seconds_since(t0);
           }
         }
       },
@@ -155,7 +156,7 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
     stats.shadow_rays += tc.rays.shadow_rays;
   }
   stats.first_tile_seconds = first_tile;
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats.seconds = seconds_since(t0);
   return stats;
 }
 

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "format/scene_archive.h"
+#include "runtime/core/clock.h"
 #include "tools/accuracy/error_plot.h"
 #include "tools/accuracy/sweep.h"
 #include "tools/accuracy/sweep_config.h"
@@ -120,8 +121,7 @@ int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
   pbrta::SceneArchive archive;
   if (!archive.load(input, threads, &error)) return fail("error: " + error);
-  double load_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  double load_seconds = rt::seconds_since(t0);
   std::printf("pbrt-converge: %s: archive loaded in %.4f s\n", name.c_str(), load_seconds);
 
   rt::ImageRgb reference;
@@ -137,8 +137,7 @@ int main(int argc, char** argv) {
         !rt::write_exr(beside(make_reference, "-b"), b, &error))
       return fail("error: " + error);
     std::printf("pbrt-converge: %s: reference at %d spp in %.2f s: %s\n", name.c_str(), spp,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - tr).count(),
-                make_reference.c_str());
+                rt::seconds_since(tr), make_reference.c_str());
   }
   if (!sweeping) return 0;
   if (!reference_path.empty() && !rt::read_exr(reference_path, &reference, &error))

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "runtime/core/clock.h"
 #include "runtime/render/render_job.h"
 
 namespace accuracy {
@@ -23,7 +24,7 @@ bool render_image(const pbrta::SceneArchive& archive, const SweepConfig& config,
   rt::RenderJobResult result;
   auto t0 = std::chrono::steady_clock::now();
   if (!rt::render_archive(archive, o, &result, error)) return false;
-  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  *seconds = rt::seconds_since(t0);
   *render_seconds = result.render.seconds;
   *image = std::move(result.image);
   return true;

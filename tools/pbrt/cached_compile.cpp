@@ -7,13 +7,11 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "runtime/core/clock.h"
+
 namespace pbrt_tool {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // This executable's size and modification time: a rebuilt compiler never reuses archives
 // an older one wrote, whatever its version string says.
@@ -79,10 +77,10 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
     ::close(fd);
     auto t0 = std::chrono::steady_clock::now();
     bool ok = compile_scene(source, path, threads, quiet, &inputs);
-    stats->compile_seconds = seconds_since(t0);
+    stats->compile_seconds = rt::seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     ok = ok && archive->load(path, threads, &error);
-    stats->load_seconds = seconds_since(t0);
+    stats->load_seconds = rt::seconds_since(t0);
     std::remove(path.c_str());
     if (!ok) {
       if (!error.empty()) std::cerr << "pbrt: error: " << error << "\n";
@@ -97,11 +95,11 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
     auto t0 = std::chrono::steady_clock::now();
     SceneCache::Lock lock(*cache, SceneCache::kShared);
     std::string path = cache->lookup(key);
-    stats->lookup_seconds = seconds_since(t0);
+    stats->lookup_seconds = rt::seconds_since(t0);
     if (!path.empty()) {
       t0 = std::chrono::steady_clock::now();
       bool ok = archive->load(path, threads, &error);
-      stats->load_seconds = seconds_since(t0);
+      stats->load_seconds = rt::seconds_since(t0);
       if (ok) {
         stats->outcome = CacheOutcome::kHit;
         stats->archive_path = path;
@@ -120,7 +118,7 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
   std::string temp = cache->temp_path(".pbrta");
   auto t0 = std::chrono::steady_clock::now();
   bool ok = compile_scene(source, temp, threads, quiet, &inputs);
-  stats->compile_seconds = seconds_since(t0);
+  stats->compile_seconds = rt::seconds_since(t0);
   if (!ok) {
     std::remove(temp.c_str());
     return nullptr;
@@ -140,7 +138,7 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
     }
     t0 = std::chrono::steady_clock::now();
     ok = archive->load(path, threads, &error);
-    stats->load_seconds = seconds_since(t0);
+    stats->load_seconds = rt::seconds_since(t0);
     if (path == temp) std::remove(temp.c_str());
     stats->archive_path = path == temp ? "" : path;
   }
