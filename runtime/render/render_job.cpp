@@ -83,15 +83,13 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
 
   auto t_build = std::chrono::steady_clock::now();
   RenderScene scene;
-  std::string warnings;
   scene.geometry.set_watertight(options.watertight);
-  if (!load_render_scene(archive, &scene, &warnings, error)) return false;
+  if (!load_render_scene(archive, &scene, error)) return false;
   result->integrator = std::string(archive.type_name(archive.scene().integrator));
   if ((scene.effects & pbrta::kEffectMedia) && !options.quiet)
     std::cerr << "Warning: Scene has scattering media but \"" << result->integrator
               << "\" integrator doesn't support volume scattering. Consider using \"volpath\", "
                  "\"bdpt\", or \"mlt\".\n";
-  if (!warnings.empty() && !options.quiet) std::cerr << warnings;
 
   std::unique_ptr<Sampler> sampler = make_sampler(archive, options.spp, options.seed,
                                                   film.sample_bounds(), error, options.sampler);

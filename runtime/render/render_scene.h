@@ -1,8 +1,8 @@
 // runtime/render/render_scene.h — everything a ray needs, loaded from one archive.
 //
 // load_render_scene() builds, in order, the shape table, textures,
-// materials, the Embree scene, the lights and the light-selection
-// distribution, timing each step; any part the runtime cannot render yet
+// materials, the Embree scene and the lights (the integrator builds its
+// light-selection distribution); any part the runtime cannot render yet
 // stops the load with "not supported yet: <feature> (file:line)". After
 // loading, a RenderScene is read-only and shared by all render threads.
 #pragma once
@@ -21,10 +21,6 @@
 
 namespace rt {
 
-struct LoadTimes {
-  double archive = 0, textures = 0, materials = 0, geometry = 0, lights = 0;
-};
-
 struct RenderScene {
   const pbrta::SceneArchive* archive = nullptr;
   ShapeTable shapes;
@@ -32,13 +28,11 @@ struct RenderScene {
   MaterialSet materials;
   SceneGeometry geometry;
   LightSet lights;
-  LoadTimes times;
   uint64_t effects = 0;  // the archive's effect bits
 };
 
-// light_strategy: the integrator's lightsamplestrategy (distribution built
-// by the integrator). Warnings (pbrt-v3's) go to *warnings, one per line.
+// Call scene->geometry.set_watertight() first to change that option.
 [[nodiscard]] bool load_render_scene(const pbrta::SceneArchive& archive, RenderScene* scene,
-                                     std::string* warnings, std::string* error);
+                                     std::string* error);
 
 }  // namespace rt

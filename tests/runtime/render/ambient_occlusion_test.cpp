@@ -45,10 +45,9 @@ Shape "trianglemesh" "integer indices" [0 1 2 0 2 3]
   Camera camera;
   IntegratorSettings settings;
   RenderScene scene;
-  std::string warnings, error;
+  std::string error;
   bool ok = film.build(a, {}, &error) && camera.build(a, film.full_resolution(), &error) &&
-            read_integrator(a, &settings, &error) &&
-            load_render_scene(a, &scene, &warnings, &error);
+            read_integrator(a, &settings, &error) && load_render_scene(a, &scene, &error);
   EXPECT_TRUE(ok) << error;
   if (!ok) return columns;
   std::unique_ptr<Sampler> sampler = make_sampler(a, 0, 0, film.sample_bounds(), &error);

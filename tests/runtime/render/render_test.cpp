@@ -36,10 +36,8 @@ Rendered render_text(const std::string& name, const std::string& text, int threa
   Camera camera;
   IntegratorSettings settings;
   RenderScene scene;
-  std::string warnings;
   if (!film.build(a, fo, &out.error) || !camera.build(a, film.full_resolution(), &out.error) ||
-      !read_integrator(a, &settings, &out.error) ||
-      !load_render_scene(a, &scene, &warnings, &out.error))
+      !read_integrator(a, &settings, &out.error) || !load_render_scene(a, &scene, &out.error))
     return out;
   std::unique_ptr<Sampler> sampler = make_sampler(a, spp, seed, film.sample_bounds(), &out.error);
   if (!sampler) return out;
@@ -148,7 +146,8 @@ Material "matte" "rgb Kd" [0.5 0.5 0.5]
 Shape "trianglemesh" "point P" [-4 0 -4   4 0 -4   4 0 4   -4 0 4]
   "integer indices" [0 1 2  0 2 3]
 WorldEnd
-)", 2);
+)",
+                           2);
   ASSERT_TRUE(r.ok) << r.error;
   for (int y = 14; y < 24; ++y)
     for (int x = 0; x < 32; ++x) EXPECT_GT(r.pixels[y * 32 + x].g, 0.f) << x << "," << y;

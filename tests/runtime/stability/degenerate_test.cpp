@@ -93,8 +93,8 @@ TEST(Degenerate, ZeroScaleIsRefusedWithTheLine) {
       testing_support::scratch_dir("degenerate_scale0"),
       std::string(kCamera) + "Integrator \"path\"" + kZeroScaleWorld, &a));
   RenderScene scene;
-  std::string warnings, error;
-  EXPECT_FALSE(load_render_scene(a, &scene, &warnings, &error));
+  std::string error;
+  EXPECT_FALSE(load_render_scene(a, &scene, &error));
   EXPECT_NE(error.find("scene.pbrt:12"), std::string::npos) << error;
   EXPECT_NE(error.find("singular"), std::string::npos) << error;
 }

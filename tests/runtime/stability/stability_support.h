@@ -48,11 +48,10 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
   Camera camera;
   IntegratorSettings settings;
   auto scene = std::make_unique<RenderScene>();
-  std::string warnings;
   if (!film.build(a, FilmOptions{}, &out.error) ||
       !camera.build(a, film.full_resolution(), &out.error) ||
       !read_integrator(a, &settings, &out.error) ||
-      !load_render_scene(a, scene.get(), &warnings, &out.error)) {
+      !load_render_scene(a, scene.get(), &out.error)) {
     ADD_FAILURE() << name << ": " << out.error;
     return out;
   }
