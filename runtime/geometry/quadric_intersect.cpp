@@ -25,22 +25,63 @@ float phi_of(float x, float y) {
 struct ObjectRay {
   Vec3 o, d;
   EFloat ox, oy, oz, dx, dy, dz;
+  // pbrt-v3's bounds for a float transform of the ray: the hit's error box
+  // for shapes whose point comes from the ray equation (parametric_error).
+  Vec3 box_o_err, box_d_err;
 };
 
+ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
+  ObjectRay r;
+  float len2 = length_squared(d);
+  if (len2 > 0) o += d * (dot(abs(d), o_err) / len2);
+  r.o = o;
+  r.d = d;
+  r.ox = EFloat(o.x, o_err.x);
+  r.oy = EFloat(o.y, o_err.y);
+  r.oz = EFloat(o.z, o_err.z);
+  r.dx = EFloat(d.x, d_err.x);
+  r.dy = EFloat(d.y, d_err.y);
+  r.dz = EFloat(d.z, d_err.z);
+  r.box_o_err = o_err;
+  r.box_d_err = d_err;
+  return r;
+}
+
+// The ray in object space as pbrt-v3 takes it there: a float transform with
+// its gamma(3) error bounds.
 ObjectRay to_object(const ShapeInfo& s, const Ray& rw) {
   Transform world_to_object(s.object_to_world.inverse_matrix(), s.object_to_world.matrix());
-  ObjectRay r;
   Vec3 o_err, d_err;
-  r.o = world_to_object.point(rw.o, &o_err);
-  r.d = world_to_object.vector(rw.d, &d_err);
-  float len2 = length_squared(r.d);
-  if (len2 > 0) r.o += r.d * (dot(abs(r.d), o_err) / len2);
-  r.ox = EFloat(r.o.x, o_err.x);
-  r.oy = EFloat(r.o.y, o_err.y);
-  r.oz = EFloat(r.o.z, o_err.z);
-  r.dx = EFloat(r.d.x, d_err.x);
-  r.dy = EFloat(r.d.y, d_err.y);
-  r.dz = EFloat(r.d.z, d_err.z);
+  Vec3 o = world_to_object.point(rw.o, &o_err);
+  Vec3 d = world_to_object.vector(rw.d, &d_err);
+  return with_errors(o, d, o_err, d_err);
+}
+
+// The same ray with the transform evaluated in double: the origin is the
+// float nearest the exact product, off by half an ulp instead of gamma(3)
+// times the magnitudes. Used only where pbrt-v3's bounds leave the nearest
+// root ambiguous (intersect_quadric); the hit's error box keeps pbrt-v3's.
+ObjectRay to_object_precise(const ShapeInfo& s, const Ray& rw, const ObjectRay& pbrt) {
+  const Matrix4& inv = s.object_to_world.inverse_matrix();
+  const double o[3] = {rw.o.x, rw.o.y, rw.o.z}, dw[3] = {rw.d.x, rw.d.y, rw.d.z};
+  Vec3 of, df, o_err, d_err;
+  for (int i = 0; i < 3; ++i) {
+    double od = inv.m[i][3], dd = 0, omag = std::fabs(od), dmag = 0;
+    for (int j = 0; j < 3; ++j) {
+      od += double(inv.m[i][j]) * o[j];
+      dd += double(inv.m[i][j]) * dw[j];
+      omag += std::fabs(double(inv.m[i][j]) * o[j]);
+      dmag += std::fabs(double(inv.m[i][j]) * dw[j]);
+    }
+    of[i] = float(od);
+    df[i] = float(dd);
+    // Rounding to float plus the double sums' own error (far below 2^-40).
+    o_err[i] = next_float_up(float(std::fabs(double(of[i]) - od) + 0x1p-40 * omag));
+    d_err[i] = next_float_up(float(std::fabs(double(df[i]) - dd) + 0x1p-40 * dmag));
+  }
+  ObjectRay r = with_errors(of, df, o_err, d_err);
+  r.box_o_err = pbrt.box_o_err;
+  r.box_d_err = pbrt.box_d_err;
   return r;
 }
 
@@ -180,8 +221,10 @@ bool fill_interaction(const ShapeInfo& s, Vec3 p, Vec3 p_err, Vec2 uv, Vec3 dpdu
 // The ray-parametric point's interval width: the error bound of the hit for
 // shapes whose point is not re-projected.
 Vec3 parametric_error(const ObjectRay& r, EFloat t) {
-  return {(r.ox + t * r.dx).abs_error(), (r.oy + t * r.dy).abs_error(),
-          (r.oz + t * r.dz).abs_error()};
+  Vec3 e;
+  for (int i = 0; i < 3; ++i)
+    e[i] = (EFloat(r.o[i], r.box_o_err[i]) + t * EFloat(r.d[i], r.box_d_err[i])).abs_error();
+  return e;
 }
 
 bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& r, EFloat t,
@@ -325,6 +368,16 @@ bool intersect_quadric(const ShapeInfo& s, const Ray& rw, float* t_hit, SurfaceI
   EFloat a, b, c, t0, t1;
   coefficients(q, r, &a, &b, &c);
   if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
+  if (!(t1.lower() > 0) && t1.v > 0) {
+    // The far root is positive but its interval reaches 0: the transform's
+    // rounding alone may hide a real hit. Far from the origin (errors of 1e-3
+    // at 2e3) a ray leaving the inside of a sphere at a grazing angle lands
+    // here and, rejected, would escape the closed sphere. Decide it again with
+    // the exactly rounded object-space ray.
+    r = to_object_precise(s, rw, r);
+    coefficients(q, r, &a, &b, &c);
+    if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
+  }
   // Conservative: a root is used only if its whole interval is in (0, tmax].
   if (!(t0.upper() <= rw.tmax) || !(t1.lower() > 0)) return false;
   EFloat t = t0;

@@ -44,6 +44,7 @@ struct QueryContext {
   RTCIntersectContext rtc;         // must stay first
   const Ray* ray;                  // the world-space ray
   SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric hit; null for occluded()
+  float near_t;                    // triangle hits at t <= near_t are re-tested (near_filter)
 };
 
 bool is_quadric(ShapeKind k) {
@@ -135,9 +136,44 @@ bool on_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
   return true;
 }
 
+// A triangle hit this close to the ray's origin may be the surface the ray
+// left. pbrt-v3's own triangle test rejects t within its error bound of zero;
+// Embree's has no such bound and reports a hit at t ~ 0 when an offset origin
+// lies exactly on its surface (an axis-aligned plane through a zero
+// coordinate, whose error bound along the normal is 0). Such hits are
+// re-tested with pbrt-v3's test (watertight_triangle, in the space Embree
+// hands the filter: the geometry's own), and dropped if it rejects them.
+// Hits farther out than near_t (a few ulps of the origin's magnitude) are
+// taken as they are, so a wall close to the origin is still hit, however far
+// from the world's origin the scene sits.
+bool near_hit_rejected(const RTCFilterFunctionNArguments* args) {
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  const RTCRay* ray = reinterpret_cast<const RTCRay*>(args->ray);
+  if (ray->tfar > ctx->near_t) return false;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
+  const MeshView& m = (*g->impl->shapes)[g->shape].mesh;
+  const uint32_t* idx = m.indices + 3 * size_t(hit->primID);
+  auto p = [&](uint32_t v) {
+    return Vec3{g->positions[3 * v], g->positions[3 * v + 1], g->positions[3 * v + 2]};
+  };
+  float t, b1, b2;
+  return !watertight_triangle(Vec3{ray->org_x, ray->org_y, ray->org_z},
+                              Vec3{ray->dir_x, ray->dir_y, ray->dir_z}, kInfinity, p(idx[0]),
+                              p(idx[1]), p(idx[2]), &t, &b1, &b2);
+}
+
+void near_filter(const RTCFilterFunctionNArguments* args) {
+  if (args->valid[0] && near_hit_rejected(args)) args->valid[0] = 0;
+}
+
 // Alpha filters: rebuild the hit as pbrt-v3 would and evaluate the mask there.
 void alpha_filter(const RTCFilterFunctionNArguments* args, bool shadow) {
   if (!args->valid[0]) return;
+  if (near_hit_rejected(args)) {
+    args->valid[0] = 0;
+    return;
+  }
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   const Impl* impl = g->impl;
@@ -220,6 +256,8 @@ float open_tfar(float tmax) {
   return std::isinf(tmax) ? tmax : next_float_down(tmax);
 }
 
+// Embree's interval starts at 0: hits at t ~ 0 on triangles go through
+// near_filter, quadrics have pbrt-v3's conservative t tests of their own.
 void init_ray(const Ray& ray, RTCRay* r) {
   r->org_x = ray.o.x;
   r->org_y = ray.o.y;
@@ -227,19 +265,19 @@ void init_ray(const Ray& ray, RTCRay* r) {
   r->dir_x = ray.d.x;
   r->dir_y = ray.d.y;
   r->dir_z = ray.d.z;
-  // pbrt's own triangle test rejects t within its conservative error bound
-  // of zero; Embree's has no such bound and reports a hit at t ~ 0 when an
-  // offset origin lies exactly on its surface (an axis-aligned plane, whose
-  // error bound is 0 along the normal). A start a few ulps of the origin's
-  // magnitude out along the ray stands in for that bound.
-  const float scale =
-      std::max(std::fabs(ray.o.x), std::max(std::fabs(ray.o.y), std::fabs(ray.o.z)));
-  r->tnear = gamma_bound(7) * scale / length(ray.d);
+  r->tnear = 0;
   r->tfar = open_tfar(ray.tmax);
   r->time = 0;
   r->mask = 0xFFFFFFFFu;
   r->id = 0;
   r->flags = 0;
+}
+
+// The t below which a triangle hit is re-tested (near_hit_rejected).
+float near_t(const Ray& ray) {
+  const float scale =
+      std::max(std::fabs(ray.o.x), std::max(std::fabs(ray.o.y), std::fabs(ray.o.z)));
+  return gamma_bound(7) * scale / length(ray.d);
 }
 
 void to_row_major_3x4(const Matrix4& m, float out[12]) {
@@ -385,9 +423,10 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
                              const_cast<uint32_t*>(m.indices), 0, 3 * sizeof(uint32_t),
                              m.num_triangles);
   rtcSetGeometryUserData(geom, &g);
-  if (has_alpha_mask(s)) rtcSetGeometryIntersectFilterFunction(geom, alpha_filter_intersect);
-  if (has_alpha_mask(s) || has_shadow_mask(s))
-    rtcSetGeometryOccludedFilterFunction(geom, alpha_filter_occluded);
+  rtcSetGeometryIntersectFilterFunction(geom,
+                                        has_alpha_mask(s) ? alpha_filter_intersect : near_filter);
+  rtcSetGeometryOccludedFilterFunction(
+      geom, has_alpha_mask(s) || has_shadow_mask(s) ? alpha_filter_occluded : near_filter);
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
@@ -575,6 +614,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
   rtcInitIntersectContext(&ctx.rtc);
   ctx.ray = &ray;
   ctx.quadric_si = si;
+  ctx.near_t = near_t(ray);
   RTCRayHit rh;
   init_ray(ray, &rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -604,6 +644,7 @@ bool SceneGeometry::occluded(const Ray& ray) const {
   rtcInitIntersectContext(&ctx.rtc);
   ctx.ray = &ray;
   ctx.quadric_si = nullptr;
+  ctx.near_t = near_t(ray);
   RTCRay r;
   init_ray(ray, &r);
   rtcOccluded1(impl_->top, &ctx.rtc, &r);

@@ -1,6 +1,9 @@
 // runtime/geometry/triangle_hit.cpp — see triangle_hit.h.
 #include "runtime/geometry/triangle_hit.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace rt {
 
 namespace {
@@ -26,6 +29,38 @@ Vec3 abs_vector(const Matrix4& m, Vec3 v) {
   return r;
 }
 
+// The computed hit point is off the exact one by up to its error bound in
+// every direction, tangents included: near an edge it can land beyond the
+// plane of the adjacent wall (a box's inside corner far from the origin), and
+// a ray spawned there, offset only along this triangle's normal, starts on
+// the wrong side of that wall and leaks. So a hit closer to an edge than
+// twice its error bound is moved toward the centroid until it is that far
+// inside: a point of the triangle as good as the computed one (both lie within
+// the bound of the true hit, up to the margin). True when *b0..*b2 changed.
+bool keep_off_edges(const Vec3 p[3], Vec3 p_error, float* b0, float* b1, float* b2) {
+  const float m2 = 4 * length_squared(p_error);                         // (2 |error|)^2
+  const float area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
+  if (!(area2 > 0)) return false;
+  // Edge i is opposite vertex i; b_i is the distance to it over the height
+  // h_i = 2A / |e_i|. The margin in barycentrics: mu_i = 2|error| / h_i.
+  const float e2[3] = {length_squared(p[2] - p[1]), length_squared(p[0] - p[2]),
+                       length_squared(p[1] - p[0])};
+  float b[3] = {*b0, *b1, *b2};
+  float s = 0;
+  for (int i = 0; i < 3; ++i) {
+    const float mu2 = m2 * e2[i] / area2;
+    if (b[i] > 0 && b[i] * b[i] >= mu2) continue;
+    const float mu = std::sqrt(mu2);
+    s = mu >= 1.f / 3 ? 1 : std::max(s, (mu - b[i]) / (1.f / 3 - b[i]));
+  }
+  if (s <= 0) return false;
+  s = std::min(s, 1.f);
+  *b0 = b[0] + s * (1.f / 3 - b[0]);
+  *b1 = b[1] + s * (1.f / 3 - b[1]);
+  *b2 = b[2] + s * (1.f / 3 - b[2]);
+  return true;
+}
+
 }  // namespace
 
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
@@ -33,8 +68,7 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   const MeshView& m = s.mesh;
   const uint32_t* idx = m.indices + 3 * size_t(prim);
   const uint32_t v[3] = {idx[0], idx[1], idx[2]};
-  const float b0 = 1 - b1 - b2;
-  const float b[3] = {b0, b1, b2};
+  float b0 = 1 - b1 - b2;
 
   Vec3 pb[3], p[3];
   for (int i = 0; i < 3; ++i) {
@@ -45,6 +79,11 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
   si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
   si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
+  if (keep_off_edges(p, si->p_error, &b0, &b1, &b2)) {
+    si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
+    si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
+  }
+  const float b[3] = {b0, b1, b2};
   if (space.to_world) {
     // Embree intersected the buffer-space triangle with a ray it took to
     // buffer space itself; our world vertices are rounded images of that
