@@ -115,6 +115,8 @@ Rgb raw_f(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return microfacet_transmission_f(b, wo, wi);
     case BxdfKind::kFresnelBlend:
       return fresnel_blend_f(b, wo, wi);
+    case BxdfKind::kDisney:
+      return b.disney.f(wo, wi);
     case BxdfKind::kSpecularReflection:
     case BxdfKind::kSpecularTransmission:
     case BxdfKind::kFresnelSpecular:
@@ -138,6 +140,8 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
     case BxdfKind::kFresnelBlend:
       if (!same_hemisphere(wo, wi)) return 0;
       return .5f * (abs_cos_theta(wi) * kInvPi + half_vector_reflection_pdf(b, wo, wi));
+    case BxdfKind::kDisney:
+      return b.disney.pdf(wo, wi);
     case BxdfKind::kSpecularReflection:
     case BxdfKind::kSpecularTransmission:
     case BxdfKind::kFresnelSpecular:
@@ -226,6 +230,9 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
         if (!same_hemisphere(wo, *wi)) return Rgb(0);
       }
       break;
+    case BxdfKind::kDisney:
+      // Each Disney lobe is one kind of scattering: what was sampled is its flags.
+      return b.disney.sample_f(wo, wi, u, pdf);
   }
   *pdf = raw_pdf(b, wo, *wi);
   return raw_f(b, wo, *wi);
@@ -338,6 +345,15 @@ Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d) {
   b.r = rd;
   b.t = rs;
   b.distribution = d;
+  return b;
+}
+
+Bxdf make_disney(const DisneyLobe& lobe) {
+  Bxdf b;
+  b.kind = BxdfKind::kDisney;
+  b.flags = lobe.flags;
+  b.mode = lobe.mode;
+  b.disney = lobe;
   return b;
 }
 

@@ -5,33 +5,27 @@
 // sample with its pdf, and pdf. Kinds are dispatched by a switch (no virtual
 // calls, no heap): Lambertian reflection and transmission, Oren-Nayar,
 // specular reflection and transmission, FresnelSpecular (both, chosen by
-// Fresnel), microfacet reflection and transmission, FresnelBlend. Every lobe
+// Fresnel), microfacet reflection and transmission, FresnelBlend, and the
+// Disney material's lobes (kDisney: f/sample_f/pdf are the carried
+// DisneyLobe's, disney_bxdf.h). Payloads only one kind reads share storage
+// in an anonymous union (Bsdf holds 8 Bxdfs inline, so size matters): a new
+// kind with its own plain-data payload goes there too. Every lobe
 // carries `scale` (1 unless a mix material weighted it: pbrt-v3's ScaledBxDF,
 // which scales f and the sampled value but not the pdf). Build lobes with the
 // make_* functions; flags follow pbrt-v3's BxDFType.
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "runtime/core/rgb.h"
 #include "runtime/core/vec.h"
+#include "runtime/material/bxdf_flags.h"
+#include "runtime/material/disney_bxdf.h"
 #include "runtime/material/fresnel.h"
 #include "runtime/material/microfacet.h"
 
 namespace rt {
-
-enum BxdfFlags : uint8_t {
-  kReflection = 1,
-  kTransmission = 2,
-  kDiffuse = 4,
-  kGlossy = 8,
-  kSpecular = 16,
-  kAllBxdf = 31
-};
-
-// Radiance: paths traced from the camera (non-symmetric refraction scaling
-// applies); importance: paths from lights.
-enum class TransportMode : uint8_t { kRadiance, kImportance };
 
 enum class BxdfKind : uint8_t {
   kLambertianReflection,
@@ -43,9 +37,14 @@ enum class BxdfKind : uint8_t {
   kMicrofacetReflection,
   kMicrofacetTransmission,
   kFresnelBlend,
+  kDisney,
 };
 
 struct Bxdf {
+  // Spelled out: a union member with a non-trivial default constructor
+  // deletes the implicit one.
+  Bxdf() : fresnel() {}
+
   BxdfKind kind = BxdfKind::kLambertianReflection;
   uint8_t flags = kReflection | kDiffuse;
   TransportMode mode = TransportMode::kRadiance;
@@ -54,7 +53,10 @@ struct Bxdf {
   Rgb scale{1};                // mix weight
   float eta_a = 1, eta_b = 1;  // outside (+z) and inside indices
   float oren_a = 1, oren_b = 0;
-  Fresnel fresnel;
+  union {
+    Fresnel fresnel;    // specular and microfacet reflection
+    DisneyLobe disney;  // kDisney: the whole lobe (r, t, eta, ... unused)
+  };
   MicrofacetDistribution distribution;
 
   // True when every flag of this lobe is among `mask`'s.
@@ -68,6 +70,9 @@ struct Bxdf {
   float pdf(Vec3 wo, Vec3 wi) const;
 };
 
+// Bsdf copies lobes by value; the union must keep that a plain byte copy.
+static_assert(std::is_trivially_copyable_v<Bxdf>);
+
 Bxdf make_lambertian_reflection(Rgb r);
 Bxdf make_lambertian_transmission(Rgb t);
 // sigma_degrees: the standard deviation of microfacet angles.
@@ -79,5 +84,7 @@ Bxdf make_microfacet_reflection(Rgb r, const MicrofacetDistribution& d, const Fr
 Bxdf make_microfacet_transmission(Rgb t, const MicrofacetDistribution& d, float eta_a, float eta_b,
                                   TransportMode mode);
 Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d);
+// Carries one of the Disney material's lobes; flags are the lobe's.
+Bxdf make_disney(const DisneyLobe& lobe);
 
 }  // namespace rt

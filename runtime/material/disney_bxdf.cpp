@@ -76,7 +76,7 @@ Rgb specular_f(const DisneyLobe& b, Vec3 wo, Vec3 wi) {
   if (is_zero(wh)) return Rgb(0);
   wh = normalize(wh);
   Rgb fr = disney_fresnel(b.r, b.metallic, b.eta, dot(wi, face_forward(wh, Vec3{0, 0, 1})));
-  return fr * (b.distribution.d(wh) * masking(b, wo, wi) / (4 * cos_i * cos_o));
+  return b.specular_r * fr * (b.distribution.d(wh) * masking(b, wo, wi) / (4 * cos_i * cos_o));
 }
 
 Rgb clearcoat_f(const DisneyLobe& b, Vec3 wo, Vec3 wi) {
@@ -120,13 +120,11 @@ Rgb disney_fresnel(Rgb r0, float metallic, float eta, float cos_theta_i) {
 Rgb DisneyLobe::f(Vec3 wo, Vec3 wi) const {
   switch (kind) {
     case DisneyLobeKind::kDiffuse: {
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       float fo = schlick_weight(abs_cos_theta(wo)), fi = schlick_weight(abs_cos_theta(wi));
       // Lambert with the grazing darkening of a Fresnel-like factor on each side.
       return r * (kInvPi * (1 - fo / 2) * (1 - fi / 2));
     }
     case DisneyLobeKind::kFakeSubsurface: {
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       Vec3 wh = wi + wo;
       if (is_zero(wh)) return Rgb(0);
       wh = normalize(wh);
@@ -139,7 +137,6 @@ Rgb DisneyLobe::f(Vec3 wo, Vec3 wi) const {
       return r * (kInvPi * ss);
     }
     case DisneyLobeKind::kRetro: {
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       Vec3 wh = wi + wo;
       if (is_zero(wh)) return Rgb(0);
       wh = normalize(wh);
@@ -149,22 +146,19 @@ Rgb DisneyLobe::f(Vec3 wo, Vec3 wi) const {
       return r * (kInvPi * rr * (fo + fi + fo * fi * (rr - 1)));
     }
     case DisneyLobeKind::kSheen: {
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       Vec3 wh = wi + wo;
       if (is_zero(wh)) return Rgb(0);
       wh = normalize(wh);
       return r * schlick_weight(dot(wi, wh));
     }
     case DisneyLobeKind::kClearcoat:
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       return clearcoat_f(*this, wo, wi);
     case DisneyLobeKind::kSpecular:
-      if (!same_hemisphere(wo, wi)) return Rgb(0);
       return specular_f(*this, wo, wi);
     case DisneyLobeKind::kTransmission:
       return transmission_f(*this, wo, wi);
     case DisneyLobeKind::kDiffuseTransmission:
-      return same_hemisphere(wo, wi) ? Rgb(0) : r * kInvPi;
+      return r * kInvPi;
   }
   return Rgb(0);
 }
@@ -283,6 +277,7 @@ int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[
   float r0 = sqr(p.eta - 1) / sqr(p.eta + 1);
   Rgb spec0 = lerp_rgb(p.metallic, r0 * lerp_rgb(p.specular_tint, Rgb(1), tint), c);
   DisneyLobe& spec = add(DisneyLobeKind::kSpecular, kReflection | kGlossy, spec0);
+  spec.specular_r = c;
   spec.distribution = d;
   spec.separable_g = true;
   spec.metallic = p.metallic;

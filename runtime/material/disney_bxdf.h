@@ -10,22 +10,24 @@
 // transmission, and the thin surface's Lambertian transmission. As in
 // pbrt-v3, the specular lobe and the solid surface's transmission mask with
 // the separable Smith term G1(wo) G1(wi) (its DisneyMicrofacetDistribution);
-// the thin surface's transmission uses the standard one.
+// the thin surface's transmission uses the standard one. Like pbrt-v3's
+// BxDFs, the reflection lobes' f() does not test the hemispheres: Bsdf
+// decides reflection vs transmission with the geometric normal, so under a
+// shading normal they may be asked about directions on opposite local sides.
 //
 // make_disney_lobes() is pbrt-v3's DisneyMaterial::ComputeScatteringFunctions
 // after texture lookup: which lobes with which weights. The solid surface
 // with a non-black scatterdistance needs a BSSRDF; it reports that instead.
 //
-// To render it, Bxdf needs a kind that carries a DisneyLobe and delegates
-// f/sample_f/pdf to it, and MaterialSet a "disney" kind that evaluates the
-// textures into DisneyParams (see the engineer's report).
+// Bxdf's kDisney kind carries a DisneyLobe and delegates to it; MaterialSet's
+// "disney" material builds the lobes with make_disney_lobes().
 #pragma once
 
 #include <cstdint>
 
 #include "runtime/core/rgb.h"
 #include "runtime/core/vec.h"
-#include "runtime/material/bxdf.h"
+#include "runtime/material/bxdf_flags.h"
 #include "runtime/material/microfacet.h"
 
 namespace rt {
@@ -47,7 +49,11 @@ struct DisneyLobe {
   TransportMode mode = TransportMode::kRadiance;
   bool separable_g = false;  // specular and solid transmission
   Rgb r;                     // weight: reflectance, specular's R0, transmittance
-  float roughness = 0;       // fake subsurface, retro
+  // The specular lobe's overall reflectance on top of its Fresnel term:
+  // pbrt-v3 builds it as MicrofacetReflection(color, ...), so it is tinted by
+  // the base colour as well as by R0.
+  Rgb specular_r{1};
+  float roughness = 0;  // fake subsurface, retro
   float clearcoat_alpha = 0.1f;
   float metallic = 0, eta = 1.5f;  // specular's Fresnel; transmission's index (inside)
   MicrofacetDistribution distribution;

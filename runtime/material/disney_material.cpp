@@ -3,6 +3,20 @@
 
 namespace rt {
 
+namespace {
+
+bool may_be_positive(const FloatInput& in) {
+  return in.texture != kNone || in.value > 0;
+}
+
+// (1 - metallic)(1 - spectrans) > 0 somewhere: the diffuse lobes may appear.
+bool may_have_diffuse(const DisneyInputs& in) {
+  if (in.metallic.texture != kNone || in.spec_trans.texture != kNone) return true;
+  return (1 - in.metallic.value) * (1 - in.spec_trans.value) > 0;
+}
+
+}  // namespace
+
 bool read_disney_inputs(const pbrta::SceneArchive& a, uint32_t e, DisneyInputs* in,
                         std::string* error) {
   in->color = rgb_input(a, e, "color");
@@ -20,13 +34,35 @@ bool read_disney_inputs(const pbrta::SceneArchive& a, uint32_t e, DisneyInputs* 
   in->flatness = float_input(a, e, "flatness");
   in->diff_trans = float_input(a, e, "difftrans");
   in->thin = a.get_int(e, "thin", 0) != 0;
-  if (!in->thin && in->scatter_distance.texture == kNone &&
-      !in->scatter_distance.value.is_black()) {
-    *error = "not supported yet: disney material with subsurface scattering (scatterdistance) (" +
-             a.where(e) + ")";
-    return false;
+  // pbrt-v3 looks at scatterdistance only where the diffuse part is present.
+  if (!in->thin && may_have_diffuse(*in)) {
+    if (in->scatter_distance.texture != kNone) {
+      *error =
+          "not supported yet: disney material with subsurface scattering (textured "
+          "scatterdistance) (" +
+          a.where(e) + ")";
+      return false;
+    }
+    if (!in->scatter_distance.value.is_black()) {
+      *error = "not supported yet: disney material with subsurface scattering (" + a.where(e) + ")";
+      return false;
+    }
   }
   return true;
+}
+
+int max_disney_lobes(const DisneyInputs& in) {
+  int n = 0;
+  if (may_have_diffuse(in)) {
+    n += in.thin ? 2 : 1;  // diffuse (thin: and fake subsurface)
+    n += 1;                // retro-reflection
+    if (may_be_positive(in.sheen)) ++n;
+  }
+  ++n;  // specular, always
+  if (may_be_positive(in.clearcoat)) ++n;
+  if (may_be_positive(in.spec_trans)) ++n;
+  if (in.thin) ++n;  // diffuse transmission
+  return n;
 }
 
 DisneyParams evaluate_disney(const DisneyInputs& in, const TextureSet& t,

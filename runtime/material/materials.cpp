@@ -34,6 +34,8 @@ int max_lobes(const std::vector<MaterialNode>& nodes, uint32_t m, int depth) {
       return 4;
     case MaterialKind::kUber:
       return 5;
+    case MaterialKind::kDisney:
+      return max_disney_lobes(n.disney);
     case MaterialKind::kMix:
       if (depth > 16) return 1000;  // a cycle: reported as too many lobes
       return max_lobes(nodes, n.mix[0], depth + 1) + max_lobes(nodes, n.mix[1], depth + 1);
@@ -128,6 +130,9 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       m.reflect = rin("reflect");
       m.transmit = rin("transmit");
       m.roughness = fin("roughness");
+    } else if (type == "disney") {
+      m.kind = MaterialKind::kDisney;
+      if (!read_disney_inputs(archive, e, &m.disney, error)) return false;
     } else if (type == "mix") {
       m.kind = MaterialKind::kMix;
       m.amount = rin("amount");
@@ -305,6 +310,15 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
           bsdf->add(make_microfacet_reflection(r * ks, d, Fresnel::dielectric(1.f, eta)));
         if (!t.is_black()) bsdf->add(make_microfacet_transmission(t * ks, d, 1.f, eta, mode));
       }
+      break;
+    }
+    case MaterialKind::kDisney: {
+      DisneyParams p = evaluate_disney(m.disney, tex, si);
+      bsdf->init(si);  // pbrt-v3's DisneyMaterial leaves the BSDF's eta at 1
+      DisneyLobe lobes[kMaxDisneyLobes];
+      // -1 (subsurface scattering) cannot happen: build() refused those inputs.
+      int n = make_disney_lobes(p, mode, lobes);
+      for (int i = 0; i < n; ++i) bsdf->add(make_disney(lobes[i]));
       break;
     }
     case MaterialKind::kNone:

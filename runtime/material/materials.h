@@ -3,7 +3,8 @@
 //
 // MaterialSet::build() reads every archive.materials record (indices are the
 // archive's, as ShapeRecord.material uses them): matte, plastic, metal,
-// mirror, glass, uber, substrate, translucent, mix and the interface material
+// mirror, glass, uber, substrate, translucent, disney (not its subsurface
+// scattering: see disney_material.h), mix and the interface material
 // "none". Anything else fails with "not supported yet: <type> material
 // (file:line)". compute_bsdf() follows each pbrt-v3 material's
 // ComputeScatteringFunctions: bump mapping first (it updates si's shading
@@ -22,6 +23,7 @@
 #include "format/scene_archive.h"
 #include "runtime/core/interaction.h"
 #include "runtime/material/bsdf.h"
+#include "runtime/material/disney_material.h"
 #include "runtime/texture/textures.h"
 
 namespace rt {
@@ -36,6 +38,7 @@ enum class MaterialKind : uint8_t {
   kUber,
   kSubstrate,
   kTranslucent,
+  kDisney,
   kMix,
 };
 
@@ -50,6 +53,7 @@ struct MaterialNode {
   RgbInput amount;  // mix
   FloatInput sigma, roughness, uroughness, vroughness, eta;
   uint32_t mix[2] = {kNone, kNone};
+  DisneyInputs disney;
 };
 
 class MaterialSet {
