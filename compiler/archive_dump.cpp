@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,8 @@
 #include <sstream>
 #include <vector>
 
+#include "compiler/bsdf_file.h"
+#include "format/fourier_table.h"
 #include "format/ply_writer.h"
 
 namespace pbrtc {
@@ -80,7 +83,9 @@ class Dumper {
   bool params(uint32_t entity, std::string* out) {
     const pbrta::EntityRecord& e = a_.entities[entity];
     const pbrta::TypeSpec& ts = a_.type_of(entity);
-    for (uint32_t p = 0; p < e.num_values; ++p) {
+    // A newer minor version may append parameters this reader does not know: they are skipped.
+    uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
+    for (uint32_t p = 0; p < known; ++p) {
       const pbrta::ValueRecord& v = a_.values[e.first_value + p];
       const pbrta::ParamSpec& ps = ts.params[p];
       if (!(v.flags & pbrta::kValueGiven)) continue;
@@ -114,6 +119,10 @@ class Dumper {
               // File data must come from the archive: meshes, lens files and images.
               if (ts.name == "realistic" && name == "lensfile") {
                 if (!write_lens(entity, &vals)) return false;
+                break;
+              }
+              if (ts.name == "fourier" && name == "bsdffile") {
+                if (!write_bsdf(entity, &vals)) return false;
                 break;
               }
               if ((ts.name == "imagemap" && name == "filename") || name == "mapname") {
@@ -165,6 +174,22 @@ class Dumper {
     ::mkdir(dir.c_str(), 0777);
     std::ofstream out(outdir_ + "/" + name, std::ios::binary);
     out << text;
+    if (!out.flush()) {
+      error_ = "cannot write '" + outdir_ + "/" + name + "'";
+      return false;
+    }
+    *vals += quoted(name);
+    return true;
+  }
+
+  // The fourier material's table backs out as a .bsdf file that reads back to the same arrays.
+  bool write_bsdf(uint32_t entity, std::string* vals) {
+    pbrta::FourierTableView t;
+    if (!pbrta::fourier_table_of(a_, entity, &t, &error_)) return false;
+    std::string name = "bsdfs/material" + std::to_string(entity) + ".bsdf";
+    if (!make_dir(outdir_ + "/bsdfs", &error_)) return false;
+    std::ofstream out(outdir_ + "/" + name, std::ios::binary);
+    out << write_bsdf_file(t);
     if (!out.flush()) {
       error_ = "cannot write '" + outdir_ + "/" + name + "'";
       return false;

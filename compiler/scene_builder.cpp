@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "compiler/bsdf_file.h"
 #include "compiler/mesh_builder.h"
 #include "compiler/spectrum.h"
 #include "compiler/refine.h"
@@ -49,6 +50,45 @@ struct GraphicsState {
   Loc medium_loc;
   bool reverse_orientation = false;
 };
+
+void set_derived(Entity* e, std::string_view name, const float* f, size_t n) {
+  Value& v = e->values[size_t(e->slot(name))];
+  v.offset = uint32_t(e->floats.size());
+  v.count = uint32_t(n);
+  v.given = true;
+  e->floats.insert(e->floats.end(), f, f + n);
+}
+void set_derived(Entity* e, std::string_view name, const int32_t* i, size_t n) {
+  Value& v = e->values[size_t(e->slot(name))];
+  v.offset = uint32_t(e->ints.size());
+  v.count = uint32_t(n);
+  v.given = true;
+  e->ints.insert(e->ints.end(), i, i + n);
+}
+
+// The fourier material's table is read now, so the runtime opens no file: its arrays become
+// the material's derived parameters (format/fourier_table.h). where: the file name's location.
+bool derive_fourier_table(Entity* m, Loc where, Diagnostics* diag) {
+  const std::string& path = m->get_string("bsdffile");
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  BsdfTable table;
+  std::string err;
+  if (!in) err = "cannot be read";
+  if (!err.empty() || !read_bsdf_file(bytes.str(), &table, &err)) {
+    diag->error(where, "bsdf file \"" + path + "\" " + err);
+    return false;
+  }
+  set_derived(m, "bsdfeta", &table.eta, 1);
+  set_derived(m, "bsdfmmax", &table.m_max, 1);
+  set_derived(m, "bsdfchannels", &table.channels, 1);
+  set_derived(m, "bsdfmu", table.mu.data(), table.mu.size());
+  set_derived(m, "bsdfcdf", table.cdf.data(), table.cdf.size());
+  set_derived(m, "bsdfoffsets", table.offsets.data(), table.offsets.size());
+  set_derived(m, "bsdfcoeffs", table.coeffs.data(), table.coeffs.size());
+  return true;
+}
 
 struct TransformPair {
   Matrix4 t[2];
@@ -254,6 +294,10 @@ struct SceneBuilder::State {
     }
     resolver.report_unused(params, &m.params);
     resolver.check_required(m.params, loc, &params);
+    if (m.params.type_name() == "fourier" && m.params.given("bsdffile")) {
+      const ParsedParam* fp = params.find("bsdffile");
+      derive_fourier_table(&m.params, fp ? fp->value_loc : loc, diag);
+    }
     scene->materials.push_back(std::move(m));
     return int32_t(scene->materials.size() - 1);
   }
@@ -850,14 +894,17 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
     for (const ParsedParam& p : params.params) {
       if (p.looked_up) continue;
       int slot = pbrta::find_param(material_spec, p.name);
-      if (slot < 0) continue;
+      // Derived parameters come from the material's file, never from scene text.
+      if (slot < 0 || (material_spec.params[slot].flags & pbrta::kParamDerived)) continue;
       if (!over) {
         s_->scene->materials.push_back(s_->scene->materials[size_t(material)]);
         over = &s_->scene->materials.back();
         over->name.clear();
         over->params.loc = loc;
       }
-      s_->resolver.assign(&over->params, slot, p, params, s_->scope());
+      if (s_->resolver.assign(&over->params, slot, p, params, s_->scope()) &&
+          material_spec.name == "fourier" && p.name == "bsdffile")
+        derive_fourier_table(&over->params, p.value_loc, s_->diag);
     }
     if (over) material = int32_t(s_->scene->materials.size() - 1);
   }

@@ -23,7 +23,7 @@ namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
 inline constexpr uint16_t kMajorVersion = 1;
-inline constexpr uint16_t kMinorVersion = 0;
+inline constexpr uint16_t kMinorVersion = 1;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;
@@ -123,7 +123,7 @@ struct EntityRecord {
   uint8_t reserved0;
   uint16_t type;      // index into the category's types
   uint32_t first_value;
-  uint32_t num_values;  // == the type's num_params
+  uint32_t num_values;  // the type's num_params when written (ARCHIVE.md: minor versions)
   uint32_t reserved1;
 };
 static_assert(sizeof(EntityRecord) == 16, "EntityRecord is 16 bytes");

@@ -1,9 +1,11 @@
 #include "format/scene_archive.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "format/archive_names.h"
 #include "format/draco_codec.h"
+#include "format/fourier_table.h"
 
 namespace pbrta {
 
@@ -69,7 +71,8 @@ std::string_view SceneArchive::type_name(uint32_t entity) const {
 
 const ValueRecord* SceneArchive::value(uint32_t entity, std::string_view name) const {
   int p = find_param(type_of(entity), name);
-  if (p < 0) return nullptr;
+  // An archive of an older minor version may lack parameters appended since.
+  if (p < 0 || uint32_t(p) >= entities[entity].num_values) return nullptr;
   return &values[entities[entity].first_value + uint32_t(p)];
 }
 
@@ -355,9 +358,15 @@ bool SceneArchive::validate(std::string* error) {
       c.fail(at() + "reserved field is not zero");
       break;
     }
-    if (e.num_values != ts.num_params) {
+    // Parameters are only ever appended to a type (a minor change): a newer minor may have
+    // more than this reader knows (it ignores them), an older one fewer (they read as absent).
+    const uint16_t minor = r.header().minor;
+    if (minor == kMinorVersion  ? e.num_values != ts.num_params
+        : minor > kMinorVersion ? e.num_values < ts.num_params
+                                : e.num_values > ts.num_params) {
       c.fail(at() + std::string(ts.name) + " has " + std::to_string(ts.num_params) +
-             " parameters, the record " + std::to_string(e.num_values));
+             " parameters, the record " + std::to_string(e.num_values) + " (archive version " +
+             std::to_string(r.header().major) + "." + std::to_string(minor) + ")");
       break;
     }
     if (uint64_t(e.first_value) + e.num_values > values.size) {
@@ -365,7 +374,8 @@ bool SceneArchive::validate(std::string* error) {
              " out of range (" + std::to_string(values.size) + " values)");
       break;
     }
-    for (uint32_t p = 0; p < e.num_values; ++p) {
+    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
+    for (uint32_t p = 0; p < known; ++p) {
       const ValueRecord& v = values[e.first_value + p];
       const ParamSpec& ps = ts.params[p];
       auto vat = [&]() {
@@ -446,7 +456,8 @@ bool SceneArchive::validate(std::string* error) {
   for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
     const EntityRecord& e = entities[i];
     const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
-    for (uint32_t p = 0; p < e.num_values; ++p) {
+    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
+    for (uint32_t p = 0; p < known; ++p) {
       const ValueRecord& v = values[e.first_value + p];
       if (v.texture == kNoIndex) continue;
       Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
@@ -467,6 +478,19 @@ bool SceneArchive::validate(std::string* error) {
          c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
         c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
         c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
+  }
+  // A fourier material's table (derived from its file) is indexed by the renderer without
+  // checks: its arrays must agree. One written before version 1.1 has none (the renderer
+  // reports that); one that has a table must have a consistent one.
+  c.in(sec(SectionKind::kEntities));
+  for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
+    if (entities[i].category != uint8_t(Category::kMaterial) || type_name(i) != "fourier") continue;
+    FourierTableView t;
+    std::string why;
+    const ValueRecord* mu = value(i, "bsdfmu");
+    if (!mu || mu->count == 0) continue;
+    if (!fourier_table_of(*this, i, &t, &why) || !check_fourier_table(t, &why))
+      c.fail("entity " + std::to_string(i) + ": fourier table " + why);
   }
   c.in(sec(SectionKind::kMedia));
   for (uint32_t i = 0; i < media.size && !c.failed(); ++i) {

@@ -386,6 +386,21 @@ constexpr ParamSpec kKdSubsurface[] = {
 constexpr ParamSpec kFourier[] = {
     p_ftex_optional("bumpmap"),
     required(p_file("bsdffile")),
+    // Read from "bsdffile" at compile time, so the runtime opens no file (format/fourier_table.h).
+    noted(derived(p_float("bsdfeta", 1)),
+          "the table's relative index of refraction (1: reflection only)"),
+    noted(derived(p_int("bsdfmmax", 0)),
+          "the file's maximum Fourier series length: no node pair's series is longer"),
+    noted(derived(p_int("bsdfchannels", 0)), "1 (luminance) or 3 (luminance, red, blue)"),
+    noted(derived(p_bulk("bsdfmu", Kind::kFloat)),
+          "the n zenith cosine nodes, non-decreasing in [-1, 1]"),
+    noted(derived(p_bulk("bsdfcdf", Kind::kFloat)),
+          "n*n: row o (outgoing node), column i: the running integral over incoming cosines of "
+          "the series' constant term"),
+    noted(derived(p_bulk("bsdfoffsets", Kind::kInt)),
+          "2*n*n: per (o, i), the first coefficient and the series length m"),
+    noted(derived(p_bulk("bsdfcoeffs", Kind::kFloat)),
+          "all series coefficients; pair (o, i) channel c term k is at offset + c*m + k"),
 };
 constexpr ParamSpec kDisney[] = {
     p_stex("color", 0.5f),

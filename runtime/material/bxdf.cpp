@@ -3,6 +3,7 @@
 #include "runtime/material/bxdf.h"
 
 #include "runtime/core/sampling.h"
+#include "runtime/material/fourier_bxdf.h"
 #include "runtime/material/local_frame.h"
 
 namespace rt {
@@ -117,6 +118,8 @@ Rgb raw_f(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return fresnel_blend_f(b, wo, wi);
     case BxdfKind::kDisney:
       return b.disney.f(wo, wi);
+    case BxdfKind::kFourier:
+      return FourierLobe{b.fourier, b.mode}.f(wo, wi);
     case BxdfKind::kSpecularReflection:
     case BxdfKind::kSpecularTransmission:
     case BxdfKind::kFresnelSpecular:
@@ -142,6 +145,8 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return .5f * (abs_cos_theta(wi) * kInvPi + half_vector_reflection_pdf(b, wo, wi));
     case BxdfKind::kDisney:
       return b.disney.pdf(wo, wi);
+    case BxdfKind::kFourier:
+      return FourierLobe{b.fourier, b.mode}.pdf(wo, wi);
     case BxdfKind::kSpecularReflection:
     case BxdfKind::kSpecularTransmission:
     case BxdfKind::kFresnelSpecular:
@@ -233,6 +238,8 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
     case BxdfKind::kDisney:
       // Each Disney lobe is one kind of scattering: what was sampled is its flags.
       return b.disney.sample_f(wo, wi, u, pdf);
+    case BxdfKind::kFourier:
+      return FourierLobe{b.fourier, b.mode}.sample_f(wo, wi, u, pdf);
   }
   *pdf = raw_pdf(b, wo, *wi);
   return raw_f(b, wo, *wi);
@@ -354,6 +361,15 @@ Bxdf make_disney(const DisneyLobe& lobe) {
   b.flags = lobe.flags;
   b.mode = lobe.mode;
   b.disney = lobe;
+  return b;
+}
+
+Bxdf make_fourier(const FourierTable* table, TransportMode mode) {
+  Bxdf b;
+  b.kind = BxdfKind::kFourier;
+  b.flags = kReflection | kTransmission | kGlossy;
+  b.mode = mode;
+  b.fourier = table;
   return b;
 }
 

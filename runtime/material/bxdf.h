@@ -7,7 +7,8 @@
 // specular reflection and transmission, FresnelSpecular (both, chosen by
 // Fresnel), microfacet reflection and transmission, FresnelBlend, and the
 // Disney material's lobes (kDisney: f/sample_f/pdf are the carried
-// DisneyLobe's, disney_bxdf.h). Payloads only one kind reads share storage
+// DisneyLobe's, disney_bxdf.h), and the fourier material's tabulated BSDF
+// (kFourier: a pointer to its table, fourier_bxdf.h). Payloads only one kind reads share storage
 // in an anonymous union (Bsdf holds 8 Bxdfs inline, so size matters): a new
 // kind with its own plain-data payload goes there too. Every lobe
 // carries `scale` (1 unless a mix material weighted it: pbrt-v3's ScaledBxDF,
@@ -38,7 +39,10 @@ enum class BxdfKind : uint8_t {
   kMicrofacetTransmission,
   kFresnelBlend,
   kDisney,
+  kFourier,
 };
+
+struct FourierTable;  // runtime/material/fourier_bxdf.h
 
 struct Bxdf {
   // Spelled out: a union member with a non-trivial default constructor
@@ -54,8 +58,9 @@ struct Bxdf {
   float eta_a = 1, eta_b = 1;  // outside (+z) and inside indices
   float oren_a = 1, oren_b = 0;
   union {
-    Fresnel fresnel;    // specular and microfacet reflection
-    DisneyLobe disney;  // kDisney: the whole lobe (r, t, eta, ... unused)
+    Fresnel fresnel;              // specular and microfacet reflection
+    DisneyLobe disney;            // kDisney: the whole lobe (r, t, eta, ... unused)
+    const FourierTable* fourier;  // kFourier: the material's table
   };
   MicrofacetDistribution distribution;
 
@@ -86,5 +91,7 @@ Bxdf make_microfacet_transmission(Rgb t, const MicrofacetDistribution& d, float 
 Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d);
 // Carries one of the Disney material's lobes; flags are the lobe's.
 Bxdf make_disney(const DisneyLobe& lobe);
+// The fourier material's lobe; the table must outlive it.
+Bxdf make_fourier(const FourierTable* table, TransportMode mode);
 
 }  // namespace rt

@@ -36,6 +36,8 @@ int max_lobes(const std::vector<MaterialNode>& nodes, uint32_t m, int depth) {
       return 5;
     case MaterialKind::kDisney:
       return max_disney_lobes(n.disney);
+    case MaterialKind::kFourier:
+      return 1;
     case MaterialKind::kMix:
       if (depth > 16) return 1000;  // a cycle: reported as too many lobes
       return max_lobes(nodes, n.mix[0], depth + 1) + max_lobes(nodes, n.mix[1], depth + 1);
@@ -133,6 +135,12 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
     } else if (type == "disney") {
       m.kind = MaterialKind::kDisney;
       if (!read_disney_inputs(archive, e, &m.disney, error)) return false;
+    } else if (type == "fourier") {
+      m.kind = MaterialKind::kFourier;
+      auto table = std::make_unique<FourierTable>();
+      if (!build_fourier_table(archive, e, table.get(), error)) return false;
+      m.fourier = table.get();
+      fourier_tables_.push_back(std::move(table));
     } else if (type == "mix") {
       m.kind = MaterialKind::kMix;
       m.amount = rin("amount");
@@ -321,6 +329,10 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
       for (int i = 0; i < n; ++i) bsdf->add(make_disney(lobes[i]));
       break;
     }
+    case MaterialKind::kFourier:
+      bsdf->init(si);  // pbrt-v3's FourierMaterial leaves the BSDF's eta at 1
+      bsdf->add(make_fourier(m.fourier, mode));
+      break;
     case MaterialKind::kNone:
     case MaterialKind::kMix:
       break;

@@ -3,7 +3,8 @@
 //
 // MaterialSet::build() reads every archive.materials record (indices are the
 // archive's, as ShapeRecord.material uses them): matte, plastic, metal,
-// mirror, glass, uber, substrate, translucent, disney (not its subsurface
+// mirror, glass, uber, substrate, translucent, fourier (its table read in
+// place from the archive, which must outlive the set), disney (not its subsurface
 // scattering: see disney_material.h), mix and the interface material
 // "none". Anything else fails with "not supported yet: <type> material
 // (file:line)". compute_bsdf() follows each pbrt-v3 material's
@@ -17,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,7 @@
 #include "runtime/core/interaction.h"
 #include "runtime/material/bsdf.h"
 #include "runtime/material/disney_material.h"
+#include "runtime/material/fourier_bxdf.h"
 #include "runtime/texture/textures.h"
 
 namespace rt {
@@ -39,6 +42,7 @@ enum class MaterialKind : uint8_t {
   kSubstrate,
   kTranslucent,
   kDisney,
+  kFourier,
   kMix,
 };
 
@@ -54,6 +58,7 @@ struct MaterialNode {
   FloatInput sigma, roughness, uroughness, vroughness, eta;
   uint32_t mix[2] = {kNone, kNone};
   DisneyInputs disney;
+  const FourierTable* fourier = nullptr;  // kFourier: owned by the set
 };
 
 class MaterialSet {
@@ -78,6 +83,8 @@ class MaterialSet {
 
   const TextureSet* textures_ = nullptr;
   std::vector<MaterialNode> nodes_;
+  // unique_ptr: nodes point at their tables, which must not move with the set.
+  std::vector<std::unique_ptr<FourierTable>> fourier_tables_;
 };
 
 }  // namespace rt

@@ -515,9 +515,8 @@ TEST_F(ArchiveRejection, NewerMinorVersionIsAcceptedAndUnknownKindsSkipped) {
   h.minor = kMinorVersion;
   put_header(&b, h);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() +
-                           ": section 'kind 99' (#4): unknown section kind 99 in a version 1.0 "
-                           "archive");
+  EXPECT_EQ(reject(b), p() + ": section 'kind 99' (#4): unknown section kind 99 in a version 1." +
+                           std::to_string(kMinorVersion) + " archive");
 }
 
 TEST_F(ArchiveRejection, ReservedHeaderFields) {
