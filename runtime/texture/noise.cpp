@@ -38,13 +38,27 @@ struct Perm {
 };
 const Perm kPerm;
 
-// The dot product of the offset (dx, dy, dz) with one of 12 edge gradients
-// (Perlin's 16-entry hash-to-gradient choice).
-inline float grad(int x, int y, int z, float dx, float dy, float dz) {
-  int h = kPerm.p[kPerm.p[kPerm.p[x] + y] + z] & 15;
-  float u = h < 8 || h == 12 || h == 13 ? dx : dy;
-  float v = h < 4 || h == 12 || h == 13 ? dy : dz;
-  return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+// Perlin's 16-entry hash-to-gradient choice (12 cube-edge gradients, four
+// of them twice) as vectors: grad = dot(g[h], offset). The hash is random,
+// so the branchy form (select u and v, then their signs) mispredicts about
+// every other call; a table lookup does not branch. The sums are the same
+// floats: the zero component adds an exact 0.
+struct Gradients {
+  float g[16][3];
+  constexpr Gradients() : g() {
+    for (int h = 0; h < 16; ++h) {
+      const int u = h < 8 || h == 12 || h == 13 ? 0 : 1;  // dx, else dy
+      const int v = h < 4 || h == 12 || h == 13 ? 1 : 2;  // dy, else dz
+      g[h][u] = (h & 1) ? -1.f : 1.f;
+      g[h][v] = (h & 2) ? -1.f : 1.f;
+    }
+  }
+};
+constexpr Gradients kGrad;
+
+inline float grad(int hash, float dx, float dy, float dz) {
+  const float* g = kGrad.g[hash & 15];
+  return g[0] * dx + g[1] * dy + g[2] * dz;
 }
 
 // 6t^5 - 15t^4 + 10t^3: C2-continuous interpolation weight.
@@ -77,14 +91,18 @@ float noise(float x, float y, float z) {
   ix &= kPermSize - 1;
   iy &= kPermSize - 1;
   iz &= kPermSize - 1;
-  float w000 = grad(ix, iy, iz, dx, dy, dz);
-  float w100 = grad(ix + 1, iy, iz, dx - 1, dy, dz);
-  float w010 = grad(ix, iy + 1, iz, dx, dy - 1, dz);
-  float w110 = grad(ix + 1, iy + 1, iz, dx - 1, dy - 1, dz);
-  float w001 = grad(ix, iy, iz + 1, dx, dy, dz - 1);
-  float w101 = grad(ix + 1, iy, iz + 1, dx - 1, dy, dz - 1);
-  float w011 = grad(ix, iy + 1, iz + 1, dx, dy - 1, dz - 1);
-  float w111 = grad(ix + 1, iy + 1, iz + 1, dx - 1, dy - 1, dz - 1);
+  // Perlin's nested hash p[p[p[x] + y] + z], its shared prefixes computed once.
+  const int* p = kPerm.p;
+  const int a = p[ix] + iy, b = p[ix + 1] + iy;
+  const int aa = p[a] + iz, ab = p[a + 1] + iz, ba = p[b] + iz, bb = p[b + 1] + iz;
+  float w000 = grad(p[aa], dx, dy, dz);
+  float w100 = grad(p[ba], dx - 1, dy, dz);
+  float w010 = grad(p[ab], dx, dy - 1, dz);
+  float w110 = grad(p[bb], dx - 1, dy - 1, dz);
+  float w001 = grad(p[aa + 1], dx, dy, dz - 1);
+  float w101 = grad(p[ba + 1], dx - 1, dy, dz - 1);
+  float w011 = grad(p[ab + 1], dx, dy - 1, dz - 1);
+  float w111 = grad(p[bb + 1], dx - 1, dy - 1, dz - 1);
   float wx = fade(dx), wy = fade(dy), wz = fade(dz);
   float x00 = lerp(wx, w000, w100), x10 = lerp(wx, w010, w110);
   float x01 = lerp(wx, w001, w101), x11 = lerp(wx, w011, w111);
