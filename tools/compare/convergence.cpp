@@ -15,7 +15,7 @@ bool same_layout(const rt::ImageRgb& x, const rt::ImageRgb& y) {
 }  // namespace
 
 ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b,
-                                    const rt::ImageRgb& ref) {
+                                    const rt::ImageRgb& ref, double spp_ratio) {
   ConvergenceResult r;
   if (!same_layout(a, ref) || !same_layout(b, ref)) {
     r.error = "image sizes differ: ours " + std::to_string(a.width()) + "x" +
@@ -56,7 +56,8 @@ ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b
         double d = (sum_ours - sum_ref) / 64;
         var /= 64.0 * 64.0;
         double ref_mean = sum_ref / 64;
-        double z = d / std::sqrt(2 * var + 0.005 * ref_mean * 0.005 * ref_mean + 1e-8);
+        double z =
+            d / std::sqrt((1 + spp_ratio) * var + 0.005 * ref_mean * 0.005 * ref_mean + 1e-8);
         if (!std::isfinite(z)) z = 1e30;
         r.worst_z = std::max(r.worst_z, std::fabs(z));
         if (!(std::fabs(z) < 4)) pass = false;

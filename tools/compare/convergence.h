@@ -8,9 +8,12 @@
 //   var = sum over the block's pixels of ((A - B) / 2)^2 / 64^2
 //   z   = d / sqrt(2 var + (0.005 ref)^2 + 1e-8)
 // (the variance counts twice: once for ours, once for the reference, which
-// has the same sample count). A block passes when |z| < 4 in every channel;
-// the images match when at least 99% of blocks pass and each channel's
-// whole-image mean is within 1% of the reference's.
+// has the same sample count). A reference with a different sample count than
+// A + B together (this project's own high-spp references, tools/accuracy)
+// gives `spp_ratio` = (A + B spp) / reference spp: its variance is ours
+// times that ratio, and 2 var becomes (1 + spp_ratio) var. A block passes when |z| < 4 in every
+// channel; the images match when at least 99% of blocks pass and each channel's whole-image mean is
+// within 1% of the reference's.
 #pragma once
 
 #include <string>
@@ -29,7 +32,7 @@ struct ConvergenceResult {
 };
 
 ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b,
-                                    const rt::ImageRgb& ref);
+                                    const rt::ImageRgb& ref, double spp_ratio = 1);
 
 // ours | reference | signed difference (red: ours brighter, blue: darker,
 // scaled so 10% of the reference's mean is full intensity), sRGB.

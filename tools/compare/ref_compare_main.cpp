@@ -1,8 +1,10 @@
 // tools/compare/ref_compare_main.cpp — ref-compare: the convergence test on three EXR files.
 //
 //   ref-compare A.exr B.exr reference.exr [--png side-by-side.png]
+//               [--spp N --reference-spp M]
 //
-// A and B are renders at half the reference's spp with different seeds.
+// A and B are renders at half the reference's spp with different seeds (or,
+// with --spp and --reference-spp, at N/2 each against a reference of M).
 // Prints the block statistics and exits 0 when the render converges to the
 // reference (tools/compare/convergence.h has the rule), 1 when it does not,
 // 2 when the images cannot be read or compared.
@@ -20,6 +22,11 @@ int main(int argc, char** argv) {
   app.add_option("b", b_path, "Render B (half the reference's spp, another seed)")->required();
   app.add_option("reference", ref_path, "The reference EXR")->required();
   app.add_option("--png", png, "Write ours | reference | signed difference here");
+  int spp = 0, ref_spp = 0;
+  app.add_option("--spp", spp, "Samples per pixel of A and B together (default: the reference's)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--reference-spp", ref_spp, "Samples per pixel of the reference")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   rt::ImageRgb a, b, ref;
   std::string error;
@@ -28,7 +35,12 @@ int main(int argc, char** argv) {
       std::cerr << "ref-compare: error: " << error << "\n";
       return 2;
     }
-  compare::ConvergenceResult r = compare::check_convergence(a, b, ref);
+  if ((spp > 0) != (ref_spp > 0)) {
+    std::cerr << "ref-compare: error: --spp and --reference-spp go together\n";
+    return 2;
+  }
+  const double spp_ratio = spp > 0 ? double(spp) / ref_spp : 1;
+  compare::ConvergenceResult r = compare::check_convergence(a, b, ref, spp_ratio);
   if (!r.error.empty()) {
     std::cerr << "ref-compare: error: " << r.error << "\n";
     return 2;
