@@ -4,6 +4,18 @@
 // indices; the index of a pixel's sample i follows from the Chinese remainder
 // theorem, and those dimensions' remaining digits give the point inside the
 // pixel. Higher dimensions are digit-scrambled radical inverses.
+//
+// Seeds: the scrambles of the higher dimensions follow the seed; the pixel
+// dimensions do not in pbrt-v3 (they name the pixel). With a seed other than
+// 0, the in-pixel positions (dimensions 0 and 1, the digits past the ones
+// naming the pixel) get a random digital shift from the seed (each of the
+// first digits plus a random digit, mod the base): every stratum a pixel's
+// samples fill stays filled, and renders with different seeds get independent
+// positions, so two of them measure the noise positions cause (edges, texture
+// detail), which the convergence test and the error sweeps rely on. Not the
+// digit permutations of the higher dimensions: a permutation that moves digit
+// 0 gives every value an infinite tail of nonzero digits, which puts points
+// exactly on stratum boundaries. Seed 0 keeps pbrt-v3's positions exactly.
 #include <memory>
 
 #include "runtime/sampler/global_sampler.h"
@@ -44,6 +56,9 @@ class HaltonSampler final : public GlobalSampler {
         seed_(seed),
         center_(center),
         permutations_(std::make_shared<const DigitPermutations>(seed)) {
+    Rng rng(mix_seed(seed, SeedPurpose::kGlobalTable, 0x4a170));
+    shift2_ = rng.next_u32();
+    for (uint8_t& d : shift3_) d = uint8_t(rng.next_u32() % 3);
     int extent[2] = {bounds.width(), bounds.height()};
     for (int i = 0; i < 2; ++i) {
       int base = i == 0 ? 2 : 3, scale = 1, exponent = 0;
@@ -103,18 +118,44 @@ class HaltonSampler final : public GlobalSampler {
   float value(int64_t index, int dim) const {
     if (center_ && dim < 2) return 0.5f;
     double v;
-    if (dim == 0)
-      v = radical_inverse(2, uint64_t(index) >> base_exponents_[0]);
-    else if (dim == 1)
-      v = radical_inverse(3, uint64_t(index) / uint64_t(base_scales_[1]));
-    else if (dim < kHaltonDimensions)
+    if (dim < 2) {
+      const uint64_t digits = dim == 0 ? uint64_t(index) >> base_exponents_[0]
+                                       : uint64_t(index) / uint64_t(base_scales_[1]);
+      v = seed_ == 0 ? radical_inverse(dim == 0 ? 2 : 3, digits)
+                     : (dim == 0 ? shifted_base2(digits) : shifted_base3(digits));
+    } else if (dim < kHaltonDimensions)
       v = permutations_->scrambled(dim, uint64_t(index));
     else
       return hashed_uniform(seed_, pixel_, uint64_t(index), uint64_t(dim));
     return std::min(float(v), kOneMinusEpsilon);
   }
 
+  // The radical inverse of q's digits, each of the first ones shifted by the
+  // seed's digit (base 2: xor; base 3: added mod 3). Digits past those are
+  // below float precision.
+  double shifted_base2(uint64_t q) const {
+    uint32_t r = uint32_t(q);
+    r = (r << 16) | (r >> 16);
+    r = ((r & 0x00ff00ffu) << 8) | ((r & 0xff00ff00u) >> 8);
+    r = ((r & 0x0f0f0f0fu) << 4) | ((r & 0xf0f0f0f0u) >> 4);
+    r = ((r & 0x33333333u) << 2) | ((r & 0xccccccccu) >> 2);
+    r = ((r & 0x55555555u) << 1) | ((r & 0xaaaaaaaau) >> 1);
+    return double(r ^ shift2_) * 0x1p-32;
+  }
+  double shifted_base3(uint64_t q) const {
+    double v = 0, scale = 1.0 / 3;
+    for (int i = 0; i < kBase3Digits; ++i, scale /= 3) {
+      const uint64_t next = q / 3;
+      v += double((uint32_t(q - 3 * next) + shift3_[i]) % 3) * scale;
+      q = next;
+    }
+    return v;
+  }
+
  private:
+  static constexpr int kBase3Digits = 21;  // 3^-21 < 2^-33
+  uint32_t shift2_ = 0;
+  uint8_t shift3_[kBase3Digits] = {};
   uint64_t seed_;
   bool center_;
   std::shared_ptr<const DigitPermutations> permutations_;  // shared by clones

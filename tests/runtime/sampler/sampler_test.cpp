@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "runtime/sampler/radical_inverse.h"
 #include "sampler_test_support.h"
 
 namespace rt {
@@ -232,6 +233,33 @@ TEST(Samplers, HaltonCameraSamplesAreSpread) {
   for (Vec2 v : first_2d(*centre, {3, 3})) {
     EXPECT_EQ(v.x, 0.5f);
     EXPECT_EQ(v.y, 0.5f);
+  }
+}
+
+// Seed 0 keeps pbrt-v3's in-pixel positions (the radical inverses of the
+// index's remaining digits); other seeds scramble them, so two renders with
+// different seeds do not share their positions (the convergence test's two
+// halves must measure the noise positions cause), while each still fills
+// every stratum (HaltonCameraSamplesAreSpread runs with a seed).
+TEST(Samplers, HaltonSeedsScrambleInPixelPositionsAndSeedZeroIsPbrtV3s) {
+  const Bounds2i b{{0, 0}, {100, 60}};
+  auto s0 = sampler_from_text("halton_seed0", R"(Sampler "halton")", 36, 0, b);
+  auto s1 = sampler_from_text("halton_seed1", R"(Sampler "halton")", 36, 1, b);
+  auto s2 = sampler_from_text("halton_seed2", R"(Sampler "halton")", 36, 2, b);
+  // Pixel (0, 0)'s samples are indices n * 128 * 81 (2^7 = 128 >= 100, 3^4 = 81 >= 60).
+  std::vector<Vec2> p0 = first_2d(*s0, {0, 0});
+  for (int n = 0; n < 36; ++n) {
+    const uint64_t index = uint64_t(n) * 128 * 81;
+    EXPECT_EQ(p0[size_t(n)].x, std::min(float(radical_inverse(2, index >> 7)), kOneMinusEpsilon));
+    EXPECT_EQ(p0[size_t(n)].y, std::min(float(radical_inverse(3, index / 81)), kOneMinusEpsilon));
+  }
+  for (Point2i p : {Point2i{0, 0}, Point2i{31, 17}}) {
+    std::vector<Vec2> a = first_2d(*s1, p), c = first_2d(*s2, p);
+    EXPECT_TRUE(one_per_cell(a, 4, 9));
+    EXPECT_TRUE(one_per_cell(c, 4, 9));
+    int same = 0;
+    for (size_t i = 0; i < a.size(); ++i) same += a[i].x == c[i].x && a[i].y == c[i].y;
+    EXPECT_LT(same, 4) << "seeds 1 and 2 share in-pixel positions at " << p.x << "," << p.y;
   }
 }
 
