@@ -1,9 +1,11 @@
 #include "compiler/archive_builder.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <unordered_map>
 
+#include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
@@ -11,6 +13,7 @@
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
+#include "format/texel_format.h"
 
 namespace pbrtc {
 
@@ -79,6 +82,69 @@ bool draco_compress(const TriangleMesh& m, uint32_t index, const ArchiveOptions&
   st.encode_seconds = std::chrono::duration<double>(t1 - t0).count();
   st.decode_seconds = std::chrono::duration<double>(t2 - t1).count();
   out->used = true;
+  return true;
+}
+
+// Which images are environment-map sampling distributions: they are pdfs, kept f32 whatever
+// --texture-precision says.
+std::vector<bool> distribution_images(const SceneDesc& scene) {
+  std::vector<bool> out(scene.images.size(), false);
+  for (const ImageDesc& d : scene.images)
+    if (d.distribution >= 0 && size_t(d.distribution) < out.size())
+      out[size_t(d.distribution)] = true;
+  return out;
+}
+
+// One level's texels to format's bytes; large levels in parallel on up to threads threads
+// (0: all; the bytes do not depend on how the work is split).
+void encode_level(uint32_t format, const float* in, size_t count, uint8_t* out, int threads) {
+  const size_t grain = size_t(1) << 16;
+  if (format == uint32_t(pbrta::PixelFormat::kFloat32) || count < 4 * grain || threads == 1) {
+    pbrta::encode_texels(format, in, count, out);
+    return;
+  }
+  const size_t bytes_per = pbrta::texel_bytes(format);
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, count, grain), [&](const tbb::blocked_range<size_t>& r) {
+          pbrta::encode_texels(format, in + r.begin(), r.size(), out + r.begin() * bytes_per);
+        });
+  });
+}
+
+// Refuses, before anything is written, an image that --texture-precision's format cannot hold,
+// naming it, its file and the first texel that does not fit.
+bool check_texture_format(const SceneDesc& scene, pbrta::PixelFormat format, std::string* error) {
+  if (format == pbrta::PixelFormat::kFloat32) return true;
+  const std::vector<bool> is_distribution = distribution_images(scene);
+  for (size_t i = 0; i < scene.images.size(); ++i) {
+    if (is_distribution[i]) continue;
+    const DecodedImage& im = scene.images[i].image;
+    const std::vector<float>* arrays[33];
+    size_t n = 0;
+    for (const std::vector<float>& level : im.levels)
+      if (n < 32) arrays[n++] = &level;
+    arrays[n++] = &im.source;
+    for (size_t a = 0; a < n; ++a) {
+      const std::vector<float>& v = *arrays[a];
+      for (size_t k = 0; k < v.size(); ++k) {
+        if (pbrta::texel_representable(uint32_t(format), v[k])) continue;
+        const bool half = format == pbrta::PixelFormat::kHalf16;
+        char value[32];
+        std::snprintf(value, sizeof value, "%.9g", double(v[k]));
+        *error = "--texture-precision " + std::string(pbrta::texel_format_name(uint32_t(format))) +
+                 ": image " + std::to_string(i) + " ('" + scene.images[i].source + "') holds " +
+                 value + (a + 1 == n ? " before resampling" : " in level " + std::to_string(a)) +
+                 ", which " +
+                 (half ? "is beyond half precision's range (65504)"
+                       : "unorm8 (linear [0, 1]) cannot hold: HDR data or an imagemap scale "
+                         "above 1") +
+                 "; use --texture-precision " + (half ? "f32" : "f16 or f32");
+        return false;
+      }
+    }
+  }
   return true;
 }
 
@@ -436,10 +502,16 @@ class Builder {
     std::vector<std::vector<uint8_t>> chunks;
     std::vector<uint32_t> chunk_counts;
     const uint32_t first_chunk = w->section_count() + 1;
-    for (const ImageDesc& d : in) {
+    const std::vector<bool> is_distribution = distribution_images(scene_);
+    for (size_t i = 0; i < in.size(); ++i) {
+      const ImageDesc& d = in[i];
       const DecodedImage& im = d.image;
+      const uint32_t format =
+          uint32_t(is_distribution[i] ? pbrta::PixelFormat::kFloat32 : opt.texture_format);
+      const uint64_t bytes_per = pbrta::texel_bytes(format);
       uint64_t need = 0;
-      for (const std::vector<float>& level : im.levels) need += (level.size() * 4 + 15) & ~15ull;
+      for (const std::vector<float>& level : im.levels)
+        need += (level.size() * bytes_per + 15) & ~15ull;
       if (chunks.empty() ||
           (chunks.back().size() + need > opt.texel_chunk_bytes && !chunks.back().empty())) {
         chunks.emplace_back();
@@ -452,7 +524,7 @@ class Builder {
       r.height = im.height;
       r.channels = im.channels;
       r.levels = uint32_t(im.levels.size());
-      r.format = uint32_t(pbrta::PixelFormat::kFloat32);
+      r.format = format;
       r.section = first_chunk + uint32_t(chunks.size() - 1);
       r.wrap = uint32_t(im.wrap);
       r.distribution = idx(d.distribution);
@@ -462,9 +534,9 @@ class Builder {
       for (size_t l = 0; l < im.levels.size(); ++l) {
         c.resize((c.size() + 15) & ~size_t(15), 0);
         if (l == 0) r.offset = c.size();
-        size_t at = c.size(), bytes = im.levels[l].size() * 4;
-        c.resize(at + bytes);
-        if (bytes) std::memcpy(c.data() + at, im.levels[l].data(), bytes);
+        size_t at = c.size(), count = im.levels[l].size();
+        c.resize(at + count * bytes_per);
+        encode_level(format, im.levels[l].data(), count, c.data() + at, opt.threads);
       }
       images.push_back(r);
     }
@@ -513,6 +585,7 @@ uint64_t effect_bits(const Effects& fx) {
 bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::string& base_dir,
                    const std::string& path, const ArchiveOptions& options, ArchiveStats* stats,
                    std::string* error) {
+  if (!check_texture_format(scene, options.texture_format, error)) return false;
   pbrta::ArchiveWriter writer;
   Builder builder(scene, files, base_dir);
   builder.build(&writer, options);

@@ -35,6 +35,12 @@ struct ArchiveOptions {
   int draco_bits = 0;
   bool draco_sequential = false;  // keep vertex and triangle order (larger)
   uint32_t draco_min_triangles = 64;
+  // Texel storage (--texture-precision, ARCHIVE.md images): the PixelFormat of every image
+  // pyramid and source image (imagemap textures, environment, projection and goniometric
+  // maps); environment-map sampling distributions stay f32. kFloat32 writes the bytes pbrtc
+  // always wrote. write_archive refuses an image the format cannot hold (f16: a finite value
+  // of magnitude 65520 or more; unorm8: anything outside [0, 1]) with an error naming it.
+  pbrta::PixelFormat texture_format = pbrta::PixelFormat::kFloat32;
 };
 
 // One mesh stored with Draco: sizes, the displacement measured against the original vertices

@@ -14,6 +14,7 @@
 #include "compiler/bsdf_file.h"
 #include "format/fourier_table.h"
 #include "format/ply_writer.h"
+#include "format/texel_format.h"
 
 namespace pbrtc {
 
@@ -212,13 +213,16 @@ class Dumper {
                  ": it was resampled and the archive does not hold its decoded texels";
         return false;
       }
+      // f16 and unorm8 texels (pbrtc --texture-precision) go out as the floats they decode to:
+      // the dump then compiles to an f32 archive of the quantised image, not to this one.
+      const uint8_t* bytes = a_.reader().section_data(r.section) + r.offset;
+      std::vector<float> widened;
+      const float* texels = reinterpret_cast<const float*>(bytes);
       if (r.format != uint32_t(pbrta::PixelFormat::kFloat32)) {
-        error_ = "cannot dump image " + std::to_string(src) + ": texel format " +
-                 std::to_string(r.format) + " is not f32";
-        return false;
+        widened.resize(size_t(r.width) * r.height * r.channels);
+        pbrta::decode_texels(r.format, bytes, widened.size(), widened.data());
+        texels = widened.data();
       }
-      const float* texels =
-          reinterpret_cast<const float*>(a_.reader().section_data(r.section) + r.offset);
       if (!make_dir(outdir_ + "/images", &error_) ||
           !write_pfm(outdir_ + "/" + name, texels, r.width, r.height, r.channels, &error_))
         return false;

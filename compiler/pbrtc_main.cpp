@@ -122,7 +122,7 @@ class Progress : public pbrtc::BuildProgress {
 int main(int argc, char** argv) {
   CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives (.pbrta)"};
   std::vector<std::string> inputs;
-  std::string outfile, codec = "zstd";
+  std::string outfile, codec = "zstd", texture_precision = "f32";
   bool check = false, info = false, verify = false, dump = false, print_schema = false;
   bool werror = false, quiet = false, draco_sequential = false;
   int max_errors = 20, zstd_level = 6, nthreads = 0, draco_bits = 0;
@@ -146,6 +146,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 0) | CLI::Range(8, 30));
   app.add_flag("--draco-sequential", draco_sequential,
                "with --draco-bits: keep vertex and triangle order (larger archives)");
+  app.add_option("--texture-precision", texture_precision,
+                 "texel storage of images (textures and light maps; environment-map sampling "
+                 "distributions stay f32): f32 (default, lossless), f16 (half floats; values of "
+                 "magnitude 65520+ refused) or unorm8 (linear bytes, value/255; values outside "
+                 "[0, 1] refused)")
+      ->check(CLI::IsMember({"f32", "f16", "unorm8"}));
   app.add_option("--nthreads", nthreads, "threads for compression and loading (default: all)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--Werror", werror, "treat warnings as errors");
@@ -250,6 +256,9 @@ int main(int argc, char** argv) {
     opt.threads = nthreads;
     opt.draco_bits = draco_bits;
     opt.draco_sequential = draco_sequential;
+    opt.texture_format = texture_precision == "f16"      ? pbrta::PixelFormat::kHalf16
+                         : texture_precision == "unorm8" ? pbrta::PixelFormat::kUnorm8
+                                                         : pbrta::PixelFormat::kFloat32;
     pbrtc::ArchiveStats stats;
     std::string error;
     if (!pbrtc::write_archive(scene, files, path == "-" ? "" : pbrtc::directory_of(path), out, opt,

@@ -4,11 +4,21 @@
 // maps the file read-only, validates the header, the section table and the layout of every
 // section, then load_sections() verifies each section's checksum and decodes it, in parallel over
 // sections. Uncompressed (kNone) sections are used in place from the mapping, 16-byte aligned and
-// followed by 16 bytes of padding; compressed ones are decoded into owned 16-byte aligned buffers
-// with 16 zero bytes after the data. What the sections mean is the caller's business.
+// followed by 16 bytes of padding; compressed ones are decoded into one owned buffer, each at a
+// 64-byte aligned offset with 16 zero bytes after its data. What the sections mean is the
+// caller's business.
 //
-// Ownership: the reader owns the mapping (or, for open_memory, borrows the caller's bytes) and the
-// decoded buffers; every pointer it hands out lives until the reader is destroyed or moved from.
+// Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
+// and 4 KiB page faults are very slow under virtualization, so everything large the load writes
+// (the decoded sections, zstd's contexts and window buffers, the unshuffle scratch) lives in
+// mappings with transparent huge pages requested, and the decoded sections share one mapping so
+// small ones do not each round up to a page. A shuffled section is decoded by streaming
+// kShuffleBlock bytes at a time into a cache-resident scratch block and unshuffled from there
+// straight into its place: the decoded bytes are written to memory once.
+//
+// Ownership: the reader owns the mapping and the open file (or, for open_memory, borrows the
+// caller's bytes) and the decoded buffer; every pointer it hands out lives until the reader is
+// destroyed or moved from.
 // Thread safety: open and load_sections run once, from one thread; afterwards every const member
 // may be called concurrently from any number of threads.
 //
@@ -18,7 +28,8 @@
 // Every member returning bool returns false with one message in *error, which starts with the
 // path: "<path>: <reason>" for the header and table, "<path>: section '<name>' (#<index>):
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
-// touching the lost pages raises SIGBUS, as with any memory-mapped reader.
+// touching the lost pages raises SIGBUS, as with any memory-mapped reader (compressed sections
+// are read with pread, so for them it is an error; uncompressed ones are used from the mapping).
 #pragma once
 
 #include <cstddef>
@@ -61,6 +72,7 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
+struct Decoder;  // one loading thread's zstd context and unshuffle scratch
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -127,22 +139,25 @@ class ArchiveReader {
   static Buffer allocate(uint64_t bytes);
   struct Section {
     const uint8_t* data = nullptr;
-    Buffer owned;
     bool in_place = false;
     bool skipped = false;
   };
 
   bool validate(std::string* error);
-  bool load_one(uint32_t index, void* dctx, std::string* error);
+  // Checks and decodes section index into out (raw_size bytes plus zeroed padding, unless in
+  // place).
+  bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder, std::string* error);
   bool typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align, const void** out,
                          uint32_t* count, std::string* error) const;
   std::string fail(std::string_view reason) const;
   void reset();
 
   std::string path_;
+  int fd_ = -1;          // the open file, or -1 (open_memory)
   void* map_ = nullptr;  // the mmap'ed file, or nullptr
   size_t map_size_ = 0;
-  Buffer copy_;  // open_memory of unaligned bytes
+  Buffer copy_;     // open_memory of unaligned bytes
+  Buffer decoded_;  // every decoded (not in-place) section, each at its own 64-byte aligned offset
   const uint8_t* base_ = nullptr;
   uint64_t size_ = 0;
   Header header_{};

@@ -97,7 +97,7 @@ class SceneArchive {
   std::string_view provenance_string(uint32_t i) const;
 
  private:
-  bool validate(std::string* error);
+  bool validate(int threads, std::string* error);
 
   ArchiveReader reader_;
   std::string path_;

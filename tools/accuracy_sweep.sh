@@ -11,7 +11,8 @@
 # then pbrt-converge sweeps the configurations against our reference. Then
 # v3-killeroo-simple is compiled lossless and with --draco-bits 11/14/16 and
 # each archive is rendered with the same seed and spp (shared noise) and
-# measured against the lossless render.
+# measured against the lossless render; likewise textured scenes compiled with
+# --texture-precision f16 and unorm8, against their f32 archive (filter: textures).
 # Exit status: 0 when everything ran (a failed reference check is reported in
 # the README, not fatal); 1 when a step failed; 2 on bad usage.
 set -uo pipefail
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift 2 ;;
     --work) work="$2"; shift 2 ;;
     --nthreads) nthreads="$2"; shift 2 ;;
-    -h|--help) sed -n 2,17p "$0"; exit 0 ;;
+    -h|--help) sed -n 2,19p "$0"; exit 0 ;;
     *) filter="$1"; shift ;;
   esac
 done
@@ -138,6 +139,68 @@ if [ -z "$filter" ] || [[ "killeroo" == *"$filter"* ]]; then
   fi
 fi
 
+# ---- pbrtc's lossy choices: texture storage precision, against the f32 archive ----
+# name | entry scene | --resdiv (its reference's, tests/convergence/scenes.txt) | spp |
+# precisions (f8-22's environment map is HDR: unorm8 refuses it, ARCHIVE.md)
+tscenes="
+ewa-filtering|hm-textures/pbrt-v3-rs/scenes/textures/ewa-filtering.pbrt|2|8|f16 unorm8
+2d-mappings|hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbrt|2|8|f16 unorm8
+f8-22|v3-figures/f8-22.pbrt|5|8|f16
+"
+if [ -z "$filter" ] || [[ "textures" == *"$filter"* ]]; then
+  : >"$work/textures.md"
+  while IFS='|' read -r tname entry tresdiv tspp precs; do
+    [ -z "$tname" ] && continue
+    log="$work/tex-$tname.log"
+    : >"$log"
+    echo "== texture precision: $entry (resdiv $tresdiv, $tspp spp, seed 1)"
+    base="$work/tex-$tname"
+    run "$log" "$build/pbrtc" -q "$shared/scenes/$entry" -o "$base-f32.pbrta" || continue
+    run "$log" "$build/pbrtrun" --quiet "$base-f32.pbrta" --spp "$tspp" --resdiv "$tresdiv" \
+        --seed 1 --nthreads "$nthreads" --outfile "$base-f32.exr" || continue
+    # "noise": the f32 archive with another seed, the error that sampling noise alone gives.
+    for prec in f32 noise $precs; do
+      a="$base-$prec.pbrta"
+      seed=1
+      case "$prec" in
+        f32) ;;
+        noise) a="$base-f32.pbrta"; seed=2 ;;
+        *) run "$log" "$build/pbrtc" -q --texture-precision "$prec" "$shared/scenes/$entry" \
+               -o "$a" || continue ;;
+      esac
+      size=$(stat -c %s "$a")
+      # Raw texels: the texels sections' decoded bytes (from pbrtc --info), what the runtime maps.
+      raw=$("$build/pbrtc" --info "$a" | awk '$2 == "texels" {
+          n += ($6 == "MiB") ? $5 : ($6 == "KiB") ? $5 / 1024 : $5 / 1048576 }
+          END { printf "%.2f", n }')
+      best=""
+      secs=""
+      # The load takes milliseconds and the machine is shared: the fastest of three runs.
+      for i in 1 2 3; do
+        res="$("$build/pbrt-converge" "$a" --name "$tname-$prec" --resdiv "$tresdiv" \
+            --min-spp "$tspp" --max-spp "$tspp" --seed "$seed" --nthreads "$nthreads" --quiet \
+            --reference "$base-f32.exr" --csv "$base-$prec.csv" 2>>"$log")" ||
+          { status=1; echo "accuracy_sweep: failed: $tname $prec" >&2; break; }
+        t=$(echo "$res" | sed -n 's/.*archive loaded in \([0-9.]*\) s.*/\1/p')
+        best=$(awk -v a="$best" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
+        t=$(sed -n 2p "$base-$prec.csv" | cut -d, -f4)
+        secs=$(awk -v a="$secs" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
+      done
+      case "$prec" in
+        f32) label="$tname: f32 (lossless), seed 1" ;;
+        noise) label="$tname: f32, seed 2 (noise floor)" ;;
+        *) label="$tname: --texture-precision $prec, seed 1" ;;
+      esac
+      line=$(sed -n 2p "$base-$prec.csv" | awk -F, -v label="$label" -v size="$size" \
+          -v raw="$raw" -v load="$best" -v secs="$secs" '{
+          printf "| %s | %.3f | %s | %.1f | %.3f | %.3g | %.3g | %.3g | %.3g |", label,
+          size / 1048576, raw, load * 1000, secs, sqrt($5), $5, $6, $7 }')
+      echo "   $line"
+      echo "$line" >>"$work/textures.md"
+    done
+  done <<<"$tscenes"
+fi
+
 # ---- the README ----
 {
   echo "# Accuracy against time"
@@ -196,13 +259,27 @@ fi
   echo "against the render of the lossless archive. The seed shares the sample values, but a hit"
   echo "point that moves can change a path's later choices, so part of a Draco row's error is"
   echo "decorrelated noise; the seed-2 row (pure noise) bounds it. Load: the fastest of three loads"
-  echo "(pbrt-converge, --nthreads $nthreads). pbrtc has no texture storage precision option:"
-  echo "texels are stored as f32 after pbrt-v3's processing (format/ARCHIVE.md, images), so"
-  echo "there is no lossy texture choice to measure."
+  echo "(pbrt-converge, --nthreads $nthreads)."
   echo
   echo "| archive | MiB | load ms | sqrt(relMSE) | relMSE | RMSE | MARE |"
   echo "|---|---:|---:|---:|---:|---:|---:|"
   [ -f "$work/lossy.md" ] && cat "$work/lossy.md"
+  echo
+  echo "**Texture storage precision** (\`pbrtc --texture-precision f16|unorm8\`; format/ARCHIVE.md,"
+  echo "texel formats: every image pyramid in half floats or in linear bytes, value/255;"
+  echo "environment-map sampling distributions stay f32). Two textured hm-textures scenes and"
+  echo "v3-figures f8-22 (an HDR environment map, which unorm8 refuses) at their reference"
+  echo "--resdiv, seed 1 for every archive, measured against the render of the f32 archive; the"
+  echo "seed-2 row is the noise floor. A texture lookup is a convex combination of texels, so a"
+  echo "pixel's texture value moves by at most a relative 2^-11 (f16) or 0.5/255 absolute"
+  echo "(unorm8); the rows say what that does to the image. MiB: the archive file (zstd); texels"
+  echo "MiB: its texels sections decoded; load ms: the fastest of three archive loads; render s:"
+  echo "the fastest of three scene builds plus renders (the runtime widens f16 and unorm8 texels"
+  echo "to f32 once, in the scene build)."
+  echo
+  echo "| archive | MiB | texels MiB | load ms | render s | sqrt(relMSE) | relMSE | RMSE | MARE |"
+  echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+  [ -f "$work/textures.md" ] && cat "$work/textures.md"
 } >"$out/README.md"
 echo "wrote $out/README.md"
 exit $status

@@ -12,7 +12,9 @@
 // for light maps (texel (s, t) is stored row t).
 //
 // Formats: f32 texels are used in place from the archive; f16 and unorm8
-// levels are widened to f32 once, at init. Channels: 1 or 3. texel() of a
+// (pbrtc --texture-precision) levels are widened to f32 once, at init, as
+// format/texel_format.h decodes them (in parallel for large levels), so
+// lookups cost the same in every format. Channels: 1 or 3. texel() of a
 // 1-channel image is grey; texel_float() of a 3-channel image is its
 // luminance (pbrt-v3 never does either: pbrtc stores float imagemaps with one
 // channel and spectrum ones with three).
@@ -33,6 +35,7 @@
 namespace rt {
 
 // IEEE half to float, exactly (subnormals, infinities and NaNs included): f16 texels.
+// The same as pbrta::half_to_float (format/texel_format.h).
 float half_to_float(uint16_t h);
 
 enum class ImageWrap : uint8_t { kRepeat = 0, kBlack = 1, kClamp = 2 };

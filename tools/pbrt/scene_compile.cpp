@@ -9,6 +9,7 @@
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "format/archive.h"
+#include "format/texel_format.h"
 
 namespace pbrt_tool {
 
@@ -38,7 +39,8 @@ std::string compile_options_key() {
                     std::to_string(o.compress) + " zstd " + std::to_string(o.zstd_level) +
                     " draco " + std::to_string(o.draco_bits) + " geometry_chunk " +
                     std::to_string(o.geometry_chunk_bytes) + " texel_chunk " +
-                    std::to_string(o.texel_chunk_bytes);
+                    std::to_string(o.texel_chunk_bytes) + " texels " +
+                    pbrta::texel_format_name(uint32_t(o.texture_format));
   return key;
 }
 

@@ -5,7 +5,7 @@
 // in pbrtc's "path:line:col: error: message" form (with quiet, errors only). On success
 // *inputs lists every file the compile read (scene files, Includes, meshes, images,
 // spectra, lens files) as absolute paths, for the cache's manifest. The archive options
-// are pbrtc's defaults (zstd level 6, no Draco); compile_options_key() names them for
+// are pbrtc's defaults (zstd level 6, no Draco, f32 texels); compile_options_key() names them for
 // cache keys.
 #pragma once
 
