@@ -82,7 +82,8 @@ inline EFloat sqrt(EFloat a) {
 // the hit's error box, some 30x wider than pbrt-v3's away from normal
 // incidence: spawned rays then start visibly off the surface (brighter
 // silhouettes on textures/2d-mappings.pbrt).
-inline bool solve_quadratic(EFloat a, EFloat b, EFloat c, EFloat* t0, EFloat* t1) {
+[[gnu::always_inline]] inline bool solve_quadratic(EFloat a, EFloat b, EFloat c, EFloat* t0,
+                                                   EFloat* t1) {
   double disc = double(b.v) * double(b.v) - 4.0 * double(a.v) * double(c.v);
   if (disc < 0) return false;
   double root = std::sqrt(disc);

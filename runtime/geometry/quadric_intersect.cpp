@@ -30,7 +30,7 @@ struct ObjectRay {
   Vec3 box_o_err, box_d_err;
 };
 
-ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
+[[gnu::always_inline]] inline ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
   ObjectRay r;
   float len2 = length_squared(d);
   if (len2 > 0) o += d * (dot(abs(d), o_err) / len2);
@@ -313,6 +313,16 @@ bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& 
   return fill_interaction(s, p, Vec3{}, {phi / pm, v}, dpdu, dpdv, Vec3{}, Vec3{}, Vec3{}, rw, si);
 }
 
+// intersect_quadric's rare second try, out of line so that its common path
+// keeps the root solver inlined.
+[[gnu::noinline]] bool roots_precise(const QuadricShape& q, const ShapeInfo& s, const Ray& rw,
+                                     ObjectRay* r, EFloat* t0, EFloat* t1) {
+  *r = to_object_precise(s, rw, *r);
+  EFloat a, b, c;
+  coefficients(q, *r, &a, &b, &c);
+  return solve_quadratic(a, b, c, t0, t1);
+}
+
 }  // namespace
 
 Bounds3 quadric_object_bounds(const ShapeInfo& s) {
@@ -374,9 +384,7 @@ bool intersect_quadric(const ShapeInfo& s, const Ray& rw, float* t_hit, SurfaceI
     // at 2e3) a ray leaving the inside of a sphere at a grazing angle lands
     // here and, rejected, would escape the closed sphere. Decide it again with
     // the exactly rounded object-space ray.
-    r = to_object_precise(s, rw, r);
-    coefficients(q, r, &a, &b, &c);
-    if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
+    if (!roots_precise(q, s, rw, &r, &t0, &t1)) return false;
   }
   // Conservative: a root is used only if its whole interval is in (0, tmax].
   if (!(t0.upper() <= rw.tmax) || !(t1.lower() > 0)) return false;
