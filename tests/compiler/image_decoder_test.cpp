@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "archive_reseal.h"
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
 #include "compiler/diagnostics.h"
@@ -73,7 +74,7 @@ TEST(ImageDecoder, PngUndoesTheSrgbCurveByDefault) {
         EXPECT_NEAR(im.levels[0][size_t((y * 4 + x) * 3 + k)], srgb_to_linear(px[y][x][k] / 255.0),
                     2e-6)
             << x << "," << y << "," << k;
-  EXPECT_NEAR(im.levels[0][2], 0.2158605, 1e-6);  // 128 -> 0.21586
+  EXPECT_NEAR(im.levels[0][2], 0.2158605, 1e-6);           // 128 -> 0.21586
   EXPECT_NEAR(im.levels[0][1], 10 / 255.0 / 12.92, 1e-8);  // the linear toe
 
   // gamma false: v / 255, times scale.
@@ -278,8 +279,8 @@ TEST(ImageDecoder, EnvironmentDistributionIsLuminanceTimesSinTheta) {
   map.width = 4;
   map.height = 2;
   uint32_t w = 0, h = 0;
-  map.levels = build_mip_pyramid(std::vector<float>(4 * 2 * 3, 2.f), 4, 2, 3, ImageWrap::kRepeat,
-                                 &w, &h);
+  map.levels =
+      build_mip_pyramid(std::vector<float>(4 * 2 * 3, 2.f), 4, 2, 3, ImageWrap::kRepeat, &w, &h);
   const float L[3] = {1.f, 0.5f, 0.f};
   DecodedImage d = environment_distribution(map, L);
   ASSERT_EQ(d.width, 8u);
@@ -298,8 +299,9 @@ TEST(ImageDecoder, UnsupportedAndBrokenFilesSayWhy) {
   std::string error;
   const std::string jpg = testing_support::write_file(dir + "/t.jpg", "x");
   EXPECT_FALSE(decode_image(jpg, texture_options(jpg), &im, &error));
-  EXPECT_EQ(error, "unsupported image format \".jpg\" (pbrt-v3 reads .exr, .png, .tga and .pfm; "
-                   "pbrtc also .hdr)");
+  EXPECT_EQ(error,
+            "unsupported image format \".jpg\" (pbrt-v3 reads .exr, .png, .tga and .pfm; "
+            "pbrtc also .hdr)");
   const std::string png = testing_support::write_file(dir + "/t.png", "not a png at all");
   EXPECT_FALSE(decode_image(png, texture_options(png), &im, &error));
   EXPECT_FALSE(error.empty());
@@ -372,8 +374,18 @@ TEST(ImageDecoder, PfmRowsArePbrtV3s) {
 // Floats that must survive a PFM round trip: signed zeros, a denormal, the extremes, values
 // that are not 8-bit or half floats, infinity and a quiet NaN.
 std::vector<float> awkward_floats(size_t n) {
-  const float pool[] = {0.f,    -0.f,    1e-40f,   3.4e38f, -2.5f, 1.f / 3,
-                        0.1f,   65504.5f, 1e-30f, 7.f,     -1e-7f, 0.73f,
+  const float pool[] = {0.f,
+                        -0.f,
+                        1e-40f,
+                        3.4e38f,
+                        -2.5f,
+                        1.f / 3,
+                        0.1f,
+                        65504.5f,
+                        1e-30f,
+                        7.f,
+                        -1e-7f,
+                        0.73f,
                         std::numeric_limits<float>::infinity(),
                         std::numeric_limits<float>::quiet_NaN()};
   std::vector<float> v(n);
@@ -406,8 +418,8 @@ TEST(ImageDecoder, DumpedPfmReadsBackBitForBit) {
     EXPECT_EQ(std::memcmp(bytes.data() + 10, &texels[size_t(3) * 8 * channels], 4), 0);
 
     DecodedImage im;
-    const ImageOptions texture = ImageOptions::for_texture(pfm, channels == 1, "clamp", 1.f,
-                                                           true, false);
+    const ImageOptions texture =
+        ImageOptions::for_texture(pfm, channels == 1, "clamp", 1.f, true, false);
     ASSERT_TRUE(decode_image(pfm, texture, &im, &error)) << error;
     ASSERT_EQ(im.channels, channels);
     EXPECT_TRUE(im.source.empty());  // powers of two: level 0 is the source
@@ -442,9 +454,9 @@ TEST(ImageDecoder, ResampledImageKeepsItsSourceTexels) {
   std::string error;
   ASSERT_TRUE(write_pfm(dir + "/a.pfm", texels.data(), 3, 5, 3, &error)) << error;
   for (bool texture : {false, true}) {
-    ImageOptions o = texture ? ImageOptions::for_texture(dir + "/a.pfm", false, "black", 2.f,
-                                                         true, false)
-                             : ImageOptions{};
+    ImageOptions o =
+        texture ? ImageOptions::for_texture(dir + "/a.pfm", false, "black", 2.f, true, false)
+                : ImageOptions{};
     DecodedImage im;
     ASSERT_TRUE(decode_image(dir + "/a.pfm", o, &im, &error)) << error;
     EXPECT_EQ(im.width, 4u);
@@ -560,35 +572,24 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
   auto edit = [&](uint32_t image, size_t field, uint32_t value) {
     std::string bytes = good;
     std::memcpy(&bytes[images_at + image * sizeof(pbrta::ImageRecord) + field], &value, 4);
-    const size_t entry_at = sizeof(pbrta::Header) + images_entry * sizeof(pbrta::SectionEntry);
-    pbrta::SectionEntry e;
-    std::memcpy(&e, &bytes[entry_at], sizeof e);
-    e.checksum = XXH3_64bits(bytes.data() + e.offset, e.stored_size);
-    std::memcpy(&bytes[entry_at], &e, sizeof e);
-    pbrta::Header h;
-    std::memcpy(&h, bytes.data(), sizeof h);
-    h.table_checksum = XXH3_64bits(bytes.data() + sizeof h, h.section_count * sizeof e);
-    h.header_checksum = XXH3_64bits(&h, offsetof(pbrta::Header, header_checksum));
-    std::memcpy(&bytes[0], &h, sizeof h);
-    testing_support::write_file(dir + "/bad.pbrta", bytes);
-    pbrta::SceneArchive bad;
-    std::string message;
-    EXPECT_FALSE(bad.load(dir + "/bad.pbrta", 1, &message));
-    return message;
+    return testing_support::reseal_and_load(bytes, images_entry, dir + "/bad.pbrta");
   };
   const size_t source_field = offsetof(pbrta::ImageRecord, source_image);
-  const std::string prefix = dir + "/bad.pbrta: section 'images' (#" +
-                             std::to_string(images_entry) + "): image 0: ";
-  const std::string not_source = "source image 1 is not 3 x 5 x 3 in the same format and wrap, "
-                                 "with one level and no source of its own";
+  const std::string prefix =
+      dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) + "): image 0: ";
+  const std::string not_source =
+      "source image 1 is not 3 x 5 x 3 in the same format and wrap, "
+      "with one level and no source of its own";
   EXPECT_EQ(edit(0, source_field, 1), prefix + not_source);  // 2 x 2, not the source's size
   EXPECT_EQ(edit(0, source_field, 5), prefix + "source image 5 out of range (5 images)");
   EXPECT_EQ(edit(0, source_field, 0),
-            prefix + "source image 0 is not 3 x 5 x 3 in the same format and wrap, with one "
-                     "level and no source of its own");  // itself
-  EXPECT_EQ(edit(3, source_field, 4),  // a chain: image 0's source names one
-            prefix + "source image 3 is not 3 x 5 x 3 in the same format and wrap, with one "
-                     "level and no source of its own");
+            prefix +
+                "source image 0 is not 3 x 5 x 3 in the same format and wrap, with one "
+                "level and no source of its own");  // itself
+  EXPECT_EQ(edit(3, source_field, 4),               // a chain: image 0's source names one
+            prefix +
+                "source image 3 is not 3 x 5 x 3 in the same format and wrap, with one "
+                "level and no source of its own");
   EXPECT_EQ(edit(1, source_field, 3),
             dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) +
                 "): image 1: level 0 is already the source size, 2 x 2, yet it names source "
@@ -659,8 +660,8 @@ TEST(SceneImages, SharedTexturedScenesCompileAndVerify) {
       EXPECT_EQ(r.width, im.width);
       EXPECT_EQ(r.levels, im.levels.size());
       // Level 0's first and last texels are where the record says.
-      const float* texels = reinterpret_cast<const float*>(
-          archive.reader().section_data(r.section) + r.offset);
+      const float* texels =
+          reinterpret_cast<const float*>(archive.reader().section_data(r.section) + r.offset);
       EXPECT_EQ(texels[0], im.levels[0][0]);
       EXPECT_EQ(texels[im.levels[0].size() - 1], im.levels[0].back());
     }

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "archive_reseal.h"
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
 #include "compiler/parser.h"
@@ -243,21 +244,7 @@ TEST(TexturePrecision, ReaderChecksFormats) {
     std::memcpy(&bytes[images_at + image * sizeof(pbrta::ImageRecord) +
                        offsetof(pbrta::ImageRecord, format)],
                 &value, 4);
-    const size_t entry_at = sizeof(pbrta::Header) + images_entry * sizeof(pbrta::SectionEntry);
-    pbrta::SectionEntry e;
-    std::memcpy(&e, &bytes[entry_at], sizeof e);
-    e.checksum = XXH3_64bits(bytes.data() + e.offset, e.stored_size);
-    std::memcpy(&bytes[entry_at], &e, sizeof e);
-    pbrta::Header h;
-    std::memcpy(&h, bytes.data(), sizeof h);
-    h.table_checksum = XXH3_64bits(bytes.data() + sizeof h, h.section_count * sizeof e);
-    h.header_checksum = XXH3_64bits(&h, offsetof(pbrta::Header, header_checksum));
-    std::memcpy(&bytes[0], &h, sizeof h);
-    testing_support::write_file(dir + "/bad.pbrta", bytes);
-    pbrta::SceneArchive bad;
-    std::string message;
-    EXPECT_FALSE(bad.load(dir + "/bad.pbrta", 1, &message));
-    return message;
+    return testing_support::reseal_and_load(bytes, images_entry, dir + "/bad.pbrta");
   };
   const std::string prefix =
       dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) + "): image ";
