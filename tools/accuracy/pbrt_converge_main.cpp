@@ -1,6 +1,7 @@
 // tools/accuracy/pbrt_converge_main.cpp — pbrt-converge: error against time.
 //
 //   pbrt-converge scene.pbrta --reference REF.exr --csv OUT.csv --plot OUT.png
+//       (--converge REF.exr is the same as --reference REF.exr)
 //       [--table OUT.md] [--min-spp N] [--max-spp N] [--max-seconds S]
 //       [--samplers a,b,...] [--integrators a,b] [--strategies a,b,...]
 //       [--resdiv K] [--seed N] [--nthreads N] [--name NAME] [--quiet]
@@ -70,7 +71,8 @@ int main(int argc, char** argv) {
   uint64_t reference_seed = 1000;
   bool quiet = false;
   app.add_option("archive", input, "The scene archive written by pbrtc")->required();
-  app.add_option("--reference", reference_path,
+  // --converge: the spelling issue 9 gives for pbrtrun's option of the same meaning.
+  app.add_option("--reference,--converge", reference_path,
                  "Reference image (EXR) the renders are measured against");
   app.add_option("--csv", csv_path, "Write the sweep as CSV here");
   app.add_option("--plot", plot_path, "Write the log-log plot (PNG) here");
