@@ -5,6 +5,7 @@
 // and never reach the check under test. reseal_and_load() recomputes the
 // section's checksum, the table's and the header's, writes the bytes to
 // `path` and returns load()'s error message (empty when the archive loaded).
+// section_entry() finds the table entry of a section to edit.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -18,6 +19,13 @@
 #include "test_support.h"
 
 namespace testing_support {
+
+// The index of the first table entry of `kind`, or kNoIndex.
+inline uint32_t section_entry(const pbrta::SceneArchive& archive, pbrta::SectionKind kind) {
+  for (uint32_t i = 0; i < archive.reader().section_count(); ++i)
+    if (archive.reader().entry(i).kind == uint32_t(kind)) return i;
+  return pbrta::kNoIndex;
+}
 
 inline std::string reseal_and_load(std::string bytes, uint32_t section_entry,
                                    const std::string& path) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
@@ -21,18 +22,7 @@
 namespace pbrtc {
 namespace {
 
-struct Compiled {
-  SourceFiles files;
-  SceneDesc scene;
-  bool ok = false;
-};
-
-void compile(const std::string& path, Compiled* c) {
-  Diagnostics diag(&c->files, nullptr);
-  c->ok = build_scene(path, &c->files, &diag, &c->scene);
-}
-
-std::string write(const Compiled& c, const std::string& scene_path, const std::string& out,
+std::string write(const CompiledScene& c, const std::string& scene_path, const std::string& out,
                   bool compress, int threads) {
   ArchiveOptions opt;
   opt.compress = compress;
@@ -89,7 +79,8 @@ void expect_matches(const SceneDesc& s, const pbrta::SceneArchive& a, const std:
       const pbrta::ValueRecord& v = a.values[er.first_value + p];
       EXPECT_EQ(bool(v.flags & pbrta::kValueGiven), d.values[p].given);
       EXPECT_EQ(v.count, d.values[p].count);
-      EXPECT_EQ(v.texture, d.values[p].texture < 0 ? pbrta::kNoIndex : uint32_t(d.values[p].texture));
+      EXPECT_EQ(v.texture,
+                d.values[p].texture < 0 ? pbrta::kNoIndex : uint32_t(d.values[p].texture));
       pbrta::Kind k = d.spec().params[p].kind;
       if (pbrta::kind_store(k) == pbrta::KindStore::kFloat && d.values[p].count) {
         EXPECT_EQ(0, std::memcmp(a.floats(v), d.floats.data() + d.values[p].offset,
@@ -98,7 +89,8 @@ void expect_matches(const SceneDesc& s, const pbrta::SceneArchive& a, const std:
       }
     }
   };
-  for (uint32_t i = 0; i < r.num_materials; ++i) same_entity(a.materials[i].entity, s.materials[i].params);
+  for (uint32_t i = 0; i < r.num_materials; ++i)
+    same_entity(a.materials[i].entity, s.materials[i].params);
   for (uint32_t i = 0; i < r.num_shapes; ++i) same_entity(a.shapes[i].entity, s.shapes[i].params);
   for (uint32_t i = 0; i < r.num_lights; ++i) same_entity(a.lights[i].entity, s.lights[i].params);
   same_entity(r.camera, s.camera.params);
@@ -110,13 +102,13 @@ TEST(ArchiveWrite, EverySharedSceneRoundTripsThroughTheArchive) {
   std::string dir = testing_support::scratch_dir("archive_write_all");
   int compiled = 0;
   for (const std::string& path : testing_support::shared_entry_scenes()) {
-    Compiled c;
-    compile(path, &c);
+    CompiledScene c;
+    compile_scene(path, &c);
     if (!c.ok) continue;  // the scenes with a missing corpus file (see shared_scenes_test)
     ++compiled;
     for (bool compress : {true, false}) {
-      std::string out = dir + "/scene" + std::to_string(compiled) + (compress ? ".z" : ".raw") +
-                        ".pbrta";
+      std::string out =
+          dir + "/scene" + std::to_string(compiled) + (compress ? ".z" : ".raw") + ".pbrta";
       write(c, path, out, compress, 0);
       pbrta::SceneArchive a;
       std::string error;
@@ -138,9 +130,9 @@ TEST(ArchiveWrite, BytesDoNotDependOnThreadsOrRuns) {
                           "/scenes/rs-teapot-area-light/teapot-area-light.pbrt",
                           "/scenes/hm-instances/pbrt-v3-rs/scenes/objects/instances.pbrt"}) {
     std::string path = testing_support::shared_dir() + rel;
-    Compiled a, b;
-    compile(path, &a);
-    compile(path, &b);  // a second, independent compile
+    CompiledScene a, b;
+    compile_scene(path, &a);
+    compile_scene(path, &b);  // a second, independent compile
     ASSERT_TRUE(a.ok && b.ok) << path;
     std::string one = write(a, path, dir + "/one.pbrta", true, 1);
     std::string two = write(b, path, dir + "/two.pbrta", true, 2);
@@ -154,13 +146,13 @@ TEST(ArchiveWrite, BytesDoNotDependOnThreadsOrRuns) {
 
 TEST(ArchiveWrite, FailedWriteLeavesNoFile) {
   std::string dir = testing_support::scratch_dir("archive_failed_write");
-  Compiled c;
-  compile(PBRTC_SOURCE_DIR "/tools/default-scene/scene.pbrt", &c);
+  CompiledScene c;
+  compile_scene(PBRTC_SOURCE_DIR "/tools/default-scene/scene.pbrt", &c);
   ASSERT_TRUE(c.ok);
   std::string error;
   ArchiveOptions opt;
-  EXPECT_FALSE(write_archive(c.scene, c.files, "", dir + "/missing-dir/x.pbrta", opt, nullptr,
-                             &error));
+  EXPECT_FALSE(
+      write_archive(c.scene, c.files, "", dir + "/missing-dir/x.pbrta", opt, nullptr, &error));
   EXPECT_NE(error.find("missing-dir/x.pbrta"), std::string::npos) << error;
   EXPECT_TRUE(testing_support::read_file(dir + "/missing-dir/x.pbrta").empty());
 }
@@ -170,8 +162,8 @@ TEST(ArchiveWrite, FailedWriteLeavesNoFile) {
 TEST(ArchiveWrite, DamagedSceneArchivesFailCleanly) {
   std::string dir = testing_support::scratch_dir("archive_damage");
   std::string path = testing_support::shared_dir() + "/scenes/rs-cornell-box/cornell_box.pbrt";
-  Compiled c;
-  compile(path, &c);
+  CompiledScene c;
+  compile_scene(path, &c);
   ASSERT_TRUE(c.ok);
   for (bool compress : {true, false}) {
     std::string good = write(c, path, dir + "/good.pbrta", compress, 1);

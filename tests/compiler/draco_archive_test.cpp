@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
@@ -22,23 +23,8 @@
 namespace pbrtc {
 namespace {
 
-struct Compiled {
-  SourceFiles files;
-  SceneDesc scene;
-  std::string path;
-  std::vector<std::string> errors;
-  bool ok = false;
-};
-
-void compile(const std::string& path, Compiled* c) {
-  Diagnostics diag(&c->files, nullptr);
-  c->path = path;
-  c->ok = build_scene(path, &c->files, &diag, &c->scene);
-  for (const auto& d : diag.all()) c->errors.push_back(d.message);
-}
-
 // Writes c with these options; returns the file's bytes (empty on failure).
-std::string write(const Compiled& c, const std::string& out, ArchiveOptions opt,
+std::string write(const CompiledScene& c, const std::string& out, ArchiveOptions opt,
                   ArchiveStats* stats = nullptr) {
   std::string error;
   EXPECT_TRUE(write_archive(c.scene, c.files, directory_of(c.path), out, opt, stats, &error))
@@ -94,8 +80,8 @@ class DracoSharedScenes : public ::testing::TestWithParam<SharedMesh> {};
 
 TEST_P(DracoSharedScenes, CompressWithinTheBound) {
   const std::string scene = testing_support::shared_dir() + "/scenes/" + GetParam().scene;
-  Compiled c;
-  compile(scene, &c);
+  CompiledScene c;
+  compile_scene(scene, &c);
   ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
   const std::string dir = testing_support::scratch_dir("draco_shared");
   ArchiveOptions opt;
@@ -121,17 +107,16 @@ TEST_P(DracoSharedScenes, CompressWithinTheBound) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Shared, DracoSharedScenes,
-                         ::testing::Values(SharedMesh{"v3-caustic-glass-sppm/f16-11a.pbrt", 1},
-                                           SharedMesh{"v3-killeroo-simple/killeroo-simple.pbrt",
-                                                      2}),
-                         [](const auto& info) {
-                           return std::string(info.param.scene).substr(3, 7);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Shared, DracoSharedScenes,
+    ::testing::Values(SharedMesh{"v3-caustic-glass-sppm/f16-11a.pbrt", 1},
+                      SharedMesh{"v3-killeroo-simple/killeroo-simple.pbrt", 2}),
+    [](const auto& info) { return std::string(info.param.scene).substr(3, 7); });
 
 TEST(DracoArchive, SameBytesWhateverTheThreadCount) {
-  Compiled c;
-  compile(testing_support::shared_dir() + "/scenes/v3-killeroo-simple/killeroo-simple.pbrt", &c);
+  CompiledScene c;
+  compile_scene(testing_support::shared_dir() + "/scenes/v3-killeroo-simple/killeroo-simple.pbrt",
+                &c);
   ASSERT_TRUE(c.ok);
   const std::string dir = testing_support::scratch_dir("draco_threads");
   ArchiveOptions opt;
@@ -153,8 +138,8 @@ TEST(DracoArchive, SameBytesWhateverTheThreadCount) {
 }
 
 TEST(DracoArchive, SequentialKeepsTheOrder) {
-  Compiled c;
-  compile(testing_support::shared_dir() + "/scenes/v3-caustic-glass-sppm/f16-11a.pbrt", &c);
+  CompiledScene c;
+  compile_scene(testing_support::shared_dir() + "/scenes/v3-caustic-glass-sppm/f16-11a.pbrt", &c);
   ASSERT_TRUE(c.ok);
   const std::string path = testing_support::scratch_dir("draco_sequential") + "/s.pbrta";
   ArchiveOptions opt;
@@ -199,8 +184,8 @@ TEST(DracoArchive, WhatDracoCannotCarryStaysLossless) {
   const std::string path = testing_support::write_file(
       dir + "/s.pbrt", scene_text(grid_mesh(8, true) + grid_mesh(5, false) + grid_mesh(6, false) +
                                   grid_mesh(7, false, true)));
-  Compiled c;
-  compile(path, &c);
+  CompiledScene c;
+  compile_scene(path, &c);
   ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
   ASSERT_EQ(c.scene.meshes.size(), 4u);
   ArchiveOptions opt;
@@ -225,9 +210,9 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
   // The glass mesh, encoded with the same wrapper into a .DRC file (the extension in any case).
   pbrta::PlyMesh ply;
   pbrta::PlyError ply_error;
-  ASSERT_TRUE(pbrta::read_ply(testing_support::shared_dir() +
-                                  "/scenes/v3-caustic-glass-sppm/geometry/mesh_00001.ply",
-                              &ply, &ply_error))
+  ASSERT_TRUE(pbrta::read_ply(
+      testing_support::shared_dir() + "/scenes/v3-caustic-glass-sppm/geometry/mesh_00001.ply", &ply,
+      &ply_error))
       << ply_error.message;
   pbrta::MeshArrays in;
   in.positions = ply.positions.data();
@@ -245,8 +230,8 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
   testing_support::write_file(dir + "/junk.drc", "DRACO but not really");
   const std::string path = testing_support::write_file(
       dir + "/s.pbrt", scene_text("Shape \"plymesh\" \"string filename\" \"glass.DRC\"\n"));
-  Compiled c;
-  compile(path, &c);
+  CompiledScene c;
+  compile_scene(path, &c);
   ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
   ASSERT_EQ(c.scene.meshes.size(), 1u);
   pbrta::DecodedMesh d;
@@ -268,12 +253,13 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
 
   const std::string bad = testing_support::write_file(
       dir + "/bad.pbrt", scene_text("Shape \"plymesh\" \"string filename\" \"junk.drc\"\n"));
-  Compiled b;
-  compile(bad, &b);
+  CompiledScene b;
+  compile_scene(bad, &b);
   EXPECT_FALSE(b.ok);
   ASSERT_FALSE(b.errors.empty());
-  EXPECT_EQ(b.errors[0], "cannot read Draco file \"" + dir + "/junk.drc\": draco: bitstream "
-                         "version 32.98; this reader takes 2.2");
+  EXPECT_EQ(b.errors[0], "cannot read Draco file \"" + dir +
+                             "/junk.drc\": draco: bitstream "
+                             "version 32.98; this reader takes 2.2");
 }
 
 }  // namespace

@@ -559,14 +559,10 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
   EXPECT_EQ(archive.images[3].levels, 1u);
   EXPECT_EQ(archive.images[3].width, 3u);
   EXPECT_EQ(archive.images[3].source_image, pbrta::kNoIndex);
-  uint64_t images_at = 0;
-  uint32_t images_entry = 0;
-  for (uint32_t i = 0; i < archive.reader().section_count(); ++i)
-    if (archive.reader().entry(i).kind == uint32_t(pbrta::SectionKind::kImages)) {
-      images_at = archive.reader().entry(i).offset;
-      images_entry = i;
-    }
-  ASSERT_NE(images_at, 0u);
+  const uint32_t images_entry =
+      testing_support::section_entry(archive, pbrta::SectionKind::kImages);
+  ASSERT_NE(images_entry, pbrta::kNoIndex);
+  const uint64_t images_at = archive.reader().entry(images_entry).offset;
   const std::string good = testing_support::read_file(path);
   // Edits image `image`'s field at byte `field` and reseals the checksums.
   auto edit = [&](uint32_t image, size_t field, uint32_t value) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "archive_reseal.h"
+#include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
 #include "compiler/parser.h"
@@ -28,17 +29,11 @@
 namespace pbrtc {
 namespace {
 
-struct Compiled {
-  SourceFiles files;
-  SceneDesc scene;
-  std::string path;
-  bool ok = false;
-};
+using Compiled = CompiledScene;
 
+// A shared scene by its path under scenes/.
 void compile(const std::string& rel, Compiled* c) {
-  Diagnostics diag(&c->files, nullptr);
-  c->path = testing_support::shared_dir() + "/scenes/" + rel;
-  c->ok = build_scene(c->path, &c->files, &diag, &c->scene);
+  compile_scene(testing_support::shared_dir() + "/scenes/" + rel, c);
 }
 
 bool write(const Compiled& c, const std::string& out, pbrta::PixelFormat format, bool compress,
@@ -225,14 +220,10 @@ TEST(TexturePrecision, ReaderChecksFormats) {
   ASSERT_TRUE(write(c, path, pbrta::PixelFormat::kHalf16, false, &error)) << error;
   pbrta::SceneArchive archive;
   ASSERT_TRUE(archive.load(path, 1, &error)) << error;
-  uint64_t images_at = 0;
-  uint32_t images_entry = 0;
-  for (uint32_t i = 0; i < archive.reader().section_count(); ++i)
-    if (archive.reader().entry(i).kind == uint32_t(pbrta::SectionKind::kImages)) {
-      images_at = archive.reader().entry(i).offset;
-      images_entry = i;
-    }
-  ASSERT_NE(images_at, 0u);
+  const uint32_t images_entry =
+      testing_support::section_entry(archive, pbrta::SectionKind::kImages);
+  ASSERT_NE(images_entry, pbrta::kNoIndex);
+  const uint64_t images_at = archive.reader().entry(images_entry).offset;
   uint32_t map = pbrta::kNoIndex;
   for (uint32_t i = 0; i < archive.images.size; ++i)
     if (archive.images[i].distribution != pbrta::kNoIndex) map = i;
