@@ -12,68 +12,16 @@
 // as pbrt-v3's own formulas give); a disk is seen from the front only.
 #include <gtest/gtest.h>
 
-#include <tbb/global_control.h>
-
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "runtime/film/film.h"
-#include "runtime/render/camera.h"
-#include "runtime/render/integrator.h"
-#include "runtime/render/render_scene.h"
-#include "runtime/render/renderer.h"
-#include "runtime/runtime_test_support.h"
-#include "runtime/sampler/sampler.h"
-#include "test_support.h"
+#include "runtime/render_text.h"
 
 namespace rt {
 namespace {
 
 constexpr int kSize = 32;
-
-// Renders `material_line` on `shape_line` (radius 1 at the origin, filling
-// most of a 32x32 image); false with *error set when any stage fails.
-bool render_furnace(const std::string& name, const std::string& material_line,
-                    const std::string& shape_line, std::vector<Rgb>* pixels, std::string* error) {
-  std::string text = R"(
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "perspective" "float fov" 30
-Film "image" "integer xresolution" 32 "integer yresolution" 32
-Sampler "sobol" "integer pixelsamples" 64
-Integrator "path" "integer maxdepth" 10
-WorldBegin
-LightSource "infinite" "rgb L" [1 1 1]
-)" + material_line + "\n" +
-                     shape_line + R"(
-WorldEnd
-)";
-  pbrta::SceneArchive a;
-  if (!testing_support::compile_text(testing_support::scratch_dir(name), text, &a)) {
-    *error = "compile failed";
-    return false;
-  }
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-  Film film;
-  Camera camera;
-  IntegratorSettings settings;
-  RenderScene scene;
-  if (!film.build(a, {}, error) || !camera.build(a, film.full_resolution(), error) ||
-      !read_integrator(a, &settings, error) || !load_render_scene(a, &scene, error))
-    return false;
-  std::unique_ptr<Sampler> sampler = make_sampler(a, 0, 5, film.sample_bounds(), error);
-  if (!sampler) return false;
-  Integrator integrator;
-  if (!integrator.init(scene, settings, error)) return false;
-  integrator.preprocess(sampler.get());
-  RenderOptions ro;
-  ro.quiet = true;
-  render(camera, *sampler, integrator, &film, ro);
-  Bounds2i b = film.cropped_pixel_bounds();
-  for (int y = b.min.y; y < b.max.y; ++y)
-    for (int x = b.min.x; x < b.max.x; ++x) pixels->push_back(film.pixel({x, y}));
-  return true;
-}
 
 TEST(DisneyRender, FurnaceSphereIsFiniteAndCreatesNoEnergy) {
   struct Setup {
@@ -97,10 +45,9 @@ TEST(DisneyRender, FurnaceSphereIsFiniteAndCreatesNoEnergy) {
   // about 12.2 pixels (the disk's 11.9): pixels within 11 of the centre all
   // see the object, the sphere's grazing rim included.
   for (const Setup& s : setups) {
-    std::vector<Rgb> pixels;
-    std::string error;
-    ASSERT_TRUE(render_furnace(s.name, s.material, s.shape, &pixels, &error))
-        << s.name << ": " << error;
+    const Rendered r = render_text(s.name, furnace_scene(s.material, s.shape), 5);
+    ASSERT_TRUE(r.ok) << s.name << ": " << r.error;
+    const std::vector<Rgb>& pixels = r.pixels;
     ASSERT_EQ(pixels.size(), size_t(kSize * kSize));
     double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
     int n = 0;

@@ -1,17 +1,17 @@
 // Whole renders of the fourier material with the real measured table the
 // shared corpus carries (pbrt-v3-scenes' roughgold_alpha_0.2.bsdf): compiled
-// by pbrtc into the archive, rendered by render_archive() as pbrtrun does.
-// In a white furnace (constant infinite light of radiance 1, path tracer) a
+// by pbrtc into the archive and rendered through pbrtrun's pieces
+// (render_text). In the white furnace (furnace_scene) a
 // convex gold sphere must be finite everywhere, must not create energy (mean
 // over its pixels <= 1 + 4 sigma), and must look like gold (red > blue).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
-#include "runtime/render/render_job.h"
-#include "runtime/runtime_test_support.h"
-#include "test_support.h"
+#include "runtime/render_text.h"
 
 namespace rt {
 namespace {
@@ -22,40 +22,21 @@ std::string gold_table() {
 }
 
 TEST(FourierRender, GoldSphereInAFurnaceIsFiniteAndCreatesNoEnergy) {
-  const std::string text = R"(
-LookAt 0 0 5  0 0 0  0 1 0
-Camera "perspective" "float fov" 30
-Film "image" "integer xresolution" 32 "integer yresolution" 32
-Sampler "sobol" "integer pixelsamples" 64
-Integrator "path" "integer maxdepth" 10
-WorldBegin
-LightSource "infinite" "rgb L" [1 1 1]
-Material "fourier" "string bsdffile" ")" +
-                           gold_table() +
-                           R"("
-Shape "sphere" "float radius" 1
-WorldEnd
-)";
-  pbrta::SceneArchive a;
-  ASSERT_TRUE(
-      testing_support::compile_text(testing_support::scratch_dir("fourier_furnace"), text, &a));
-  RenderJobOptions o;
-  o.quiet = true;
-  o.write_files = false;
-  o.keep_image = true;
-  o.seed = 3;
-  RenderJobResult r;
-  std::string error;
-  ASSERT_TRUE(render_archive(a, o, &r, &error)) << error;
-  EXPECT_EQ(r.render.nonfinite_samples, 0u);
-  ASSERT_EQ(r.image.width(), 32);
+  const Rendered r =
+      render_text("fourier_furnace",
+                  furnace_scene("Material \"fourier\" \"string bsdffile\" \"" + gold_table() + "\"",
+                                R"(Shape "sphere" "float radius" 1)"),
+                  3);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.stats.nonfinite_samples, 0u);
+  ASSERT_EQ(r.width, 32);
   // The sphere covers the pixels within ~0.8 of the image's half-width of
   // the centre (fov 30 at distance 5: the radius-1 sphere spans 0.75 of it).
   double sum[3] = {0, 0, 0}, sum2 = 0;
   int n = 0, background = 0;
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 32; ++x) {
-      const float* p = &r.image.rgb[3 * (y * 32 + x)];
+      const Rgb& p = r.at(x, y);
       for (int c = 0; c < 3; ++c) ASSERT_TRUE(std::isfinite(p[c]) && p[c] >= 0);
       const double dx = (x + 0.5) / 16 - 1, dy = (y + 0.5) / 16 - 1;
       const double rr = std::sqrt(dx * dx + dy * dy);
@@ -79,7 +60,7 @@ WorldEnd
   EXPECT_GT(sum[0], 1.2 * sum[2]);  // and reflects red more than blue
 }
 
-TEST(FourierRender, PbrtrunRendersTheTableThroughAMixAndWithBump) {
+TEST(FourierRender, RendersTheTableThroughAMixAndWithBump) {
   const std::string text = R"(
 LookAt 0 0 5  0 0 0  0 1 0
 Camera "perspective" "float fov" 30
@@ -98,18 +79,11 @@ NamedMaterial "both"
 Shape "sphere" "float radius" 1
 WorldEnd
 )";
-  pbrta::SceneArchive a;
-  ASSERT_TRUE(testing_support::compile_text(testing_support::scratch_dir("fourier_mix"), text, &a));
-  RenderJobOptions o;
-  o.quiet = true;
-  o.write_files = false;
-  o.keep_image = true;
-  RenderJobResult r;
-  std::string error;
-  ASSERT_TRUE(render_archive(a, o, &r, &error)) << error;
-  EXPECT_EQ(r.render.nonfinite_samples, 0u);
+  const Rendered r = render_text("fourier_mix", text);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.stats.nonfinite_samples, 0u);
   // The sphere's centre faces the light: lit, and warmer than the white half alone.
-  const float* c = &r.image.rgb[3 * (8 * 16 + 8)];
+  const Rgb& c = r.at(8, 8);
   EXPECT_GT(c[0], 0.1f);
   EXPECT_GT(c[0], c[2]);
 }

@@ -1,0 +1,93 @@
+// tests/runtime/render_text.h — render generated scene text in-process.
+//
+// render_text() compiles pbrt-v3 text with pbrtc's front end and renders it
+// through the same pieces pbrtrun uses (film, camera, integrator, Embree
+// scene, sampler), then reads the film's pixels back: for tests that assert
+// on whole images (tests/runtime/stability, the material furnace renders).
+// furnace_scene() is the materials' white furnace: one object lit only by a
+// constant infinite light of radiance 1, path traced.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/core/rgb.h"
+#include "runtime/film/film.h"
+#include "runtime/render/camera.h"
+#include "runtime/render/integrator.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/render/renderer.h"
+#include "runtime/runtime_test_support.h"
+#include "runtime/sampler/sampler.h"
+#include "test_support.h"
+
+namespace rt {
+
+struct Rendered {
+  bool ok = false;
+  std::string error;
+  int width = 0, height = 0;
+  std::vector<Rgb> pixels;  // row-major over the cropped film
+  RenderStats stats;
+  const Rgb& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+// Compiles `text` under a fresh scratch directory named `name` and renders it;
+// spp > 0 overrides the scene's sample count. Fails the calling test on any error.
+inline Rendered render_text(const std::string& name, const std::string& text, uint64_t seed = 0,
+                            int spp = 0) {
+  Rendered out;
+  pbrta::SceneArchive a;
+  if (!testing_support::compile_text(testing_support::scratch_dir(name), text, &a)) return out;
+  Film film;
+  Camera camera;
+  IntegratorSettings settings;
+  auto scene = std::make_unique<RenderScene>();
+  if (!film.build(a, FilmOptions{}, &out.error) ||
+      !camera.build(a, film.full_resolution(), &out.error) ||
+      !read_integrator(a, &settings, &out.error) ||
+      !load_render_scene(a, scene.get(), &out.error)) {
+    ADD_FAILURE() << name << ": " << out.error;
+    return out;
+  }
+  std::unique_ptr<Sampler> sampler = make_sampler(a, spp, seed, film.sample_bounds(), &out.error);
+  Integrator integrator;
+  if (!sampler || !integrator.init(*scene, settings, &out.error)) {
+    ADD_FAILURE() << name << ": " << out.error;
+    return out;
+  }
+  integrator.preprocess(sampler.get());
+  RenderOptions ro;
+  ro.quiet = true;
+  out.stats = render(camera, *sampler, integrator, &film, ro);
+  Bounds2i b = film.cropped_pixel_bounds();
+  out.width = b.width();
+  out.height = b.height();
+  for (int y = b.min.y; y < b.max.y; ++y)
+    for (int x = b.min.x; x < b.max.x; ++x) out.pixels.push_back(film.pixel({x, y}));
+  out.ok = true;
+  return out;
+}
+
+// `material_line` on `shape_line` (radius 1 at the origin fills most of the
+// 32x32 image) under a constant infinite light of radiance 1; sobol, 64 spp,
+// path integrator with maxdepth 10.
+inline std::string furnace_scene(const std::string& material_line, const std::string& shape_line) {
+  return R"(
+LookAt 0 0 5  0 0 0  0 1 0
+Camera "perspective" "float fov" 30
+Film "image" "integer xresolution" 32 "integer yresolution" 32
+Sampler "sobol" "integer pixelsamples" 64
+Integrator "path" "integer maxdepth" 10
+WorldBegin
+LightSource "infinite" "rgb L" [1 1 1]
+)" + material_line +
+         "\n" + shape_line + R"(
+WorldEnd
+)";
+}
+
+}  // namespace rt
