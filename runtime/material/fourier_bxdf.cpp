@@ -70,14 +70,7 @@ Rgb series_value(const FourierTable& t, const float* ak, int m, float y, double 
 }  // namespace
 
 void make_fourier_table(const pbrta::FourierTableView& v, FourierTable* t) {
-  t->eta = v.eta;
-  t->m_max = v.m_max;
-  t->channels = v.channels;
-  t->n_mu = int(v.n_mu);
-  t->mu = v.mu;
-  t->cdf = v.cdf;
-  t->offsets = v.offsets;
-  t->coeffs = v.coeffs;
+  static_cast<pbrta::FourierTableView&>(*t) = v;
   size_t pairs = size_t(v.n_mu) * v.n_mu;
   t->a0.assign(pairs, 0.f);
   for (size_t p = 0; p < pairs; ++p)
@@ -154,7 +147,8 @@ float FourierLobe::pdf(Vec3 wo, Vec3 wi) const {
   // The luminance's integral over the sphere at mu_o: 2 pi times the a0 spline's over mu_i.
   float rho = 0;
   for (int o = 0; o < 4; ++o)
-    if (w_o[o] != 0) rho += w_o[o] * t.cdf[(offset_o + o) * t.n_mu + t.n_mu - 1] * (2 * kPi);
+    if (w_o[o] != 0)
+      rho += w_o[o] * t.cdf[(offset_o + o) * int(t.n_mu) + int(t.n_mu) - 1] * (2 * kPi);
   float y = fourier_series(ak, m, cos_delta_phi(-wi, wo));
   return rho > 0 && y > 0 ? y / rho : 0;
 }

@@ -31,21 +31,17 @@
 
 namespace rt {
 
-struct FourierTable {
-  float eta = 1;
-  int m_max = 0;
-  int channels = 1;
-  int n_mu = 0;
-  const float* mu = nullptr;         // n_mu non-decreasing zenith cosines
-  const float* cdf = nullptr;        // [o][i]: running integral of a0 over mu_i at node o
-  const int32_t* offsets = nullptr;  // [o][i]: (first coefficient, series length)
-  const float* coeffs = nullptr;
+// The archive's checked table (FourierTableView: eta, m_max, channels, mu, cdf
+// ([o][i]: running integral of a0 over mu_i at node o), offsets ([o][i]:
+// first coefficient and series length), coeffs, counts), in place, plus what
+// lookups derive from it once.
+struct FourierTable : pbrta::FourierTableView {
   std::vector<float> a0;     // [o][i]: the luminance series' constant term
   std::vector<float> recip;  // 1 / k for k < m_max (recip[0] unused)
 
   // Node pair (i: mu_i node, o: mu_o node): *m terms per channel, channel c at c * *m.
   const float* series(int i, int o, int* m) const {
-    const int32_t* p = offsets + 2 * (o * n_mu + i);
+    const int32_t* p = offsets + 2 * (o * int(n_mu) + i);
     *m = p[1];
     return coeffs + p[0];
   }
