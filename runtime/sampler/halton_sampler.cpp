@@ -134,13 +134,7 @@ class HaltonSampler final : public GlobalSampler {
   // seed's digit (base 2: xor; base 3: added mod 3). Digits past those are
   // below float precision.
   double shifted_base2(uint64_t q) const {
-    uint32_t r = uint32_t(q);
-    r = (r << 16) | (r >> 16);
-    r = ((r & 0x00ff00ffu) << 8) | ((r & 0xff00ff00u) >> 8);
-    r = ((r & 0x0f0f0f0fu) << 4) | ((r & 0xf0f0f0f0u) >> 4);
-    r = ((r & 0x33333333u) << 2) | ((r & 0xccccccccu) >> 2);
-    r = ((r & 0x55555555u) << 1) | ((r & 0xaaaaaaaau) >> 1);
-    return double(r ^ shift2_) * 0x1p-32;
+    return double(reverse_bits(q) ^ (uint64_t(shift2_) << 32)) * 0x1p-64;
   }
   double shifted_base3(uint64_t q) const {
     double v = 0, scale = 1.0 / 3;

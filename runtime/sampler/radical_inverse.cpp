@@ -69,14 +69,7 @@ inline uint32_t div_by_reciprocal(uint64_t recip, uint32_t a) {
 double radical_inverse(uint32_t base, uint64_t a) {
   if (base == 2) {
     // Mirroring binary digits is a bit reversal.
-    uint64_t r = a;
-    r = ((r >> 1) & 0x5555555555555555ull) | ((r & 0x5555555555555555ull) << 1);
-    r = ((r >> 2) & 0x3333333333333333ull) | ((r & 0x3333333333333333ull) << 2);
-    r = ((r >> 4) & 0x0f0f0f0f0f0f0f0full) | ((r & 0x0f0f0f0f0f0f0f0full) << 4);
-    r = ((r >> 8) & 0x00ff00ff00ff00ffull) | ((r & 0x00ff00ff00ff00ffull) << 8);
-    r = ((r >> 16) & 0x0000ffff0000ffffull) | ((r & 0x0000ffff0000ffffull) << 16);
-    r = (r >> 32) | (r << 32);
-    return double(r) * 0x1p-64;
+    return double(reverse_bits(a)) * 0x1p-64;
   }
   if (base == 3) return radical_inverse_in<3>(a);  // Halton's second dimension
   const double inv_base = 1.0 / base;

@@ -18,6 +18,16 @@ inline constexpr int kHaltonDimensions = 1000;  // as pbrt-v3's prime table
 uint32_t halton_prime(int d);
 
 // Digits of a in base b mirrored about the radix point: 0.d0 d1 d2 ...
+// a's 64 bits in reverse order: base 2's digit mirror.
+inline uint64_t reverse_bits(uint64_t r) {
+  r = ((r >> 1) & 0x5555555555555555ull) | ((r & 0x5555555555555555ull) << 1);
+  r = ((r >> 2) & 0x3333333333333333ull) | ((r & 0x3333333333333333ull) << 2);
+  r = ((r >> 4) & 0x0f0f0f0f0f0f0f0full) | ((r & 0x0f0f0f0f0f0f0f0full) << 4);
+  r = ((r >> 8) & 0x00ff00ff00ff00ffull) | ((r & 0x00ff00ff00ff00ffull) << 8);
+  r = ((r >> 16) & 0x0000ffff0000ffffull) | ((r & 0x0000ffff0000ffffull) << 16);
+  return (r >> 32) | (r << 32);
+}
+
 double radical_inverse(uint32_t base, uint64_t a);
 // The same with every digit (including the infinite tail of zeros) mapped
 // through perm, a permutation of 0..base-1.
