@@ -1,4 +1,5 @@
-// tests/compiler/archive_roundtrip_test.cpp — pbrtc --dump output compiles back to the same archive.
+// tests/compiler/archive_roundtrip_test.cpp — pbrtc --dump output compiles back to the same
+// archive.
 //
 // For every shared entry scene that compiles: compile (A), dump A as a pbrt-v3 scene, compile
 // the dump (B). B must equal A byte for byte except where the provenance section (the last one,
@@ -58,8 +59,8 @@ bool compile_to(const std::string& scene, const std::string& out, std::string* e
       continue;
     }
     if (std::memcmp(&ea, &eb, 48) != 0)
-      return ::testing::AssertionFailure() << "section table entry " << i << " (kind " << ea.kind
-                                           << ") differs";
+      return ::testing::AssertionFailure()
+             << "section table entry " << i << " (kind " << ea.kind << ") differs";
   }
   if (prov_a != prov_b || prov_a == 0) return ::testing::AssertionFailure() << "no provenance";
   size_t start = 64 + size_t(ha.section_count) * 48;
@@ -75,6 +76,30 @@ void write_image(const std::string& path, int w, int h, int channels, OIIO::Type
   ASSERT_TRUE(out->open(path, OIIO::ImageSpec(w, h, channels, format))) << out->geterror();
   ASSERT_TRUE(out->write_image(format, pixels)) << out->geterror();
   ASSERT_TRUE(out->close());
+}
+
+// Dumps archive `a` (compiled to a_path) under dir/dump, compiles the dump to
+// dir/b.pbrta and expects the same bytes outside provenance, then dumps that
+// archive again and expects the same scene text. Returns the first dump's text.
+std::string expect_dump_round_trip(const pbrta::SceneArchive& a, const std::string& a_path,
+                                   const std::string& dir) {
+  std::string error;
+  const std::string b_path = dir + "/b.pbrta";
+  if (!dump_archive(a, dir + "/dump", "scene.pbrt", &error) ||
+      !compile_to(dir + "/dump/scene.pbrt", b_path, &error)) {
+    ADD_FAILURE() << error;
+    return "";
+  }
+  EXPECT_TRUE(same_outside_provenance(testing_support::read_file(a_path),
+                                      testing_support::read_file(b_path)));
+  const std::string dumped = testing_support::read_file(dir + "/dump/scene.pbrt");
+  pbrta::SceneArchive b;
+  if (!b.load(b_path, 1, &error) || !dump_archive(b, dir + "/dump2", "scene.pbrt", &error)) {
+    ADD_FAILURE() << error;
+    return dumped;
+  }
+  EXPECT_EQ(dumped, testing_support::read_file(dir + "/dump2/scene.pbrt"));
+  return dumped;
 }
 
 // Every way a scene uses an image, in one scene: float and spectrum imagemaps with the curve,
@@ -124,16 +149,7 @@ TEST(ArchiveRoundTrip, ImagesOfEveryUseRoundTrip) {
   uint32_t sources = 0;
   for (const pbrta::ImageRecord& r : a.images) sources += r.source_image != pbrta::kNoIndex;
   EXPECT_EQ(sources, 8u);  // a.png x 4 options, g.png, f.pfm, sky.exr x 2 lights (L differs)
-  ASSERT_TRUE(dump_archive(a, dir + "/dump", "scene.pbrt", &error)) << error;
-  ASSERT_TRUE(compile_to(dir + "/dump/scene.pbrt", b_path, &error)) << error;
-  EXPECT_TRUE(same_outside_provenance(testing_support::read_file(a_path),
-                                      testing_support::read_file(b_path)));
-  // And again: the dump of the recompiled archive is the same scene text.
-  pbrta::SceneArchive b;
-  ASSERT_TRUE(b.load(b_path, 1, &error)) << error;
-  ASSERT_TRUE(dump_archive(b, dir + "/dump2", "scene.pbrt", &error)) << error;
-  EXPECT_EQ(testing_support::read_file(dir + "/dump/scene.pbrt"),
-            testing_support::read_file(dir + "/dump2/scene.pbrt"));
+  expect_dump_round_trip(a, a_path, dir);
 }
 
 // The fourier material's table goes out as a .bsdf file and compiles back to the same words; a
@@ -157,19 +173,11 @@ TEST(ArchiveRoundTrip, FourierTableRoundTrips) {
   ASSERT_TRUE(compile_to(scene, a_path, &error)) << error;
   pbrta::SceneArchive a;
   ASSERT_TRUE(a.load(a_path, 1, &error)) << error;
-  ASSERT_TRUE(dump_archive(a, dir + "/dump", "scene.pbrt", &error)) << error;
-  const std::string dumped = testing_support::read_file(dir + "/dump/scene.pbrt");
+  const std::string dumped = expect_dump_round_trip(a, a_path, dir);
   EXPECT_NE(dumped.find("\"string type\" \"fourier\" \"string bsdffile\" [\"bsdfs/material"),
             std::string::npos)
       << dumped;
   EXPECT_EQ(dumped.find("bsdfcoeffs"), std::string::npos) << dumped;
-  ASSERT_TRUE(compile_to(dir + "/dump/scene.pbrt", b_path, &error)) << error;
-  EXPECT_TRUE(same_outside_provenance(testing_support::read_file(a_path),
-                                      testing_support::read_file(b_path)));
-  pbrta::SceneArchive b;
-  ASSERT_TRUE(b.load(b_path, 1, &error)) << error;
-  ASSERT_TRUE(dump_archive(b, dir + "/dump2", "scene.pbrt", &error)) << error;
-  EXPECT_EQ(dumped, testing_support::read_file(dir + "/dump2/scene.pbrt"));
 }
 
 TEST(ArchiveRoundTrip, DumpCompilesBackToTheSameArchive) {
