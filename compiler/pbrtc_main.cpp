@@ -25,6 +25,7 @@
 #include "compiler/scene_builder.h"
 #include "compiler/summary.h"
 #include "format/scene_archive.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -120,6 +121,7 @@ class Progress : public pbrtc::BuildProgress {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives (.pbrta)"};
   std::vector<std::string> inputs;
   std::string outfile, codec = "zstd", texture_precision = "f32";

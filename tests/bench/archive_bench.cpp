@@ -32,6 +32,7 @@
 #include "compiler/scene_builder.h"
 #include "format/archive_reader.h"
 #include "format/scene_archive.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -143,6 +144,7 @@ bool time_load(const std::string& path, int n, int threads, double* wall, double
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   int repeat = 5, threads = 2;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {

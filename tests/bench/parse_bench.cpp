@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "compiler/scene_builder.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 std::atomic<size_t> g_current{0};
@@ -152,6 +153,7 @@ void generate_shapes(const char* path, long count) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   if (argc >= 4 && std::strcmp(argv[1], "generate-mesh") == 0) {
     generate_mesh(argv[2], std::atof(argv[3]));
     return 0;

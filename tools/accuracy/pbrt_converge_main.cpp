@@ -37,6 +37,7 @@
 #include "tools/accuracy/sweep_config.h"
 #include "tools/accuracy/sweep_csv.h"
 #include "tools/accuracy/time_to_error.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -63,6 +64,7 @@ std::string beside(const std::string& path, const std::string& suffix) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrt-converge: error against time for a pbrtc scene archive"};
   std::string input, reference_path, csv_path, plot_path, table_path, make_reference, name;
   std::string samplers, integrators, strategies;

@@ -26,6 +26,7 @@
 #include "format/draco_codec.h"
 #include "format/ply_reader.h"
 #include "format/ply_writer.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -65,6 +66,7 @@ std::string g3(double x) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   CLI::App app{"mesh-table: PLY against Draco sizes, errors and times, as a Markdown table"};
   std::vector<std::string> files;
   std::string root;

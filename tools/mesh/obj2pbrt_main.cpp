@@ -10,8 +10,10 @@
 #include <string>
 
 #include "tools/mesh/obj_scene.h"
+#include "format/huge_page_heap.h"
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   CLI::App app{
       "obj2pbrt: convert an OBJ scene and its MTL materials to pbrt-v3 scene text.\n\n"
       "The output holds Texture, MakeNamedMaterial, AreaLightSource and Shape directives only\n"

@@ -7,8 +7,10 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/mesh/commands.h"
+#include "format/huge_page_heap.h"
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrt-mesh: convert, inspect and process meshes for pbrt scenes"};
   app.require_subcommand(1);
   int exit_code = 0;

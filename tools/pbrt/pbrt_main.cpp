@@ -30,6 +30,7 @@
 #include "tools/pbrt/cached_compile.h"
 #include "tools/pbrt/options.h"
 #include "tools/pbrt/scene_compile.h"
+#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -104,6 +105,7 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
 }  // namespace
 
 int main(int argc, char** argv) {
+  pbrta::use_huge_page_heap(argv);
   Options o;
   std::string error;
   if (!pbrt_tool::parse_options(argc, argv, &o, &error)) {
