@@ -70,20 +70,18 @@ inline float bits_to_float(uint32_t u) {
   return f;
 }
 // The next representable float above / below v (used to push ray origins and
-// conservative bounds outwards).
+// conservative bounds outwards). +inf and -inf stay; both zeros step to the
+// smallest denormal of the direction. Branch-free: the interval arithmetic of
+// quadric tests calls these a few dozen times per ray.
 inline float next_float_up(float v) {
-  if (std::isinf(v) && v > 0.f) return v;
-  if (v == -0.f) v = 0.f;
-  uint32_t u = float_to_bits(v);
-  u = v >= 0 ? u + 1 : u - 1;
-  return bits_to_float(u);
+  // -0 + 0 is +0, so both zeros step to the smallest positive denormal.
+  int32_t i = int32_t(float_to_bits(v + 0.f));
+  i += (i >> 31) | 1;  // magnitude up for v >= 0, down for v < 0
+  float r = bits_to_float(uint32_t(i));
+  return v == kInfinity ? v : r;
 }
 inline float next_float_down(float v) {
-  if (std::isinf(v) && v < 0.f) return v;
-  if (v == 0.f) v = -0.f;
-  uint32_t u = float_to_bits(v);
-  u = v > 0 ? u - 1 : u + 1;
-  return bits_to_float(u);
+  return -next_float_up(-v);
 }
 
 // Real roots of a t^2 + b t + c in double precision, t0 <= t1.

@@ -40,22 +40,22 @@ struct EFloat {
   float abs_error() const { return next_float_up(std::max(std::fabs(hi - v), std::fabs(v - lo))); }
 };
 
-inline EFloat operator+(EFloat a, EFloat b) {
+[[gnu::always_inline]] inline EFloat operator+(EFloat a, EFloat b) {
   return EFloat::with_bounds(a.v + b.v, next_float_down(a.lo + b.lo), next_float_up(a.hi + b.hi));
 }
-inline EFloat operator-(EFloat a, EFloat b) {
+[[gnu::always_inline]] inline EFloat operator-(EFloat a, EFloat b) {
   return EFloat::with_bounds(a.v - b.v, next_float_down(a.lo - b.hi), next_float_up(a.hi - b.lo));
 }
-inline EFloat operator-(EFloat a) {
+[[gnu::always_inline]] inline EFloat operator-(EFloat a) {
   return EFloat::with_bounds(-a.v, -a.hi, -a.lo);
 }
-inline EFloat operator*(EFloat a, EFloat b) {
+[[gnu::always_inline]] inline EFloat operator*(EFloat a, EFloat b) {
   float p0 = a.lo * b.lo, p1 = a.hi * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.hi;
   return EFloat::with_bounds(a.v * b.v,
                              next_float_down(std::min(std::min(p0, p1), std::min(p2, p3))),
                              next_float_up(std::max(std::max(p0, p1), std::max(p2, p3))));
 }
-inline EFloat operator/(EFloat a, EFloat b) {
+[[gnu::always_inline]] inline EFloat operator/(EFloat a, EFloat b) {
   // A divisor interval touching zero bounds nothing.
   if (b.lo <= 0 && b.hi >= 0) return EFloat::with_bounds(a.v / b.v, -kInfinity, kInfinity);
   float q0 = a.lo / b.lo, q1 = a.hi / b.lo, q2 = a.lo / b.hi, q3 = a.hi / b.hi;
@@ -63,14 +63,14 @@ inline EFloat operator/(EFloat a, EFloat b) {
                              next_float_down(std::min(std::min(q0, q1), std::min(q2, q3))),
                              next_float_up(std::max(std::max(q0, q1), std::max(q2, q3))));
 }
-inline EFloat operator*(float a, EFloat b) {
+[[gnu::always_inline]] inline EFloat operator*(float a, EFloat b) {
   return EFloat(a) * b;
 }
-inline EFloat operator-(EFloat a, float b) {
+[[gnu::always_inline]] inline EFloat operator-(EFloat a, float b) {
   return a - EFloat(b);
 }
 
-inline EFloat sqrt(EFloat a) {
+[[gnu::always_inline]] inline EFloat sqrt(EFloat a) {
   return EFloat::with_bounds(std::sqrt(a.v), next_float_down(std::sqrt(std::max(0.f, a.lo))),
                              next_float_up(std::sqrt(std::max(0.f, a.hi))));
 }

@@ -49,8 +49,7 @@ struct ObjectRay {
 
 // The ray in object space as pbrt-v3 takes it there: a float transform with
 // its gamma(3) error bounds.
-ObjectRay to_object(const ShapeInfo& s, const Ray& rw) {
-  Transform world_to_object(s.object_to_world.inverse_matrix(), s.object_to_world.matrix());
+ObjectRay to_object(const Transform& world_to_object, const Ray& rw) {
   Vec3 o_err, d_err;
   Vec3 o = world_to_object.point(rw.o, &o_err);
   Vec3 d = world_to_object.vector(rw.d, &d_err);
@@ -368,11 +367,20 @@ Bounds3 quadric_world_bounds(const ShapeInfo& s) {
   return wb;
 }
 
+PreparedQuadric prepare_quadric(const ShapeInfo& s) {
+  return {make_quadric_shape(s), s.object_to_world.inverse()};
+}
+
 bool intersect_quadric(const ShapeInfo& s, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
+  return intersect_quadric(s, prepare_quadric(s), rw, t_hit, si);
+}
+
+bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, const Ray& rw,
+                       float* t_hit, SurfaceInteraction* si) {
   if (!is_quadric(s.kind)) return false;
-  QuadricShape q = make_quadric_shape(s);
+  const QuadricShape& q = prepared.shape;
   if (!q.valid) return false;
-  ObjectRay r = to_object(s, rw);
+  ObjectRay r = to_object(prepared.world_to_object, rw);
   if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, r, rw, t_hit, si);
 
   EFloat a, b, c, t0, t1;

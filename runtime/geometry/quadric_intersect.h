@@ -13,6 +13,7 @@
 
 #include "runtime/core/interaction.h"
 #include "runtime/core/ray.h"
+#include "runtime/geometry/quadric_shape.h"
 #include "runtime/geometry/shape_table.h"
 
 namespace rt {
@@ -32,5 +33,16 @@ Bounds3 quadric_world_bounds(const ShapeInfo& s);
 // index NOT set (the caller sets it)).
 bool intersect_quadric(const ShapeInfo& s, const Ray& ray_world, float* t_hit,
                        SurfaceInteraction* si);
+
+// What intersect_quadric derives from s before any ray: pbrt-v3's normalised
+// parameters (two acos for a sphere) and the world-to-object transform. The
+// scene computes it once per shape; the result of a test is the same.
+struct PreparedQuadric {
+  QuadricShape shape;
+  Transform world_to_object;
+};
+PreparedQuadric prepare_quadric(const ShapeInfo& s);
+bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, const Ray& ray_world,
+                       float* t_hit, SurfaceInteraction* si);
 
 }  // namespace rt
