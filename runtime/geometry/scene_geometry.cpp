@@ -29,6 +29,7 @@ struct GeomData {
   bool quadric = false;
   const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
   bool copied = false;               // positions are a copy through the shape's transform
+  PreparedQuadric prepared;          // quadrics outside instances
 };
 
 // A top-level Embree instance: an object instance or a world transform group.
@@ -45,6 +46,7 @@ struct QueryContext {
   const Ray* ray;                  // the world-space ray
   SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric hit; null for occluded()
   float near_t;                    // triangle hits at t <= near_t are re-tested (near_filter)
+  uint32_t skip_shape;             // occluded(): a world quadric that cannot block this ray
 };
 
 bool is_quadric(ShapeKind k) {
@@ -203,14 +205,16 @@ void quadric_bounds(const RTCBoundsFunctionArguments* args) {
 // The quadric in world space: inside an instance, the instance's transform
 // composed onto the shape's (object-from-shape) one; orientation flags stay
 // the shape's own, as pbrt-v3 flips by the shape's transform and then maps
-// the normal through the instance transform as a normal.
-const ShapeInfo& world_quadric(const GeomData& g, unsigned inst_id, ShapeInfo* scratch) {
+// the normal through the instance transform as a normal. Outside instances
+// the shape's prepared form is used as it is.
+bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float* t,
+                       SurfaceInteraction* si) {
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
-  if (!inst) return s;
-  *scratch = s;
-  scratch->object_to_world = inst->to_world * s.object_to_world;
-  return *scratch;
+  if (!inst) return intersect_quadric(s, g.prepared, r, t, si);
+  ShapeInfo scratch = s;
+  scratch.object_to_world = inst->to_world * s.object_to_world;
+  return intersect_quadric(scratch, r, t, si);
 }
 
 void quadric_intersect(const RTCIntersectFunctionNArguments* args) {
@@ -219,14 +223,12 @@ void quadric_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
   unsigned inst_id = args->context->instID[0];
-  ShapeInfo scratch;
-  const ShapeInfo& s = world_quadric(*g, inst_id, &scratch);
   // Embree does not rescale instanced rays, so t is the same in every space.
   Ray r = *ctx->ray;
   r.tmax = rh->ray.tfar;
   SurfaceInteraction si;
   float t;
-  if (!intersect_quadric(s, r, &t, &si) || !(t < rh->ray.tfar)) return;
+  if (!world_quadric_hit(*g, inst_id, r, &t, &si) || !(t < rh->ray.tfar)) return;
   rh->ray.tfar = t;
   rh->hit.u = rh->hit.v = 0;
   rh->hit.Ng_x = si.n.x;
@@ -243,12 +245,12 @@ void quadric_occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
-  ShapeInfo scratch;
-  const ShapeInfo& s = world_quadric(*g, args->context->instID[0], &scratch);
+  const unsigned inst_id = args->context->instID[0];
+  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID) return;
   Ray r = *ctx->ray;
   r.tmax = ray->tfar;
   float t;
-  if (intersect_quadric(s, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
+  if (world_quadric_hit(*g, inst_id, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
 }
 
 // Embree accepts t <= tfar; pbrt-v3's interval is open at tmax.
@@ -445,6 +447,7 @@ unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds
   g.impl = impl_;
   g.shape = shape;
   g.quadric = true;
+  g.prepared = prepare_quadric(s);
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(geom, 1);
   rtcSetGeometryUserData(geom, &g);
@@ -615,6 +618,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
   ctx.ray = &ray;
   ctx.quadric_si = si;
   ctx.near_t = near_t(ray);
+  ctx.skip_shape = kNone;
   RTCRayHit rh;
   init_ray(ray, &rh.ray);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -638,13 +642,14 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
   return true;
 }
 
-bool SceneGeometry::occluded(const Ray& ray) const {
+bool SceneGeometry::occluded(const Ray& ray, uint32_t skip_shape) const {
   if (!impl_ || !(ray.tmax > 0)) return false;
   QueryContext ctx;
   rtcInitIntersectContext(&ctx.rtc);
   ctx.ray = &ray;
   ctx.quadric_si = nullptr;
   ctx.near_t = near_t(ray);
+  ctx.skip_shape = skip_shape;
   RTCRay r;
   init_ray(ray, &r);
   rtcOccluded1(impl_->top, &ctx.rtc, &r);

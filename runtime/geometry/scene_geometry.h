@@ -59,8 +59,12 @@ class SceneGeometry {
   // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
   // not the differentials (SurfaceInteraction::compute_differentials).
   bool intersect(const Ray& ray, SurfaceInteraction* si) const;
-  // Any hit in (0, ray.tmax).
-  bool occluded(const Ray& ray) const;
+  // Any hit in (0, ray.tmax). skip_shape: a world sphere or disk that the
+  // caller knows cannot block this ray (an area light's own shape, for a
+  // shadow ray to a point sampled on it; LightSample::own_shape): its test
+  // is skipped. A line meets a sphere at most twice and a plane once, so the
+  // segment to a point on the visible side never meets it before t = 1.
+  bool occluded(const Ray& ray, uint32_t skip_shape = kNone) const;
 
   // pbrt-v3's world bound: mesh vertices, quadric boxes through their
   // transforms, instances' object boxes through the instance transforms.

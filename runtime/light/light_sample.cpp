@@ -83,6 +83,7 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
   s->li = Rgb();
   s->pdf = 0;
   s->delta = false;
+  s->own_shape = kNone;
   switch (e.kind) {
     case LightKind::kPoint:
     case LightKind::kSpot:
@@ -115,6 +116,8 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
       s->wi = normalize(it.p - ref.p);
       s->pdf = pdf;
       s->p_light = it;
+      if (shape.kind == ShapeKind::kSphere || shape.kind == ShapeKind::kDisk)
+        s->own_shape = e.shape;
       const AreaEmitter& em = emitters_[e.data];
       if (em.twosided || dot(it.n, -s->wi) > 0) s->li = em.l;
       return s->li;

@@ -55,6 +55,9 @@ struct LightSample {
   float pdf = 0;
   Interaction p_light;
   bool delta = false;
+  // An area light's own sphere or disk: it cannot block the shadow ray to
+  // p_light (SceneGeometry::occluded's skip_shape). kNone otherwise.
+  uint32_t own_shape = kNone;
 };
 
 class LightSet {

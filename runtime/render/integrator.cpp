@@ -102,7 +102,7 @@ struct Kernels {
       float scattering_pdf = bsdf.pdf(it.wo, ls.wi, flags);
       if (!f.is_black()) {
         ++c->shadow_rays;
-        if (!I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light))) {
+        if (!I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape)) {
           if (delta)
             ld += f * li / ls.pdf;
           else
@@ -246,7 +246,7 @@ struct Kernels {
         Rgb f = bsdf.f(si.wo, ls.wi);
         if (f.is_black()) continue;
         ++c->shadow_rays;
-        if (!I.scene_->geometry.occluded(si.spawn_ray_to(ls.p_light)))
+        if (!I.scene_->geometry.occluded(si.spawn_ray_to(ls.p_light), ls.own_shape))
           l += f * li * (abs_dot(ls.wi, si.shading.n) / ls.pdf);
       }
     } else if (lights.count() > 0) {
