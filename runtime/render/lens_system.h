@@ -66,9 +66,20 @@ class LensSystem {
   struct Element {
     float curvature_radius, thickness, eta, aperture_radius;
   };
+  // One interface as trace_from_film meets it, rear to front, with what the
+  // per-ray loop would otherwise recompute: where it sits, 1/|R|, the
+  // squared aperture and the eta ratio of its refraction.
+  struct FilmStep {
+    float plane_z;   // the stop's plane (lens space)
+    float center_z;  // a sphere's centre on the axis
+    float radius;    // signed curvature radius; 0 for the stop
+    float inv_abs_radius, aperture2, eta_ratio;
+  };
   bool thick_lens(float pz[2], float fz[2], std::string* error) const;
+  void prepare_film_steps();
 
   std::vector<Element> elements_;
+  std::vector<FilmStep> film_steps_;
   std::vector<PupilBounds> pupil_;
   float film_diagonal_ = 0.035f;
 };
