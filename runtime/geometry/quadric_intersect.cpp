@@ -84,48 +84,66 @@ ObjectRay to_object_precise(const ShapeInfo& s, const Ray& rw, const ObjectRay& 
   return r;
 }
 
-// Coefficients of the quadric's implicit equation along the ray.
-void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* b, EFloat* c) {
-  const EFloat &ox = r.ox, &oy = r.oy, &oz = r.oz, &dx = r.dx, &dy = r.dy, &dz = r.dz;
+// Coefficients of the quadric's implicit equation along the ray, for T =
+// EFloat (values with intervals) or T = float. EFloat computes its values with
+// exactly these float operations in this order, so the float instance gives
+// bit for bit the EFloat instance's values (may_hit relies on that).
+template <class T>
+void coefficients(const QuadricShape& q, T ox, T oy, T oz, T dx, T dy, T dz, T* a, T* b, T* c) {
   switch (q.kind) {
     case ShapeKind::kSphere: {
-      EFloat rad(q.radius);
+      T rad(q.radius);
       *a = dx * dx + dy * dy + dz * dz;
       *b = 2.f * (dx * ox + dy * oy + dz * oz);
       *c = ox * ox + oy * oy + oz * oz - rad * rad;
       break;
     }
     case ShapeKind::kCylinder: {
-      EFloat rad(q.radius);
+      T rad(q.radius);
       *a = dx * dx + dy * dy;
       *b = 2.f * (dx * ox + dy * oy);
       *c = ox * ox + oy * oy - rad * rad;
       break;
     }
     case ShapeKind::kCone: {
-      EFloat k = EFloat(q.radius) / EFloat(q.height);
+      T k = T(q.radius) / T(q.height);
       k = k * k;
-      EFloat oz_h = oz - EFloat(q.height);
+      T oz_h = oz - T(q.height);
       *a = dx * dx + dy * dy - k * dz * dz;
       *b = 2.f * (dx * ox + dy * oy - k * dz * oz_h);
       *c = ox * ox + oy * oy - k * oz_h * oz_h;
       break;
     }
     case ShapeKind::kParaboloid: {
-      EFloat k = EFloat(q.zmax) / (EFloat(q.radius) * EFloat(q.radius));
+      T k = T(q.zmax) / (T(q.radius) * T(q.radius));
       *a = k * (dx * dx + dy * dy);
       *b = 2.f * k * (dx * ox + dy * oy) - dz;
       *c = k * (ox * ox + oy * oy) - oz;
       break;
     }
     default: {  // hyperboloid
-      EFloat ah(q.ah), ch(q.ch);
+      T ah(q.ah), ch(q.ch);
       *a = ah * dx * dx + ah * dy * dy - ch * dz * dz;
       *b = 2.f * (ah * dx * ox + ah * dy * oy - ch * dz * oz);
-      *c = ah * ox * ox + ah * oy * oy - ch * oz * oz - EFloat(1.f);
+      *c = ah * ox * ox + ah * oy * oy - ch * oz * oz - T(1.f);
       break;
     }
   }
+}
+
+void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* b, EFloat* c) {
+  coefficients<EFloat>(q, r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, a, b, c);
+}
+
+// False when solve_quadratic would find no real root: the same discriminant
+// from the same coefficient values, without the intervals. Most tests Embree
+// asks for are rays through the box that miss the surface, and they need no
+// interval arithmetic at all.
+bool may_hit(const QuadricShape& q, const ObjectRay& r) {
+  float a, b, c;
+  coefficients<float>(q, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, &a, &b, &c);
+  double disc = double(b) * double(b) - 4.0 * double(a) * double(c);
+  return !(disc < 0);
 }
 
 // The hit point at t, refined onto the surface where the book does so, and
@@ -383,6 +401,7 @@ bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, cons
   ObjectRay r = to_object(prepared.world_to_object, rw);
   if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, r, rw, t_hit, si);
 
+  if (!may_hit(q, r)) return false;
   EFloat a, b, c, t0, t1;
   coefficients(q, r, &a, &b, &c);
   if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
