@@ -1,5 +1,5 @@
-// use_huge_page_heap(): a forked child calls it with an argv that re-runs this
-// test binary on the probe below, which records the environment it got.
+// use_huge_page_heap(): a forked child calls it, which re-runs this test
+// binary; kIsProbe below records the environment the re-run got.
 #include "format/huge_page_heap.h"
 
 #include <gtest/gtest.h>
@@ -20,18 +20,19 @@ void write_text(const char* path, const std::string& text) {
   }
 }
 
-// Runs only as the re-executed child. It calls use_huge_page_heap() again, as
-// main() would after the re-exec: a second exec here would loop forever.
-TEST(HugePageHeapProbe, RecordsItsEnvironment) {
+// The re-executed child: records its environment and exits before any test
+// runs. It calls use_huge_page_heap() again, as main() would after the
+// re-exec: a second exec here would loop forever.
+const bool kIsProbe = [] {
   const char* out = std::getenv("HUGE_PAGE_PROBE_OUT");
-  if (!out) GTEST_SKIP() << "only the child of the HugePageHeap tests runs this";
+  if (!out) return false;
   char self[] = "/proc/self/exe";
-  char filter[] = "--gtest_filter=HugePageHeapProbe.*";
-  char* argv[] = {self, filter, nullptr};
+  char* argv[] = {self, nullptr};
   pbrta::use_huge_page_heap(argv);
   const char* t = std::getenv("GLIBC_TUNABLES");
   write_text(out, t ? t : "(unset)");
-}
+  std::_Exit(0);
+}();
 
 // What the child process ended up with: the probe's record, or "not
 // re-executed" if use_huge_page_heap() returned.
@@ -49,8 +50,7 @@ std::string run_child(const char* tunables, const char* opt_out) {
       unsetenv("PBRT_HUGE_PAGES");
     setenv("HUGE_PAGE_PROBE_OUT", out.c_str(), 1);
     char self[] = "/proc/self/exe";
-    char filter[] = "--gtest_filter=HugePageHeapProbe.*";
-    char* argv[] = {self, filter, nullptr};
+    char* argv[] = {self, nullptr};
     pbrta::use_huge_page_heap(argv);
     write_text(out.c_str(), "not re-executed");
     _exit(0);
