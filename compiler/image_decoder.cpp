@@ -38,7 +38,9 @@ float inverse_gamma(float v) {
 }
 
 // pbrt-v3's RGBSpectrum::y().
-float luminance(const float* c) { return 0.212671f * c[0] + 0.715160f * c[1] + 0.072169f * c[2]; }
+float luminance(const float* c) {
+  return 0.212671f * c[0] + 0.715160f * c[1] + 0.072169f * c[2];
+}
 
 // pbrt-v3's Lanczos(x, tau = 2): a sinc windowed by a wider sinc, zero past |x| = 1.
 float lanczos(float x) {
@@ -60,9 +62,12 @@ int mod(int a, int b) {
 // The texel index the wrap mode gives for i in [0, n), or -1 for black.
 int wrap_index(int i, int n, ImageWrap wrap) {
   switch (wrap) {
-    case ImageWrap::kRepeat: return mod(i, n);
-    case ImageWrap::kClamp: return std::clamp(i, 0, n - 1);
-    case ImageWrap::kBlack: break;
+    case ImageWrap::kRepeat:
+      return mod(i, n);
+    case ImageWrap::kClamp:
+      return std::clamp(i, 0, n - 1);
+    case ImageWrap::kBlack:
+      break;
   }
   return i >= 0 && i < n ? i : -1;
 }
@@ -73,7 +78,9 @@ uint32_t round_up_pow2(uint32_t v) {
   return p;
 }
 
-bool is_pow2(uint32_t v) { return v && !(v & (v - 1)); }
+bool is_pow2(uint32_t v) {
+  return v && !(v & (v - 1));
+}
 
 struct ResampleWeight {
   int first;
@@ -92,8 +99,8 @@ std::vector<ResampleWeight> resample_weights(int old_res, int new_res) {
       float pos = float(wt[size_t(i)].first + j) + .5f;
       wt[size_t(i)].w[j] = lanczos((pos - center) / filter_width);
     }
-    float inv = 1 / (wt[size_t(i)].w[0] + wt[size_t(i)].w[1] + wt[size_t(i)].w[2] +
-                     wt[size_t(i)].w[3]);
+    float inv =
+        1 / (wt[size_t(i)].w[0] + wt[size_t(i)].w[1] + wt[size_t(i)].w[2] + wt[size_t(i)].w[3]);
     for (float& w : wt[size_t(i)].w) w *= inv;
   }
   return wt;
@@ -133,8 +140,8 @@ LevelView level_view(const DecodedImage& im, int level) {
 
 // Reads the file as pbrt-v3's ReadImage does: RGB floats, rows top to bottom. *float_grey is set
 // for a one-channel PFM, whose floats a float texture takes as they are.
-bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
-              uint32_t* height, bool* float_grey, std::string* error) {
+bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width, uint32_t* height,
+              bool* float_grey, std::string* error) {
   const std::string ext = lower_extension(path);
   const bool exr = ext == ".exr", eight_bit = ext == ".png" || ext == ".tga";
   if (!exr && !eight_bit && ext != ".pfm" && ext != ".hdr") {
@@ -183,16 +190,27 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
     }
   }
   const size_t n = size_t(spec.width) * size_t(spec.height);
-  std::vector<float> all(n * size_t(nch));
+  std::vector<float> all;
   bool ok;
   if (exr) {
-    // pbrt-v3 reads EXR through Imf::RgbaInputFile, which hands out half floats.
-    std::vector<uint16_t> half(all.size());
+    // pbrt-v3 reads EXR through Imf::RgbaInputFile, which hands out half floats. They are
+    // widened a few thousand pixels at a time straight into RGB: no float copy of every channel
+    // of the whole image (an environment map's decode peaked at 28 bytes a texel, now 20).
+    std::vector<uint16_t> half(n * size_t(nch));
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::HALF, half.data());
-    if (ok)
-      ok = OIIO::convert_pixel_values(OIIO::TypeDesc::HALF, half.data(), OIIO::TypeDesc::FLOAT,
-                                      all.data(), int(all.size()));
+    rgb->assign(ok ? n * 3 : 0, 0.f);
+    constexpr size_t kChunk = 4096;
+    std::vector<float> wide(kChunk * size_t(nch));
+    for (size_t at = 0; ok && at < n; at += kChunk) {
+      const size_t m = std::min(kChunk, n - at);
+      ok = OIIO::convert_pixel_values(OIIO::TypeDesc::HALF, &half[at * size_t(nch)],
+                                      OIIO::TypeDesc::FLOAT, wide.data(), int(m * size_t(nch)));
+      for (size_t i = 0; ok && i < m; ++i)
+        for (int k = 0; k < 3; ++k)
+          (*rgb)[(at + i) * 3 + size_t(k)] = wide[i * size_t(nch) + size_t(src[k])];
+    }
   } else if (eight_bit) {
+    all.resize(n * size_t(nch));
     // lodepng's 24-bit decode keeps the high byte of 16-bit PNG samples.
     if (spec.format == OIIO::TypeDesc::UINT16) {
       std::vector<uint16_t> raw(all.size());
@@ -204,6 +222,7 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
       for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i]) / 255.f;
     }
   } else {
+    all.resize(n * size_t(nch));
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data());
   }
   if (!ok) {
@@ -212,12 +231,29 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
     while (!error->empty() && error->back() == '\n') error->pop_back();
     return false;
   }
-  rgb->resize(n * 3);
-  for (size_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) (*rgb)[i * 3 + size_t(k)] = all[i * size_t(nch) + size_t(src[k])];
   *width = uint32_t(spec.width);
   *height = uint32_t(spec.height);
   *float_grey = ext == ".pfm" && nch == 1;
+  if (exr) return true;
+  // Packed to RGB in place: pixel i is read whole before it is written. With
+  // nch >= 3 its RGB slot starts at or before its own texel and after every
+  // earlier pixel's; with fewer channels the buffer grows first and is
+  // packed from the last pixel down, for the mirror reason.
+  if (size_t(nch) < 3) all.resize(n * 3);
+  auto pack = [&](size_t i) {
+    const float r = all[i * size_t(nch) + size_t(src[0])];
+    const float g = all[i * size_t(nch) + size_t(src[1])];
+    const float b = all[i * size_t(nch) + size_t(src[2])];
+    all[i * 3] = r;
+    all[i * 3 + 1] = g;
+    all[i * 3 + 2] = b;
+  };
+  if (nch >= 3)
+    for (size_t i = 0; i < n; ++i) pack(i);
+  else
+    for (size_t i = n; i-- > 0;) pack(i);
+  all.resize(n * 3);
+  rgb->swap(all);
   return true;
 }
 
@@ -355,8 +391,8 @@ std::vector<std::vector<float>> build_mip_pyramid(std::vector<float> texels, uin
         const float* d1 = prev.texel(2 * s + 1, 2 * t + 1);
         float* o = &out[(size_t(t) * size_t(sr) + size_t(s)) * size_t(c)];
         for (int k = 0; k < c; ++k)
-          o[k] = .25f * ((a ? a[k] : 0.f) + (b ? b[k] : 0.f) + (d0 ? d0[k] : 0.f) +
-                         (d1 ? d1[k] : 0.f));
+          o[k] = .25f *
+                 ((a ? a[k] : 0.f) + (b ? b[k] : 0.f) + (d0 ? d0[k] : 0.f) + (d1 ? d1[k] : 0.f));
       }
     });
   }
@@ -383,9 +419,10 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
       texels[i] = options.scale * (options.gamma ? inverse_gamma(y) : y);
     }
   } else {
-    texels.resize(n * 3);
+    // Converted in place: one image-sized buffer less at the peak.
+    texels.swap(rgb);
     for (size_t i = 0; i < n * 3; ++i)
-      texels[i] = options.scale * (options.gamma ? inverse_gamma(rgb[i]) : rgb[i]);
+      texels[i] = options.scale * (options.gamma ? inverse_gamma(texels[i]) : texels[i]);
   }
   rgb = {};
 
@@ -399,8 +436,8 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
     im.source = texels;
     if (options.flip) flip_rows(&im.source, w, h, im.channels);
   }
-  im.levels = build_mip_pyramid(std::move(texels), w, h, im.channels, options.wrap, &im.width,
-                                &im.height);
+  im.levels =
+      build_mip_pyramid(std::move(texels), w, h, im.channels, options.wrap, &im.width, &im.height);
   if (options.flip)
     for (size_t l = 0; l < im.levels.size(); ++l)
       flip_rows(&im.levels[l], std::max(1u, im.width >> l), std::max(1u, im.height >> l),
