@@ -29,7 +29,7 @@ struct GeomData {
   bool quadric = false;
   const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
   bool copied = false;               // positions are a copy through the shape's transform
-  PreparedQuadric prepared;          // quadrics outside instances
+  PreparedQuadric prepared;          // quadrics; inside instances only .shape applies
 };
 
 // A top-level Embree instance: an object instance or a world transform group.
@@ -212,9 +212,12 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float*
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (!inst) return intersect_quadric(s, g.prepared, r, t, si);
+  // The normalised parameters do not depend on the transform: only the
+  // composed transform is made per ray.
   ShapeInfo scratch = s;
   scratch.object_to_world = inst->to_world * s.object_to_world;
-  return intersect_quadric(scratch, r, t, si);
+  return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
+                           si);
 }
 
 void quadric_intersect(const RTCIntersectFunctionNArguments* args) {
