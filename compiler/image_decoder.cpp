@@ -138,6 +138,19 @@ LevelView level_view(const DecodedImage& im, int level) {
           std::max(1, int(im.height >> level)), int(im.channels), im.wrap};
 }
 
+// Copies channels src[0..2] of count pixels of nch channels at in to RGB at out. out may be in
+// itself when nch >= 3: each pixel is read whole before it is written, and its RGB slot never
+// reaches a later pixel's texels.
+void pack_rgb(const float* in, int nch, const int src[3], size_t count, float* out) {
+  for (size_t i = 0; i < count; ++i) {
+    const float* p = in + i * size_t(nch);
+    const float r = p[src[0]], g = p[src[1]], b = p[src[2]];
+    out[3 * i] = r;
+    out[3 * i + 1] = g;
+    out[3 * i + 2] = b;
+  }
+}
+
 // Reads the file as pbrt-v3's ReadImage does: RGB floats, rows top to bottom. *float_grey is set
 // for a one-channel PFM, whose floats a float texture takes as they are.
 bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width, uint32_t* height,
@@ -190,7 +203,7 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
     }
   }
   const size_t n = size_t(spec.width) * size_t(spec.height);
-  std::vector<float> all;
+  std::vector<float> all(exr ? 0 : n * size_t(nch));  // EXR halves are widened in chunks
   bool ok;
   if (exr) {
     // pbrt-v3 reads EXR through Imf::RgbaInputFile, which hands out half floats. They are
@@ -205,12 +218,9 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
       const size_t m = std::min(kChunk, n - at);
       ok = OIIO::convert_pixel_values(OIIO::TypeDesc::HALF, &half[at * size_t(nch)],
                                       OIIO::TypeDesc::FLOAT, wide.data(), int(m * size_t(nch)));
-      for (size_t i = 0; ok && i < m; ++i)
-        for (int k = 0; k < 3; ++k)
-          (*rgb)[(at + i) * 3 + size_t(k)] = wide[i * size_t(nch) + size_t(src[k])];
+      if (ok) pack_rgb(wide.data(), nch, src, m, rgb->data() + at * 3);
     }
   } else if (eight_bit) {
-    all.resize(n * size_t(nch));
     // lodepng's 24-bit decode keeps the high byte of 16-bit PNG samples.
     if (spec.format == OIIO::TypeDesc::UINT16) {
       std::vector<uint16_t> raw(all.size());
@@ -222,7 +232,6 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
       for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i]) / 255.f;
     }
   } else {
-    all.resize(n * size_t(nch));
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data());
   }
   if (!ok) {
@@ -235,23 +244,13 @@ bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width,
   *height = uint32_t(spec.height);
   *float_grey = ext == ".pfm" && nch == 1;
   if (exr) return true;
-  // Packed to RGB in place: pixel i is read whole before it is written. With
-  // nch >= 3 its RGB slot starts at or before its own texel and after every
-  // earlier pixel's; with fewer channels the buffer grows first and is
-  // packed from the last pixel down, for the mirror reason.
-  if (size_t(nch) < 3) all.resize(n * 3);
-  auto pack = [&](size_t i) {
-    const float r = all[i * size_t(nch) + size_t(src[0])];
-    const float g = all[i * size_t(nch) + size_t(src[1])];
-    const float b = all[i * size_t(nch) + size_t(src[2])];
-    all[i * 3] = r;
-    all[i * 3 + 1] = g;
-    all[i * 3 + 2] = b;
-  };
-  if (nch >= 3)
-    for (size_t i = 0; i < n; ++i) pack(i);
-  else
-    for (size_t i = n; i-- > 0;) pack(i);
+  if (nch < 3) {
+    rgb->resize(n * 3);
+    pack_rgb(all.data(), nch, src, n, rgb->data());
+    return true;
+  }
+  // In place: one image-sized buffer fewer at the peak.
+  pack_rgb(all.data(), nch, src, n, all.data());
   all.resize(n * 3);
   rgb->swap(all);
   return true;
