@@ -64,6 +64,21 @@ run() {  # run LOG CMD...: the command's output to LOG; a failure is reported an
     return 1
   fi
 }
+# converge_best ARCHIVE NAME RESDIV SPP SEED REFERENCE CSV LOG: pbrt-converge at one spp, three
+# times (the load takes milliseconds and the machine is shared); sets best_load (the fastest
+# archive load, s) and best_secs (the fastest render, the CSV's column 4). Returns 1 on failure.
+min_of() { awk -v a="$1" -v b="$2" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }'; }
+converge_best() {
+  local res
+  best_load=""
+  best_secs=""
+  for i in 1 2 3; do
+    res="$("$build/pbrt-converge" "$1" --name "$2" --resdiv "$3" --min-spp "$4" --max-spp "$4" \
+        --seed "$5" --nthreads "$nthreads" --quiet --reference "$6" --csv "$7" 2>>"$8")" || return 1
+    best_load=$(min_of "$best_load" "$(echo "$res" | sed -n 's/.*archive loaded in \([0-9.]*\) s.*/\1/p')")
+    best_secs=$(min_of "$best_secs" "$(sed -n 2p "$7" | cut -d, -f4)")
+  done
+}
 
 while IFS='|' read -r name entry ref resdiv maxspp maxsec samplers integrators strategies; do
   [ -z "$name" ] && continue
@@ -119,23 +134,16 @@ if [ -z "$filter" ] || [[ "killeroo" == *"$filter"* ]]; then
         *) run "$log" "$build/pbrtc" -q --draco-bits "$bits" "$shared/scenes/$entry" -o "$a" || continue ;;
       esac
       size=$(stat -c %s "$a")
-      best=""
-      # The load takes milliseconds and the machine is shared: the fastest of three runs.
-      for i in 1 2 3; do
-        res="$("$build/pbrt-converge" "$a" --name "killeroo-$bits" --resdiv "$lresdiv" \
-            --min-spp "$lspp" --max-spp "$lspp" --seed "$seed" --nthreads "$nthreads" --quiet \
-            --reference "$work/killeroo-lossless.exr" --csv "$work/killeroo-$bits.csv" 2>>"$log")" ||
-          { status=1; echo "accuracy_sweep: failed: killeroo $bits" >&2; break; }
-        t=$(echo "$res" | sed -n 's/.*archive loaded in \([0-9.]*\) s.*/\1/p')
-        best=$(awk -v a="$best" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
-      done
+      converge_best "$a" "killeroo-$bits" "$lresdiv" "$lspp" "$seed" "$work/killeroo-lossless.exr" \
+          "$work/killeroo-$bits.csv" "$log" ||
+        { status=1; echo "accuracy_sweep: failed: killeroo $bits" >&2; }
       case "$bits" in
         lossless) label="lossless (zstd), seed 1" ;;
         noise) label="lossless, seed 2 (noise floor)" ;;
         *) label="--draco-bits $bits, seed 1" ;;
       esac
       line=$(sed -n 2p "$work/killeroo-$bits.csv" | awk -F, -v label="$label" -v size="$size" \
-          -v load="$best" '{ printf "| %s | %.3f | %.1f | %.3g | %.3g | %.3g | %.3g |", label,
+          -v load="$best_load" '{ printf "| %s | %.3f | %.1f | %.3g | %.3g | %.3g | %.3g |", label,
           size / 1048576, load * 1000, sqrt($5), $5, $6, $7 }')
       echo "   $line"
       echo "$line" >>"$work/lossy.md"
@@ -177,26 +185,16 @@ if [ -z "$filter" ] || [[ "textures" == *"$filter"* ]]; then
       raw=$("$build/pbrtc" --info "$a" | awk '$2 == "texels" {
           n += ($6 == "MiB") ? $5 : ($6 == "KiB") ? $5 / 1024 : $5 / 1048576 }
           END { printf "%.2f", n }')
-      best=""
-      secs=""
-      # The load takes milliseconds and the machine is shared: the fastest of three runs.
-      for i in 1 2 3; do
-        res="$("$build/pbrt-converge" "$a" --name "$tname-$prec" --resdiv "$tresdiv" \
-            --min-spp "$tspp" --max-spp "$tspp" --seed "$seed" --nthreads "$nthreads" --quiet \
-            --reference "$base-f32.exr" --csv "$base-$prec.csv" 2>>"$log")" ||
-          { status=1; echo "accuracy_sweep: failed: $tname $prec" >&2; break; }
-        t=$(echo "$res" | sed -n 's/.*archive loaded in \([0-9.]*\) s.*/\1/p')
-        best=$(awk -v a="$best" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
-        t=$(sed -n 2p "$base-$prec.csv" | cut -d, -f4)
-        secs=$(awk -v a="$secs" -v b="$t" 'BEGIN { print (a == "" || b + 0 < a + 0) ? b : a }')
-      done
+      converge_best "$a" "$tname-$prec" "$tresdiv" "$tspp" "$seed" "$base-f32.exr" \
+          "$base-$prec.csv" "$log" ||
+        { status=1; echo "accuracy_sweep: failed: $tname $prec" >&2; }
       case "$prec" in
         f32) label="$tname: f32 (lossless), seed 1" ;;
         noise) label="$tname: f32, seed 2 (noise floor)" ;;
         *) label="$tname: --texture-precision $prec, seed 1" ;;
       esac
       line=$(sed -n 2p "$base-$prec.csv" | awk -F, -v label="$label" -v size="$size" \
-          -v raw="$raw" -v load="$best" -v secs="$secs" '{
+          -v raw="$raw" -v load="$best_load" -v secs="$best_secs" '{
           printf "| %s | %.3f | %s | %.1f | %.3f | %.3g | %.3g | %.3g | %.3g |", label,
           size / 1048576, raw, load * 1000, secs, sqrt($5), $5, $6, $7 }')
       echo "   $line"
