@@ -433,7 +433,7 @@ class Builder {
 
     using K = pbrta::SectionKind;
     pbrta::Codec plain = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone;
-    pbrta::Codec shuffled = opt.compress ? pbrta::Codec::kZstdShuffle4 : pbrta::Codec::kNone;
+    pbrta::Codec shuffled = opt.compress ? pbrta::Codec::kZstdShuffle4Frames : pbrta::Codec::kNone;
     std::vector<uint8_t> scene_bytes;
     append(&scene_bytes, sr);
     w->add_section(K::kScene, std::move(scene_bytes), 1, plain);

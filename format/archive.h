@@ -23,7 +23,7 @@ namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
 inline constexpr uint16_t kMajorVersion = 1;
-inline constexpr uint16_t kMinorVersion = 1;
+inline constexpr uint16_t kMinorVersion = 2;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;
@@ -49,20 +49,31 @@ struct Header {
   uint64_t effects;
   uint32_t section_count;
   uint32_t reserved0;
-  uint64_t table_offset;    // 64: the table follows the header
-  uint64_t file_size;       // the whole file, padding included
-  uint64_t table_checksum;  // XXH3-64 (seed 0) of the section table's bytes
-  uint64_t header_checksum; // XXH3-64 (seed 0) of bytes 0..55 of the header
+  uint64_t table_offset;     // 64: the table follows the header
+  uint64_t file_size;        // the whole file, padding included
+  uint64_t table_checksum;   // XXH3-64 (seed 0) of the section table's bytes
+  uint64_t header_checksum;  // XXH3-64 (seed 0) of bytes 0..55 of the header
 };
 static_assert(sizeof(Header) == 64, "Header is 64 bytes");
 
 enum class Codec : uint32_t {
-  kNone = 0,          // stored bytes are the raw bytes
-  kZstd = 1,          // one zstd frame
-  kZstdShuffle4 = 2,  // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
-  kDraco = 3,         // a Draco mesh stream (lossy); only a geometry section of one mesh
+  kNone = 0,                // stored bytes are the raw bytes
+  kZstd = 1,                // one zstd frame
+  kZstdShuffle4 = 2,        // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
+  kDraco = 3,               // a Draco mesh stream (lossy); only a geometry section of one mesh
+  kZstdShuffle4Frames = 4,  // a FrameEntry index, then one zstd frame per shuffled 256 KiB block
   kCount
 };
+
+// Codec 4's frame index (format/zstd_frames.h): the first entries of the stored bytes, one per
+// block, followed by the frames in block order. The section's checksum covers the index only;
+// each entry's checksum covers its frame.
+struct FrameEntry {
+  uint32_t stored_size;  // the frame's bytes
+  uint32_t reserved;     // 0
+  uint64_t checksum;     // XXH3-64 (seed 0) of the frame's bytes
+};
+static_assert(sizeof(FrameEntry) == 16, "FrameEntry is 16 bytes");
 
 enum class SectionKind : uint32_t {
   kScene = 1,          // one SceneRecord
@@ -89,21 +100,21 @@ enum class SectionKind : uint32_t {
 };
 
 struct SectionEntry {
-  uint32_t kind;          // SectionKind
-  uint32_t codec;         // Codec
-  uint64_t offset;        // from the start of the file; a multiple of 16
-  uint64_t stored_size;   // bytes in the file (before padding)
-  uint64_t raw_size;      // bytes after decoding
-  uint64_t checksum;      // XXH3-64 (seed 0) of the stored bytes
-  uint32_t count;         // records (or elements) in the section
-  uint32_t reserved;      // 0
+  uint32_t kind;         // SectionKind
+  uint32_t codec;        // Codec
+  uint64_t offset;       // from the start of the file; a multiple of 16
+  uint64_t stored_size;  // bytes in the file (before padding)
+  uint64_t raw_size;     // bytes after decoding
+  uint64_t checksum;     // XXH3-64 (seed 0) of the stored bytes (codec 4: of its frame index)
+  uint32_t count;        // records (or elements) in the section
+  uint32_t reserved;     // 0
 };
 static_assert(sizeof(SectionEntry) == 48, "SectionEntry is 48 bytes");
 
 // The scene's top level: render options and the counts every reader checks
 // other sections against.
 struct SceneRecord {
-  uint32_t camera;        // entity
+  uint32_t camera;            // entity
   uint32_t camera_transform;  // transform: camera from world (start/end)
   uint32_t camera_medium;     // medium or kNoIndex
   uint32_t film, filter, sampler, integrator, accelerator;  // entities
@@ -119,9 +130,9 @@ static_assert(sizeof(SceneRecord) == 112, "SceneRecord is 112 bytes");
 // one ValueRecord per schema parameter, in schema order, starting at
 // first_value.
 struct EntityRecord {
-  uint8_t category;   // Category
+  uint8_t category;  // Category
   uint8_t reserved0;
-  uint16_t type;      // index into the category's types
+  uint16_t type;  // index into the category's types
   uint32_t first_value;
   uint32_t num_values;  // the type's num_params when written (ARCHIVE.md: minor versions)
   uint32_t reserved1;
@@ -158,7 +169,7 @@ static_assert(sizeof(TransformRecord) == 272, "TransformRecord is 272 bytes");
 // Names and file names are provenance (they say where data came from, not
 // what it is): they live in the provenance section, not in these records.
 struct TextureRecord {
-  uint32_t entity;     // kFloatTexture or kSpectrumTexture
+  uint32_t entity;  // kFloatTexture or kSpectrumTexture
   uint32_t reserved;
   uint32_t transform;  // world from texture
   uint32_t image;      // decoded image (imagemap), or kNoIndex
@@ -194,13 +205,13 @@ enum ShapeFlag : uint32_t {
 
 struct ShapeRecord {
   uint32_t entity;
-  uint32_t mesh;        // MeshRecord (trianglemesh, plymesh, refined shapes), or kNoIndex
+  uint32_t mesh;  // MeshRecord (trianglemesh, plymesh, refined shapes), or kNoIndex
   uint32_t material;
   uint32_t area_light;  // index into the area lights, or kNoIndex
   uint32_t inside_medium, outside_medium;
-  uint32_t transform;   // world from object
-  uint32_t object;      // the object definition it belongs to, or kNoIndex (world)
-  uint32_t flags;       // ShapeFlag
+  uint32_t transform;  // world from object
+  uint32_t object;     // the object definition it belongs to, or kNoIndex (world)
+  uint32_t flags;      // ShapeFlag
   uint32_t reserved;
 };
 static_assert(sizeof(ShapeRecord) == 40, "ShapeRecord is 40 bytes");
@@ -236,11 +247,11 @@ enum MeshFlag : uint32_t {
 struct MeshRecord {
   uint32_t num_vertices;
   uint32_t num_triangles;
-  uint32_t flags;            // MeshFlag
-  uint32_t section;          // index of the kGeometry section in the table
+  uint32_t flags;    // MeshFlag
+  uint32_t section;  // index of the kGeometry section in the table
   uint64_t positions, normals, tangents, uv, indices, face_indices;
-  uint32_t refine_level;     // loopsubdiv levels / nurbs tessellation used, 0 if none
-  uint32_t source_shape;     // the shape this mesh was refined from, or kNoIndex
+  uint32_t refine_level;  // loopsubdiv levels / nurbs tessellation used, 0 if none
+  uint32_t source_shape;  // the shape this mesh was refined from, or kNoIndex
 };
 static_assert(sizeof(MeshRecord) == 72, "MeshRecord is 72 bytes");
 
@@ -266,7 +277,7 @@ enum class PixelFormat : uint32_t { kFloat32 = 0, kHalf16 = 1, kUnorm8 = 2 };
 // after level, each level 16-byte aligned.
 struct ImageRecord {
   uint32_t width, height;
-  uint32_t channels;      // 1 or 3
+  uint32_t channels;  // 1 or 3
   uint32_t levels;
   uint32_t format;        // PixelFormat
   uint32_t section;       // the kTexels section

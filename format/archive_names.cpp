@@ -60,6 +60,8 @@ std::string_view codec_name(Codec codec) {
       return "zstd_shuffle4";
     case Codec::kDraco:
       return "draco";
+    case Codec::kZstdShuffle4Frames:
+      return "zstd_shuffle4_frames";
     case Codec::kCount:
       break;
   }

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -23,12 +24,10 @@
 #define ZSTD_STATIC_LINKING_ONLY
 #include <zstd.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "format/archive_names.h"
+#include "format/byte_shuffle.h"
 #include "format/draco_codec.h"
+#include "format/zstd_frames.h"
 
 namespace pbrta {
 
@@ -44,6 +43,11 @@ constexpr uint64_t kHugePageSize = uint64_t{2} << 20;
 // 2 MiB page), and there are few such buffers per load (one for all decoded sections, a few per
 // thread for zstd), so the rounding wastes little.
 constexpr uint64_t kHugeBufferThreshold = uint64_t{256} << 10;
+// Compressed sections from this size on are read with pread (see load_one); smaller ones, the
+// records, are decoded from the mapping, whose pages around them validate() has mostly touched.
+constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
+// Loads of fewer stored bytes than this run on the calling thread.
+constexpr uint64_t kSerialLoadBytes = uint64_t{256} << 10;
 
 bool add_overflows(uint64_t a, uint64_t b, uint64_t* sum) {
   return __builtin_add_overflow(a, b, sum);
@@ -60,40 +64,6 @@ std::string section_label(uint32_t kind) {
   if (kind > 0 && kind < static_cast<uint32_t>(SectionKind::kCount))
     return std::string(section_kind_name(static_cast<SectionKind>(kind)));
   return "kind " + std::to_string(kind);
-}
-
-// The inverse of the writer's shuffle: src holds all byte-0s of the 4-byte words, then all
-// byte-1s, ..., then the size % 4 tail bytes unshuffled.
-void unshuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
-  const uint64_t words = size / 4;
-  const uint8_t* s0 = src;
-  const uint8_t* s1 = src + words;
-  const uint8_t* s2 = src + 2 * words;
-  const uint8_t* s3 = src + 3 * words;
-  uint64_t w = 0;
-#if defined(__SSE2__)
-  // 16 words at a time: interleave bytes of lanes 0/1 and 2/3, then the 16-bit pairs.
-  for (; w + 16 <= words; w += 16) {
-    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s0 + w));
-    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s1 + w));
-    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s2 + w));
-    const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s3 + w));
-    const __m128i ab_lo = _mm_unpacklo_epi8(a, b), ab_hi = _mm_unpackhi_epi8(a, b);
-    const __m128i cd_lo = _mm_unpacklo_epi8(c, d), cd_hi = _mm_unpackhi_epi8(c, d);
-    __m128i* out = reinterpret_cast<__m128i*>(dst + 4 * w);
-    _mm_storeu_si128(out + 0, _mm_unpacklo_epi16(ab_lo, cd_lo));
-    _mm_storeu_si128(out + 1, _mm_unpackhi_epi16(ab_lo, cd_lo));
-    _mm_storeu_si128(out + 2, _mm_unpacklo_epi16(ab_hi, cd_hi));
-    _mm_storeu_si128(out + 3, _mm_unpackhi_epi16(ab_hi, cd_hi));
-  }
-#endif
-  for (; w < words; ++w) {
-    dst[4 * w + 0] = s0[w];
-    dst[4 * w + 1] = s1[w];
-    dst[4 * w + 2] = s2[w];
-    dst[4 * w + 3] = s3[w];
-  }
-  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
 }
 
 // First nonzero byte in [begin, end) of base, or end.
@@ -144,16 +114,19 @@ void zstd_free(void*, void* address) {
 
 }  // namespace
 
-// One loading thread's state, made on its first zstd section: the decompression context (reused
-// across sections, so its window buffer is allocated once) and the block that shuffled data is
-// decoded into before it is unshuffled into place.
+// One loading thread's state, kept by the reader across load_sections calls and freed once every
+// section is loaded: the decompression context (reused across sections, so a streaming window
+// buffer is allocated once), the block that shuffled data is decoded into before it is unshuffled
+// into place, and the buffer stored bytes are read into. Each is made on first need: a thread
+// that only decodes small record sections never maps a scratch block.
 struct archive_detail::Decoder {
   ZSTD_DCtx* dctx = nullptr;
-  uint8_t* scratch = nullptr;
   bool tried = false;
-  // Where a compressed section's stored bytes are read to (see ArchiveReader::stored_bytes).
+  uint8_t* scratch = nullptr;
   uint8_t* staging = nullptr;
   uint64_t staging_mapped = 0;
+  std::vector<WordBound> bounds;  // the current frame's bounds (load_sections' run)
+  std::vector<uint32_t> bound_ids;
 
   Decoder() = default;
   Decoder(const Decoder&) {}  // a fresh one: contexts are per thread, never shared
@@ -172,7 +145,8 @@ struct archive_detail::Decoder {
     }
     return staging;
   }
-  bool ready() {
+  // The context, or nullptr when out of memory.
+  ZSTD_DCtx* context() {
     if (!tried) {
       tried = true;
       dctx = ZSTD_createDCtx_advanced(ZSTD_customMem{zstd_alloc, zstd_free, nullptr});
@@ -180,9 +154,14 @@ struct archive_detail::Decoder {
       // one-shot decoding accepts must still load. zstd sizes its buffer by the smaller of the
       // window and the content size, which validate() bounded.
       if (dctx != nullptr) ZSTD_DCtx_setParameter(dctx, ZSTD_d_windowLogMax, ZSTD_WINDOWLOG_MAX);
-      scratch = static_cast<uint8_t*>(zstd_alloc(nullptr, kShuffleBlock));
     }
-    return dctx != nullptr && scratch != nullptr;
+    return dctx;
+  }
+  // The scratch block (kShuffleBlock bytes for codec 2, kFrameBlock for codec 4), or nullptr.
+  uint8_t* block() {
+    if (scratch == nullptr)
+      scratch = static_cast<uint8_t*>(zstd_alloc(nullptr, std::max(kShuffleBlock, kFrameBlock)));
+    return scratch;
   }
 };
 
@@ -193,7 +172,8 @@ bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_siz
       return raw_size == stored_size;
     case Codec::kZstd:
     case Codec::kZstdShuffle4:
-    case Codec::kDraco: {
+    case Codec::kDraco:
+    case Codec::kZstdShuffle4Frames: {
       uint64_t limit = 0;
       if (mul_overflows(stored_size, kMaxZstdRatio, &limit) ||
           add_overflows(limit, kZstdRatioSlack, &limit))
@@ -213,6 +193,8 @@ uint64_t max_total_raw_size(uint64_t file_size) {
     return UINT64_MAX;
   return limit;
 }
+
+struct archive_detail::Decoders : tbb::enumerable_thread_specific<Decoder> {};
 
 void archive_detail::BufferFree::operator()(uint8_t* p) const {
   if (mapped_size > 0)
@@ -256,6 +238,7 @@ ArchiveReader& ArchiveReader::operator=(ArchiveReader&& other) noexcept {
   map_size_ = other.map_size_;
   copy_ = std::move(other.copy_);
   decoded_ = std::move(other.decoded_);
+  decoders_ = std::move(other.decoders_);
   base_ = other.base_;
   size_ = other.size_;
   header_ = other.header_;
@@ -270,7 +253,8 @@ ArchiveReader& ArchiveReader::operator=(ArchiveReader&& other) noexcept {
 void ArchiveReader::reset() {
   sections_.clear();
   entries_.clear();
-  decoded_.reset();
+  decoded_.clear();
+  decoders_.reset();
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (map_ != nullptr) munmap(map_, map_size_);
@@ -480,6 +464,10 @@ bool ArchiveReader::validate(std::string* error) {
       return bad("raw size " + std::to_string(e.raw_size) + " is implausible for " +
                  std::to_string(e.stored_size) + " bytes of " + std::string(codec_name(codec)) +
                  " (at most " + std::to_string(kMaxZstdRatio) + "x + 1 MiB)");
+    if (codec == Codec::kZstdShuffle4Frames &&
+        frame_count(e.raw_size) * sizeof(FrameEntry) > e.stored_size)  // raw_size <= 2^40
+      return bad("the frame index of " + std::to_string(frame_count(e.raw_size)) +
+                 " entries does not fit in " + std::to_string(e.stored_size) + " stored bytes");
     total_raw += e.raw_size;  // n < 2^32 sections of < 2^40 bytes: no overflow
   }
 
@@ -550,7 +538,7 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   };
   const Codec codec = static_cast<Codec>(e.codec);
   const uint8_t* src = base_ + e.offset;
-  if (codec != Codec::kNone && fd_ >= 0) {
+  if (codec != Codec::kNone && fd_ >= 0 && e.stored_size >= kReadThreshold) {
     // The stored bytes of a compressed section are read once and decoded once, so they are read
     // with pread into this thread's huge-page staging buffer instead of through the mapping:
     // faulting page-cache pages into the mapping 4 KiB at a time cost twice as much as the copy
@@ -558,13 +546,8 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     uint8_t* stage = decoder->stage(e.stored_size);
     if (stage == nullptr)
       return bad("cannot allocate " + std::to_string(e.stored_size) + " bytes to read it");
-    for (uint64_t got = 0; got < e.stored_size;) {
-      const ssize_t r = ::pread(fd_, stage + got, e.stored_size - got, e.offset + got);
-      if (r < 0 && errno == EINTR) continue;
-      if (r < 0) return bad("cannot read: " + errno_text(errno));
-      if (r == 0) return bad("truncated while loading: the file shrank after it was opened");
-      got += static_cast<uint64_t>(r);
-    }
+    std::string why;
+    if (!read_at(e.offset, e.stored_size, stage, &why)) return bad(why);
     src = stage;
   }
   // Before anything decodes these bytes.
@@ -594,8 +577,8 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   if (ZSTD_isError(frame)) return bad(std::string("zstd: ") + ZSTD_getErrorName(frame));
   if (frame != e.stored_size)
     return bad(std::to_string(e.stored_size - frame) + " bytes follow the zstd frame");
-  if (!decoder->ready()) return bad("zstd: cannot create a decompression context");
-  ZSTD_DCtx* dctx = decoder->dctx;
+  ZSTD_DCtx* dctx = decoder->context();
+  if (dctx == nullptr) return bad("zstd: cannot create a decompression context");
   auto decoded_to = [&](uint64_t got) {
     return bad("zstd frame decoded to " + std::to_string(got) + " bytes but the table says " +
                std::to_string(raw));
@@ -613,12 +596,14 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   // and unshuffle it from there into its place. Decoding into `out` and unshuffling there would
   // write the section twice and read it back once; zstd's window buffer, reused across the
   // section, is small enough to stay in cache too.
+  uint8_t* scratch = decoder->block();
+  if (scratch == nullptr) return bad("cannot allocate a block to decode it through");
   ZSTD_DCtx_reset(dctx, ZSTD_reset_session_only);
   ZSTD_inBuffer in{src, static_cast<size_t>(e.stored_size), 0};
   size_t hint = 1;  // ZSTD_decompressStream's result: 0 once the frame is complete and flushed
   for (uint64_t at = 0; at < raw; at += kShuffleBlock) {
     const size_t n = static_cast<size_t>(std::min(kShuffleBlock, raw - at));
-    ZSTD_outBuffer block{decoder->scratch, n, 0};
+    ZSTD_outBuffer block{scratch, n, 0};
     while (block.pos < n) {
       const size_t in_before = in.pos, out_before = block.pos;
       hint = ZSTD_decompressStream(dctx, &block, &in);
@@ -626,7 +611,7 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
       if (block.pos < n && (hint == 0 || (in.pos == in_before && block.pos == out_before)))
         return decoded_to(at + block.pos);  // ended (or stalled) short of raw_size
     }
-    unshuffle4(decoder->scratch, out + at, n);
+    unshuffle4_block(scratch, out + at, n);
   }
   if (hint != 0) {
     // The output ended where the frame should: zstd must agree that nothing is left.
@@ -640,15 +625,120 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   return true;
 }
 
+namespace {
+
+// The first of n values that is >= limit, or n. Branch-free within blocks of 1024 so the compiler
+// vectorizes it (with plain SSE2 too, which has no unsigned compare).
+uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
+  constexpr uint64_t kBlock = 1024;
+  for (uint64_t at = 0; at < n; at += kBlock) {
+    const uint64_t end = std::min(n, at + kBlock);
+    uint32_t any = 0;
+    for (uint64_t k = at; k < end; ++k) any |= static_cast<uint32_t>(v[k] >= limit);
+    if (any != 0)
+      for (uint64_t k = at; k < end; ++k)
+        if (v[k] >= limit) return k;
+  }
+  return n;
+}
+
+}  // namespace
+
+// One unit of parallel loading: a whole section, or one frame of a codec-4 section.
+struct ArchiveReader::LoadTask {
+  uint32_t section;
+  uint32_t frame;       // kWholeSection, or the frame's index
+  uint64_t raw_offset;  // of the block within the section
+  uint64_t raw_size;
+  FrameRef ref;  // codec 4 only
+};
+
+bool ArchiveReader::load_frame(const LoadTask& t, uint8_t* out, archive_detail::Decoder* decoder,
+                               WordBound* bounds, uint64_t num_bounds, std::string* error) {
+  const SectionEntry& e = entries_[t.section];
+  auto bad = [&](const std::string& reason) {
+    *error = section_error(t.section, "frame " + std::to_string(t.frame) + ": " + reason);
+    return false;
+  };
+  ZSTD_DCtx* dctx = decoder->context();
+  uint8_t* scratch = decoder->block();
+  if (dctx == nullptr || scratch == nullptr)
+    return bad("zstd: cannot allocate a decompression context");
+  const uint8_t* src = base_ + e.offset + t.ref.offset;  // validate(): inside the file
+  if (fd_ >= 0) {
+    // Read, not mapped: see load_one. A frame is small, so it stays in cache from the read
+    // through the checksum to the decoder.
+    uint8_t* stage = decoder->stage(t.ref.size);
+    if (stage == nullptr) return bad("cannot allocate " + std::to_string(t.ref.size) + " bytes");
+    std::string why;
+    if (!read_at(e.offset + t.ref.offset, t.ref.size, stage, &why)) return bad(why);
+    src = stage;
+  }
+  std::string why;
+  if (!decode_frame(dctx, src, t.ref, t.raw_size, scratch, out + t.raw_offset, bounds, num_bounds,
+                    &why))
+    return bad(why);
+  return true;
+}
+
+bool ArchiveReader::read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const {
+  for (uint64_t got = 0; got < size;) {
+    const ssize_t r = ::pread(fd_, dst + got, size - got, static_cast<off_t>(offset + got));
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) {
+      *why = "cannot read: " + errno_text(errno);
+      return false;
+    }
+    if (r == 0) {
+      *why = "truncated while loading: the file shrank after it was opened";
+      return false;
+    }
+    got += static_cast<uint64_t>(r);
+  }
+  return true;
+}
+
 bool ArchiveReader::load_sections(int threads, std::string* error) {
+  std::vector<uint32_t> all(section_count());
+  for (uint32_t i = 0; i < section_count(); ++i) all[i] = i;
+  std::vector<uint64_t> unused;
+  return load_sections(threads, all, {}, &unused, error);
+}
+
+bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& which,
+                                  const std::vector<U32Bound>& bounds,
+                                  std::vector<uint64_t>* first_out, std::string* error) {
   if (base_ == nullptr) {
     *error = fail("no archive is open");
     return false;
   }
   const uint32_t n = section_count();
   std::vector<uint32_t> order;
-  for (uint32_t i = 0; i < n; ++i)
-    if (!sections_[i].skipped && sections_[i].data == nullptr) order.push_back(i);
+  std::vector<uint8_t> wanted(n, 0);
+  for (uint32_t i : which)
+    if (i < n && !wanted[i] && !sections_[i].skipped && sections_[i].data == nullptr) {
+      wanted[i] = 1;
+      order.push_back(i);
+    }
+  std::sort(order.begin(), order.end());
+  // The bounds, by section; each must lie inside a section loaded here, on 4-byte boundaries.
+  std::vector<std::vector<uint32_t>> bounds_of(n);
+  for (uint32_t b = 0; b < bounds.size(); ++b) {
+    const U32Bound& u = bounds[b];
+    if (u.section >= n || !wanted[u.section] || u.begin > u.end ||
+        u.end > entries_[u.section].raw_size || u.begin % 4 != 0 || u.end % 4 != 0) {
+      *error = fail("internal error: bound " + std::to_string(b) +
+                    " does not lie in a section loaded here");
+      return false;
+    }
+    if (u.begin < u.end) bounds_of[u.section].push_back(b);  // an empty one holds nothing to check
+  }
+  for (std::vector<uint32_t>& list : bounds_of)  // decode_frame wants them sorted by begin
+    std::sort(list.begin(), list.end(),
+              [&](uint32_t a, uint32_t b) { return bounds[a].begin < bounds[b].begin; });
+  std::vector<std::atomic<uint64_t>> first(bounds.size());
+  for (uint32_t b = 0; b < bounds.size(); ++b) first[b].store(bounds[b].end);
+
   // Every decoded section in one buffer, in table order, each at a 64-byte boundary (no two
   // threads write one cache line) and followed by its padding. validate() bounded the sizes;
   // the sum is checked anyway.
@@ -667,42 +757,136 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
   }
   uint8_t* decoded = nullptr;
   if (total > 0) {
-    decoded_ = allocate(total);
-    if (!decoded_) {
+    Buffer buffer = allocate(total);
+    if (!buffer) {
       *error = fail("cannot allocate " + std::to_string(total) + " bytes to decode the sections");
       return false;
     }
-    decoded = decoded_.get();
+    decoded = buffer.get();
+    decoded_.push_back(std::move(buffer));
   }
-  // Largest first, so one big section does not start last and leave the other threads idle.
-  std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return entries_[a].stored_size > entries_[b].stored_size;
-  });
+
+  // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
+  // 16 bytes per 256 KiB), every other section whole.
   std::vector<std::string> errors(n);
-  std::vector<uint8_t> failed(n, 0);
-  tbb::enumerable_thread_specific<archive_detail::Decoder> decoders;
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 1),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        for (size_t k = r.begin(); k != r.end(); ++k) {
-                          const uint32_t i = order[k];
-                          if (!load_one(i, decoded + slot[i], &decoders.local(), &errors[i]))
-                            failed[i] = 1;
-                        }
-                      });
-  });
-  for (uint32_t i = 0; i < n; ++i) {
-    if (failed[i]) {
-      *error = errors[i];
-      for (Section& s : sections_) {  // all or nothing
-        s.data = nullptr;
-        s.in_place = false;
+  std::vector<LoadTask> tasks;
+  for (uint32_t i : order) {
+    const SectionEntry& e = entries_[i];
+    if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
+      tasks.push_back(LoadTask{i, kWholeSection, 0, e.raw_size, {}});
+      continue;
+    }
+    const uint64_t index_bytes = frame_count(e.raw_size) * sizeof(FrameEntry);
+    std::vector<uint8_t> index;
+    const uint8_t* at = base_ + e.offset;
+    std::string why;
+    if (fd_ >= 0 && index_bytes > 0) {
+      index.resize(index_bytes);  // validate(): index_bytes <= stored_size
+      if (!read_at(e.offset, index_bytes, index.data(), &why)) {
+        errors[i] = section_error(i, why);
+        continue;
       }
-      decoded_.reset();
-      return false;
+      at = index.data();
+    }
+    std::vector<FrameRef> frames;
+    if (XXH3_64bits(at, index_bytes) != e.checksum) {
+      errors[i] = section_error(i, "checksum mismatch");
+    } else if (!read_frame_index(at, e.raw_size, e.stored_size, &frames, &why)) {
+      errors[i] = section_error(i, why);
+    } else {
+      std::memset(decoded + slot[i] + e.raw_size, 0, kSectionPadding);
+      for (uint32_t k = 0; k < frames.size(); ++k) {
+        const uint64_t begin = uint64_t{k} * kFrameBlock;
+        tasks.push_back(
+            LoadTask{i, k, begin, std::min(kFrameBlock, e.raw_size - begin), frames[k]});
+      }
     }
   }
+
+  // Largest first, so one big section does not start last and leave the other threads idle.
+  std::vector<uint32_t> schedule(tasks.size());
+  for (uint32_t k = 0; k < tasks.size(); ++k) schedule[k] = k;
+  std::stable_sort(schedule.begin(), schedule.end(),
+                   [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; });
+  std::vector<std::string> task_errors(tasks.size());
+  if (!decoders_) decoders_ = std::make_unique<archive_detail::Decoders>();
+  archive_detail::Decoders& decoders = *decoders_;
+  // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
+  auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
+    const uint64_t k4 = first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo),
+                                          (hi - lo) / 4, bounds[b].limit);
+    if (k4 == (hi - lo) / 4) return;
+    const uint64_t found = lo + 4 * k4;
+    uint64_t seen = first[b].load(std::memory_order_relaxed);
+    while (found < seen && !first[b].compare_exchange_weak(seen, found)) {
+    }
+  };
+  auto run = [&](uint32_t k) {
+    const LoadTask& t = tasks[k];
+    uint8_t* out = decoded + slot[t.section];
+    archive_detail::Decoder& decoder = decoders.local();
+    if (t.frame == kWholeSection) {
+      if (!load_one(t.section, out, &decoder, &task_errors[k])) return;
+      const uint8_t* data = sections_[t.section].data;
+      for (uint32_t b : bounds_of[t.section]) scan(b, data, bounds[b].begin, bounds[b].end);
+      return;
+    }
+    // The bounds over this frame's block, relative to it: checked as the block unshuffles, and
+    // searched for the first offender only when one is exceeded.
+    std::vector<WordBound>& local = decoder.bounds;
+    std::vector<uint32_t>& which_bound = decoder.bound_ids;
+    local.clear();
+    which_bound.clear();
+    const uint64_t block_end = t.raw_offset + t.raw_size;
+    for (uint32_t b : bounds_of[t.section]) {
+      const uint64_t lo = std::max(bounds[b].begin, t.raw_offset);
+      const uint64_t hi = std::min(bounds[b].end, block_end);
+      if (lo >= hi) continue;
+      local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, bounds[b].limit, false});
+      which_bound.push_back(b);
+    }
+    if (!load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) return;
+    for (size_t j = 0; j < local.size(); ++j)
+      if (local[j].exceeded)
+        scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
+  };
+  // A small load (the records of a scene) runs on this thread: waking the workers costs more.
+  uint64_t stored_total = 0;
+  for (uint32_t i : order) stored_total += entries_[i].stored_size;
+  if (threads == 1 || stored_total < kSerialLoadBytes || schedule.size() < 2) {
+    for (uint32_t k : schedule) run(k);
+  } else {
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, schedule.size(), 1),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t k = r.begin(); k != r.end(); ++k) run(schedule[k]);
+                        });
+    });
+  }
+  // The lowest-numbered failing section's first failure (tasks are in section, frame order).
+  for (uint32_t k = 0; k < tasks.size(); ++k) {
+    const uint32_t i = tasks[k].section;
+    if (!task_errors[k].empty() && (errors[i].empty())) errors[i] = task_errors[k];
+  }
+  for (uint32_t i : order) {
+    if (errors[i].empty()) continue;
+    *error = errors[i];
+    for (uint32_t j : order) {  // all or nothing
+      sections_[j].data = nullptr;
+      sections_[j].in_place = false;
+    }
+    if (decoded != nullptr) decoded_.pop_back();
+    return false;
+  }
+  for (uint32_t i : order)
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames))
+      sections_[i].data = decoded + slot[i];
+  bool all_loaded = true;
+  for (const Section& sec : sections_) all_loaded = all_loaded && (sec.skipped || sec.data);
+  if (all_loaded) decoders_.reset();
+  first_out->resize(bounds.size());
+  for (uint32_t b = 0; b < bounds.size(); ++b) (*first_out)[b] = first[b].load();
   return true;
 }
 

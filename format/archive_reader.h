@@ -11,11 +11,13 @@
 // Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
 // and 4 KiB page faults are very slow under virtualization, so everything large the load writes
 // (the decoded sections, zstd's contexts and window buffers, the unshuffle scratch) lives in
-// mappings with transparent huge pages requested, and the decoded sections share one mapping so
-// small ones do not each round up to a page. A shuffled section is decoded by streaming
-// kShuffleBlock bytes at a time into a cache-resident scratch block and unshuffled from there
-// straight into its place: the decoded bytes are written to memory once.
-//
+// mappings with transparent huge pages requested, and the decoded sections of one call share one
+// mapping so small ones do not each round up to a page. Codec-4 sections are loaded frame by
+// frame on every thread: each frame is read, verified, decoded one-shot into a scratch block and
+// unshuffled from there straight into its place, so the decoded bytes are written to memory once
+// and every other step works on cached data; the caller's uint32 bounds (triangle indices) are
+// checked in the same pass. Legacy codec-2 sections stream one shuffle block at a time through
+// the scratch block the same way, one section per thread.
 // Ownership: the reader owns the mapping and the open file (or, for open_memory, borrows the
 // caller's bytes) and the decoded buffer; every pointer it hands out lives until the reader is
 // destroyed or moved from.
@@ -28,8 +30,9 @@
 // Every member returning bool returns false with one message in *error, which starts with the
 // path: "<path>: <reason>" for the header and table, "<path>: section '<name>' (#<index>):
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
-// touching the lost pages raises SIGBUS, as with any memory-mapped reader (compressed sections
-// are read with pread, so for them it is an error; uncompressed ones are used from the mapping).
+// touching the lost pages raises SIGBUS, as with any memory-mapped reader (compressed sections of
+// 64 KiB or more are read with pread, so for them it is an error; uncompressed ones and small
+// compressed ones are used from the mapping).
 #pragma once
 
 #include <cstddef>
@@ -41,6 +44,7 @@
 #include <vector>
 
 #include "format/archive.h"
+#include "format/byte_shuffle.h"
 
 namespace pbrta {
 
@@ -72,7 +76,8 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
-struct Decoder;  // one loading thread's zstd context and unshuffle scratch
+struct Decoder;   // one loading thread's zstd context and unshuffle scratch
+struct Decoders;  // one per thread, kept across load_sections calls
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -97,6 +102,23 @@ class ArchiveReader {
   // cores). Sections of kinds this reader does not know (allowed in a newer minor version) are
   // skipped. On failure the message is that of the lowest-numbered failing section.
   [[nodiscard]] bool load_sections(int threads, std::string* error);
+
+  // A check made while a section decodes, block by block while the data is in cache: every
+  // uint32 in bytes [begin, end) of the section's decoded data is below limit (a mesh's triangle
+  // indices against its vertex count). begin and end are multiples of 4 within the raw size.
+  struct U32Bound {
+    uint32_t section;
+    uint64_t begin, end;
+    uint32_t limit;
+  };
+  // Loads the sections listed in `which` that are not loaded yet (skipped kinds are left out),
+  // as above, and checks the bounds, which must lie in those sections. On success,
+  // (*first_out)[b] is the byte offset in its section of bounds[b]'s first value >= limit, or
+  // bounds[b].end when there is none: which one is an error is the caller's business. On failure
+  // the sections of this call are left unloaded; earlier calls' stay loaded.
+  [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,
+                                   const std::vector<U32Bound>& bounds,
+                                   std::vector<uint64_t>* first_out, std::string* error);
 
   // The archive as opened. header() and the entries are copies of the validated file structures.
   const Header& header() const { return header_; }
@@ -143,10 +165,17 @@ class ArchiveReader {
     bool skipped = false;
   };
 
+  static constexpr uint32_t kWholeSection = 0xFFFFFFFFu;
+  struct LoadTask;
   bool validate(std::string* error);
   // Checks and decodes section index into out (raw_size bytes plus zeroed padding, unless in
   // place).
   bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder, std::string* error);
+  // Reads, verifies and decodes one frame of a codec-4 section into out (the section's buffer).
+  bool load_frame(const LoadTask& task, uint8_t* out, archive_detail::Decoder* decoder,
+                  WordBound* bounds, uint64_t num_bounds, std::string* error);
+  // pread of exactly size bytes at offset, or false with the reason.
+  bool read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const;
   bool typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align, const void** out,
                          uint32_t* count, std::string* error) const;
   std::string fail(std::string_view reason) const;
@@ -156,8 +185,11 @@ class ArchiveReader {
   int fd_ = -1;          // the open file, or -1 (open_memory)
   void* map_ = nullptr;  // the mmap'ed file, or nullptr
   size_t map_size_ = 0;
-  Buffer copy_;     // open_memory of unaligned bytes
-  Buffer decoded_;  // every decoded (not in-place) section, each at its own 64-byte aligned offset
+  Buffer copy_;  // open_memory of unaligned bytes
+  // The decoded (not in-place) sections, one buffer per load_sections call, each section at its
+  // own 64-byte aligned offset.
+  std::vector<Buffer> decoded_;
+  std::unique_ptr<archive_detail::Decoders> decoders_;  // while sections remain to load
   const uint8_t* base_ = nullptr;
   uint64_t size_ = 0;
   Header header_{};

@@ -17,6 +17,7 @@
 
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
+#include "format/zstd_frames.h"
 
 namespace pbrta {
 
@@ -95,28 +96,6 @@ uint64_t lay_out(std::vector<SectionEntry>* table) {
 
 }  // namespace
 
-namespace {
-void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size) {
-  const uint64_t words = size / 4;
-  uint8_t* d0 = dst;
-  uint8_t* d1 = dst + words;
-  uint8_t* d2 = dst + 2 * words;
-  uint8_t* d3 = dst + 3 * words;
-  for (uint64_t w = 0; w < words; ++w) {
-    d0[w] = src[4 * w + 0];
-    d1[w] = src[4 * w + 1];
-    d2[w] = src[4 * w + 2];
-    d3[w] = src[4 * w + 3];
-  }
-  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
-}
-}  // namespace
-
-void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
-  for (uint64_t at = 0; at < size; at += kShuffleBlock)
-    shuffle4_block(src + at, dst + at, std::min(kShuffleBlock, size - at));
-}
-
 uint32_t ArchiveWriter::add_section(SectionKind kind, std::vector<uint8_t> raw, uint32_t count,
                                     Codec codec) {
   sections_.push_back(Section{kind, codec, count, std::move(raw), {}});
@@ -149,8 +128,8 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
       problem = "unknown codec " + std::to_string(static_cast<uint32_t>(s.codec));
     else if (s.raw.size() > kMaxRawSize)
       problem = "section is larger than 2^40 bytes";
-    else if (s.codec == Codec::kDraco && (s.kind != SectionKind::kGeometry || s.count != 1 ||
-                                          s.stored.empty()))
+    else if (s.codec == Codec::kDraco &&
+             (s.kind != SectionKind::kGeometry || s.count != 1 || s.stored.empty()))
       problem = "codec 'draco' needs a geometry section of one mesh, encoded by the caller";
     else if (s.codec != Codec::kDraco && !s.stored.empty())
       problem = "only codec 'draco' sections come encoded";
@@ -192,7 +171,11 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
                 e.stored = {};
               }
             } else if (s.codec != Codec::kNone) {
-              if (!zstd_compress(src, s.raw.size(), level, &e.stored, &e.error)) continue;
+              const bool ok =
+                  s.codec == Codec::kZstdShuffle4Frames
+                      ? encode_zstd_frames(s.raw.data(), s.raw.size(), level, &e.stored, &e.error)
+                      : zstd_compress(src, s.raw.size(), level, &e.stored, &e.error);
+              if (!ok) continue;
               if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
                 // Compresses better than the reader believes possible (say, a black image): store
                 // it.
@@ -202,7 +185,10 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             }
             const uint8_t* stored = e.codec == Codec::kNone ? s.raw.data() : e.stored.data();
             e.stored_size = e.codec == Codec::kNone ? s.raw.size() : e.stored.size();
-            e.checksum = XXH3_64bits(stored, e.stored_size);
+            // Codec 4's table checksum covers its frame index; the index covers the frames.
+            e.checksum = XXH3_64bits(stored, e.codec == Codec::kZstdShuffle4Frames
+                                                 ? frame_count(s.raw.size()) * sizeof(FrameEntry)
+                                                 : e.stored_size);
           }
         });
   });

@@ -2,10 +2,11 @@
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the caller
 // adds sections (kind, raw bytes, element count, codec) in table order; write() compresses them
-// in parallel over sections, checksums them, lays out the file (64-byte header, the table, each
+// in parallel over sections (and over frames within a codec-4 section), checksums them, lays out the file (64-byte header, the table, each
 // section 16-byte aligned and followed by at least 16 zero bytes) and writes it atomically. The
 // output depends only on the sections, the effects and the zstd level: every section is
-// compressed by its own single-threaded zstd context, so the thread count never changes a byte.
+// compressed by its own single-threaded zstd context (each frame, for codec 4), so the thread
+// count never changes a byte.
 //
 // A compressed section whose decoded size would exceed the reader's zip-bomb bounds
 // (format/archive_reader.h: kMaxZstdRatio times the stored size + 1 MiB per section) is stored
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "format/archive.h"
+#include "format/byte_shuffle.h"  // kShuffleBlock, shuffle4: codecs 2 and 4
 
 namespace pbrta {
 
@@ -66,13 +68,5 @@ class ArchiveWriter {
   Header header_{};
   std::vector<SectionEntry> table_;
 };
-
-// Byte-shuffles size bytes in 4-byte lanes (Blosc-style), block by block: each kShuffleBlock
-// bytes (the last block may be shorter) become all byte-0s of the block's 4-byte words, then all
-// byte-1s, byte-2s, byte-3s, then the block's size % 4 tail bytes as they are. Blocks let a
-// reader unshuffle through a cache-sized buffer instead of a second copy of the section. The
-// stored form of a kZstdShuffle4 section is one zstd frame of this. dst must not overlap src.
-inline constexpr uint64_t kShuffleBlock = uint64_t{256} << 10;
-void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size);
 
 }  // namespace pbrta

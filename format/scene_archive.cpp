@@ -3,10 +3,6 @@
 #include <algorithm>
 #include <cstring>
 
-#include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_arena.h>
-
 #include "format/archive_names.h"
 #include "format/draco_codec.h"
 #include "format/fourier_table.h"
@@ -176,29 +172,18 @@ std::string_view SceneArchive::path_of(uint32_t index) const {
 bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
   path_ = path;
   if (!reader_.open(path, error)) return false;
-  if (!reader_.load_sections(threads, error)) return false;
+  // The records first: validating them tells which triangle indices the geometry must keep
+  // within bounds, which validate() then checks while the bulk sections decode.
+  std::vector<uint32_t> records;
+  for (uint32_t i = 0; i < reader_.section_count(); ++i) {
+    const uint32_t kind = reader_.entry(i).kind;
+    if (kind != uint32_t(SectionKind::kGeometry) && kind != uint32_t(SectionKind::kTexels))
+      records.push_back(i);
+  }
+  std::vector<uint64_t> unused;
+  if (!reader_.load_sections(threads, records, {}, &unused, error)) return false;
   return validate(threads, error);
 }
-
-namespace {
-
-// The first of n triangle vertex indices that is >= num_vertices, or n. Scans in blocks with a
-// branch-free test the compiler vectorizes (with plain SSE2 too, which has no unsigned max): this
-// check reads every index of every mesh.
-uint64_t first_bad_index(const uint32_t* idx, uint64_t n, uint32_t num_vertices) {
-  constexpr uint64_t kBlock = 1024;
-  for (uint64_t at = 0; at < n; at += kBlock) {
-    const uint64_t end = std::min(n, at + kBlock);
-    uint32_t any_bad = 0;
-    for (uint64_t k = at; k < end; ++k) any_bad |= static_cast<uint32_t>(idx[k] >= num_vertices);
-    if (any_bad != 0)
-      for (uint64_t k = at; k < end; ++k)
-        if (idx[k] >= num_vertices) return k;
-  }
-  return n;
-}
-
-}  // namespace
 
 bool SceneArchive::validate(int threads, std::string* error) {
   Checker c(path_, reader_);
@@ -624,42 +609,32 @@ bool SceneArchive::validate(int threads, std::string* error) {
     laid_out.push_back(i);
   }
   {
-    // Chunks of up to kChunk indices over the laid-out meshes; each finds its first bad index.
-    // The reported one is the first in mesh order, as a serial check would find it, and it comes
-    // before any failure of a later mesh's layout.
-    constexpr uint64_t kChunk = uint64_t{1} << 18;
-    struct Chunk {
-      uint32_t mesh;
-      uint64_t begin, end, bad;
-    };
-    std::vector<Chunk> chunks;
+    // The bulk sections (geometry, texels) decode now, with every laid-out mesh's triangle
+    // indices checked against its vertex count block by block as they decode (reading them back
+    // afterwards was the largest part of validation). The reported index is the first in mesh
+    // order, as a serial check finds it, and it comes before any failure of a later mesh's
+    // layout. Nothing is decoded when the records already failed.
+    std::vector<ArchiveReader::U32Bound> bounds;
     for (uint32_t i : laid_out) {
-      const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
-      for (uint64_t b = 0; b < n; b += kChunk) chunks.push_back({i, b, std::min(n, b + kChunk), 0});
+      const MeshRecord& m = meshes[i];
+      bounds.push_back(
+          {m.section, m.indices, m.indices + uint64_t(m.num_triangles) * 12, m.num_vertices});
     }
-    auto check = [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t k = range.begin(); k != range.end(); ++k) {
-        Chunk& ch = chunks[k];
-        const uint64_t found = first_bad_index(indices(ch.mesh) + ch.begin, ch.end - ch.begin,
-                                               meshes[ch.mesh].num_vertices);
-        ch.bad = found < ch.end - ch.begin ? ch.begin + found : ch.end;
+    if (!c.failed() || !laid_out.empty()) {
+      std::vector<uint32_t> bulk;
+      for (uint32_t i = 0; i < r.section_count(); ++i)
+        if (!r.skipped(i) && r.section_data(i) == nullptr) bulk.push_back(i);
+      std::vector<uint64_t> first;
+      if (!reader_.load_sections(threads, bulk, bounds, &first, error)) return false;
+      for (size_t b = 0; b < bounds.size(); ++b) {
+        if (first[b] == bounds[b].end) continue;
+        const uint32_t mesh = laid_out[b];
+        const uint64_t k = (first[b] - bounds[b].begin) / 4;
+        c.fail_instead("mesh " + std::to_string(mesh) + ": triangle " + std::to_string(k / 3) +
+                       " has vertex index " + std::to_string(indices(mesh)[k]) + " (" +
+                       std::to_string(meshes[mesh].num_vertices) + " vertices)");
+        break;
       }
-    };
-    if (threads == 1 || chunks.size() < 2) {
-      check(tbb::blocked_range<size_t>(0, chunks.size()));
-    } else {
-      tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-      arena.execute(
-          [&] { tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks.size(), 1), check); });
-    }
-    for (const Chunk& ch : chunks) {
-      if (ch.bad == ch.end) continue;
-      const uint64_t nv = meshes[ch.mesh].num_vertices;
-      c.fail_instead("mesh " + std::to_string(ch.mesh) + ": triangle " +
-                     std::to_string(ch.bad / 3) + " has vertex index " +
-                     std::to_string(indices(ch.mesh)[ch.bad]) + " (" + std::to_string(nv) +
-                     " vertices)");
-      break;
     }
   }
   c.in(sec(SectionKind::kImages));

@@ -1,7 +1,9 @@
 // format/scene_archive.h — a loaded, fully validated scene archive.
 //
 // SceneArchive::load() opens a .pbrta with ArchiveReader (header, table,
-// checksums, decoding, in parallel), then checks every record as
+// checksums, decoding, in parallel): the record sections first, then, once
+// the records are checked, the bulk sections (geometry, texels) with the
+// triangle indices bounded as they decode. It checks every record as
 // ARCHIVE.md section 10 requires: each index below the count of the array it
 // names, each entity's category, type and value range known to this reader's
 // schema, each value's words in range, the string table well formed, every

@@ -2,8 +2,9 @@
 // indices, which runs after the per-mesh layout checks, in chunks on several threads: a bad
 // index deep in a large mesh is found whatever the thread count, the message names the first bad
 // one in mesh order, and an earlier mesh's bad index is reported before a later mesh's bad
-// layout (the order a serial check would find them in). Also: a large mesh archived with zstd
-// (shuffled, streamed block by block) loads to the same arrays as the uncompressed archive.
+// layout (the order a serial check would find them in), whether the indices are read back from
+// an uncompressed archive or checked as codec-4 frames unshuffle. Also: a large mesh archived
+// with zstd loads to the same arrays as the uncompressed archive.
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
@@ -113,6 +114,29 @@ class MeshIndexCheck : public ::testing::Test {
     return error;
   }
 
+  // As load_error, after storing every section of the (resealed) archive again with zstd, the
+  // bulk ones as codec 4: the indices are then checked as their frames unshuffle.
+  std::string load_error_zstd(std::string bytes, int threads) {
+    reseal(&bytes);
+    pbrta::ArchiveReader in;
+    std::string error;
+    EXPECT_TRUE(in.open_memory(bytes, "plain", &error) && in.load_sections(1, &error)) << error;
+    pbrta::ArchiveWriter w;
+    for (uint32_t i = 0; i < in.section_count(); ++i) {
+      const pbrta::SectionEntry& e = in.entry(i);
+      const bool bulk = e.kind == uint32_t(pbrta::SectionKind::kGeometry);
+      w.add_section(pbrta::SectionKind(e.kind), in.section_data(i), in.section_size(i), e.count,
+                    bulk ? pbrta::Codec::kZstdShuffle4Frames : pbrta::Codec::kZstd);
+    }
+    const std::string path = dir_ + "/bad.pbrta";
+    EXPECT_TRUE(w.write(path, in.header().effects, 3, 2, &error)) << error;
+    EXPECT_EQ(w.table()[archive_.meshes[0].section].codec,
+              uint32_t(pbrta::Codec::kZstdShuffle4Frames));
+    pbrta::SceneArchive a;
+    EXPECT_FALSE(a.load(path, threads, &error)) << "accepted";
+    return error;
+  }
+
   std::string dir_, scene_, plain_;
   pbrta::SceneArchive archive_;
   uint64_t meshes_at_ = 0;
@@ -126,33 +150,43 @@ TEST_F(MeshIndexCheck, BadIndexDeepInALargeMeshIsFoundOnAnyThreadCount) {
   // In the second chunk (index 280001 of 301056), then also one in the first: the first wins.
   std::string b = plain_;
   set_u32(&b, index_at(0, 280001), kBigVertices);
-  for (int threads : {1, 2}) {
-    EXPECT_EQ(load_error(b, threads), prefix + "mesh 0: triangle 93333 has vertex index " +
+  // Uncompressed (checked after reading), and as codec 4 (checked as the frames unshuffle: the
+  // big mesh's indices span several shuffle blocks).
+  for (bool zstd : {false, true}) {
+    SCOPED_TRACE(zstd ? "codec 4" : "uncompressed");
+    auto error_of = [&](const std::string& bytes, int threads) {
+      return zstd ? load_error_zstd(bytes, threads) : load_error(bytes, threads);
+    };
+    std::string b = plain_;
+    set_u32(&b, index_at(0, 280001), kBigVertices);
+    for (int threads : {1, 2}) {
+      EXPECT_EQ(error_of(b, threads), prefix + "mesh 0: triangle 93333 has vertex index " +
                                           std::to_string(kBigVertices) + " (" +
                                           std::to_string(kBigVertices) + " vertices)");
-  }
-  set_u32(&b, index_at(0, 5), 0xFFFFFFFFu);
-  set_u32(&b, index_at(1, 0), 16);  // the small mesh has 16 vertices
-  for (int threads : {1, 2})
-    EXPECT_EQ(load_error(b, threads), prefix + "mesh 0: triangle 1 has vertex index 4294967295 (" +
+    }
+    set_u32(&b, index_at(0, 5), 0xFFFFFFFFu);
+    set_u32(&b, index_at(1, 0), 16);  // the small mesh has 16 vertices
+    for (int threads : {1, 2})
+      EXPECT_EQ(error_of(b, threads), prefix + "mesh 0: triangle 1 has vertex index 4294967295 (" +
                                           std::to_string(kBigVertices) + " vertices)");
-  // Only the small mesh's.
-  b = plain_;
-  set_u32(&b, index_at(1, 53), 16);
-  EXPECT_EQ(load_error(b, 2), prefix + "mesh 1: triangle 17 has vertex index 16 (16 vertices)");
-  // Mesh 0's bad index comes before mesh 1's bad layout, as in a serial check.
-  b = plain_;
-  set_u32(&b, index_at(0, 300000), kBigVertices + 7);
-  pbrta::MeshRecord m1 = archive_.meshes[1];
-  m1.indices += 4;
-  std::memcpy(&b[meshes_at_ + sizeof m1], &m1, sizeof m1);
-  for (int threads : {1, 2})
-    EXPECT_EQ(load_error(b, threads), prefix + "mesh 0: triangle 100000 has vertex index " +
+    // Only the small mesh's.
+    b = plain_;
+    set_u32(&b, index_at(1, 53), 16);
+    EXPECT_EQ(error_of(b, 2), prefix + "mesh 1: triangle 17 has vertex index 16 (16 vertices)");
+    // Mesh 0's bad index comes before mesh 1's bad layout, as in a serial check.
+    b = plain_;
+    set_u32(&b, index_at(0, 300000), kBigVertices + 7);
+    pbrta::MeshRecord m1 = archive_.meshes[1];
+    m1.indices += 4;
+    std::memcpy(&b[meshes_at_ + sizeof m1], &m1, sizeof m1);
+    for (int threads : {1, 2})
+      EXPECT_EQ(error_of(b, threads), prefix + "mesh 0: triangle 100000 has vertex index " +
                                           std::to_string(kBigVertices + 7) + " (" +
                                           std::to_string(kBigVertices) + " vertices)");
-  // Without it, the layout error.
-  set_u32(&b, index_at(0, 300000), 0);
-  EXPECT_EQ(load_error(b, 2), prefix + "mesh 1: indices offset is not 16-byte aligned");
+    // Without it, the layout error.
+    set_u32(&b, index_at(0, 300000), 0);
+    EXPECT_EQ(error_of(b, 2), prefix + "mesh 1: indices offset is not 16-byte aligned");
+  }
 }
 
 TEST_F(MeshIndexCheck, ZstdArchiveLoadsTheSameArrays) {
@@ -164,7 +198,7 @@ TEST_F(MeshIndexCheck, ZstdArchiveLoadsTheSameArrays) {
     ASSERT_TRUE(z.load(dir_ + "/z.pbrta", threads, &error)) << error;
     ASSERT_EQ(z.meshes.size, 2u);
     const pbrta::MeshRecord& m = z.meshes[0];
-    EXPECT_EQ(z.reader().entry(m.section).codec, uint32_t(pbrta::Codec::kZstdShuffle4));
+    EXPECT_EQ(z.reader().entry(m.section).codec, uint32_t(pbrta::Codec::kZstdShuffle4Frames));
     EXPECT_GT(z.reader().section_size(m.section), 4 * pbrta::kShuffleBlock);
     for (uint32_t k = 0; k < 2; ++k) {
       const pbrta::MeshRecord& p = archive_.meshes[k];

@@ -630,14 +630,16 @@ TEST_F(ArchiveRejection, OverlappingSections) {
 TEST_F(ArchiveRejection, UnknownCodecAndReservedEntryField) {
   std::string b = good_;
   SectionEntry e = get_entry(b, 3);
-  e.codec = 4;
+  e.codec = uint32_t(Codec::kCount);
   put_entry(&b, 3, e);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): unknown codec 4");
+  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): unknown codec " +
+                           std::to_string(uint32_t(Codec::kCount)));
   e.codec = 3;  // Draco: geometry sections of one mesh only
   put_entry(&b, 3, e);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": section 'values' (#3): codec 'draco' is only for a geometry "
+  EXPECT_EQ(reject(b), p() +
+                           ": section 'values' (#3): codec 'draco' is only for a geometry "
                            "section of one mesh (this one is kind 4 with count 50)");
   e.codec = 2;
   e.reserved = 7;
@@ -863,7 +865,12 @@ TEST(ArchiveContainer, WritesFuzzSeeds) {
     w.add_section(SectionKind::kStrings, text_bytes(100), 3, Codec::kZstd);
     ASSERT_TRUE(w.write((dir / "strings.pbrta").string(), 0, 1, 1, &error)) << error;
   }
-  for (const char* name : {"mixed.pbrta", "geometry.pbrta", "strings.pbrta"}) {
+  {  // codec 4: a frame index and one small frame
+    ArchiveWriter w;
+    w.add_section(SectionKind::kGeometry, float_bytes(2000, 23), 2000, Codec::kZstdShuffle4Frames);
+    ASSERT_TRUE(w.write((dir / "frames.pbrta").string(), 0, 3, 1, &error)) << error;
+  }
+  for (const char* name : {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta"}) {
     ArchiveReader r;
     EXPECT_TRUE(r.open((dir / name).string(), &error) && r.load_sections(1, &error)) << error;
     EXPECT_LE(fs::file_size(dir / name), 65536u);

@@ -1,0 +1,107 @@
+#include "format/byte_shuffle.h"
+
+#include <algorithm>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace pbrta {
+
+void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size) {
+  const uint64_t words = size / 4;
+  uint8_t* d0 = dst;
+  uint8_t* d1 = dst + words;
+  uint8_t* d2 = dst + 2 * words;
+  uint8_t* d3 = dst + 3 * words;
+  for (uint64_t w = 0; w < words; ++w) {
+    d0[w] = src[4 * w + 0];
+    d1[w] = src[4 * w + 1];
+    d2[w] = src[4 * w + 2];
+    d3[w] = src[4 * w + 3];
+  }
+  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
+}
+
+namespace {
+
+// Unshuffles words [w0, w1) of a block of `words` whole words. With kCheck, returns whether one of
+// them is >= limit (limit > 0).
+template <bool kCheck>
+bool unshuffle_words(const uint8_t* src, uint8_t* dst, uint64_t words, uint64_t w0, uint64_t w1,
+                     uint32_t limit) {
+  const uint8_t* s0 = src;
+  const uint8_t* s1 = src + words;
+  const uint8_t* s2 = src + 2 * words;
+  const uint8_t* s3 = src + 3 * words;
+  uint64_t w = w0;
+  uint32_t over = 0;
+#if defined(__SSE2__)
+  // 16 words at a time: interleave bytes of lanes 0/1 and 2/3, then the 16-bit pairs. SSE2 has
+  // no unsigned compare: x >= limit is (x ^ 2^31) > ((limit - 1) ^ 2^31) signed.
+  const __m128i bias = _mm_set1_epi32(INT32_MIN);
+  const __m128i top = _mm_set1_epi32(static_cast<int32_t>((limit - 1) ^ 0x80000000u));
+  __m128i any = _mm_setzero_si128();
+  for (; w + 16 <= w1; w += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s0 + w));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s1 + w));
+    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s2 + w));
+    const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s3 + w));
+    const __m128i ab_lo = _mm_unpacklo_epi8(a, b), ab_hi = _mm_unpackhi_epi8(a, b);
+    const __m128i cd_lo = _mm_unpacklo_epi8(c, d), cd_hi = _mm_unpackhi_epi8(c, d);
+    const __m128i v0 = _mm_unpacklo_epi16(ab_lo, cd_lo), v1 = _mm_unpackhi_epi16(ab_lo, cd_lo);
+    const __m128i v2 = _mm_unpacklo_epi16(ab_hi, cd_hi), v3 = _mm_unpackhi_epi16(ab_hi, cd_hi);
+    __m128i* out = reinterpret_cast<__m128i*>(dst + 4 * w);
+    _mm_storeu_si128(out + 0, v0);
+    _mm_storeu_si128(out + 1, v1);
+    _mm_storeu_si128(out + 2, v2);
+    _mm_storeu_si128(out + 3, v3);
+    if constexpr (kCheck) {
+      any = _mm_or_si128(any, _mm_cmpgt_epi32(_mm_xor_si128(v0, bias), top));
+      any = _mm_or_si128(any, _mm_cmpgt_epi32(_mm_xor_si128(v1, bias), top));
+      any = _mm_or_si128(any, _mm_cmpgt_epi32(_mm_xor_si128(v2, bias), top));
+      any = _mm_or_si128(any, _mm_cmpgt_epi32(_mm_xor_si128(v3, bias), top));
+    }
+  }
+  if constexpr (kCheck) over = static_cast<uint32_t>(_mm_movemask_epi8(any));
+#endif
+  for (; w < w1; ++w) {
+    dst[4 * w + 0] = s0[w];
+    dst[4 * w + 1] = s1[w];
+    dst[4 * w + 2] = s2[w];
+    dst[4 * w + 3] = s3[w];
+    if constexpr (kCheck) {
+      uint32_t v;
+      std::memcpy(&v, dst + 4 * w, 4);
+      over |= static_cast<uint32_t>(v >= limit);
+    }
+  }
+  return over != 0;
+}
+
+}  // namespace
+
+void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds,
+                      uint64_t num_bounds) {
+  const uint64_t words = size / 4;
+  uint64_t w = 0;
+  for (uint64_t k = 0; k < num_bounds; ++k) {
+    WordBound& b = bounds[k];
+    const uint64_t b0 = b.begin / 4, b1 = b.end / 4;
+    unshuffle_words<false>(src, dst, words, w, b0, 0);
+    // limit 0: every value exceeds it (and the biased compare needs limit >= 1).
+    b.exceeded =
+        unshuffle_words<true>(src, dst, words, b0, b1, b.limit) || (b.limit == 0 && b1 > b0);
+    w = b1;
+  }
+  unshuffle_words<false>(src, dst, words, w, words, 0);
+  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
+}
+
+void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
+  for (uint64_t at = 0; at < size; at += kShuffleBlock)
+    shuffle4_block(src + at, dst + at, std::min(kShuffleBlock, size - at));
+}
+
+}  // namespace pbrta

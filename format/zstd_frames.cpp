@@ -1,0 +1,183 @@
+#include "format/zstd_frames.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <xxhash.h>
+
+#include "format/byte_shuffle.h"
+
+namespace pbrta {
+
+namespace {
+
+// One encoding thread's compression context and shuffle buffer.
+struct Encoder {
+  ZSTD_CCtx* cctx = nullptr;
+  std::vector<uint8_t> shuffled;
+  Encoder() = default;
+  Encoder(const Encoder&) {}  // a fresh one: contexts are per thread
+  Encoder& operator=(const Encoder&) = delete;
+  ~Encoder() { ZSTD_freeCCtx(cctx); }
+};
+
+}  // namespace
+
+uint64_t frame_count(uint64_t raw_size) {
+  return raw_size / kFrameBlock + (raw_size % kFrameBlock != 0 ? 1 : 0);
+}
+
+bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vector<uint8_t>* stored,
+                        std::string* why) {
+  const uint64_t n = frame_count(size);
+  std::vector<std::vector<uint8_t>> frames(n);
+  std::vector<std::string> errors(n);
+  tbb::enumerable_thread_specific<Encoder> encoders;
+  tbb::parallel_for(
+      tbb::blocked_range<uint64_t>(0, n, 1), [&](const tbb::blocked_range<uint64_t>& r) {
+        Encoder& e = encoders.local();
+        if (e.cctx == nullptr) {
+          e.cctx = ZSTD_createCCtx();
+          if (e.cctx == nullptr) {
+            for (uint64_t k = r.begin(); k != r.end(); ++k)
+              errors[k] = "cannot create a zstd context";
+            return;
+          }
+          // Each frame depends only on its block and the level (never on threading).
+          ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_compressionLevel, level);
+          ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_contentSizeFlag, 1);
+          ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_checksumFlag, 0);  // the index's XXH3 covers it
+          e.shuffled.resize(kFrameBlock);
+        }
+        for (uint64_t k = r.begin(); k != r.end(); ++k) {
+          const uint64_t at = k * kFrameBlock, m = std::min(kFrameBlock, size - at);
+          shuffle4(raw + at, e.shuffled.data(), m);
+          std::vector<uint8_t>& f = frames[k];
+          f.resize(ZSTD_compressBound(m));
+          const size_t got = ZSTD_compress2(e.cctx, f.data(), f.size(), e.shuffled.data(), m);
+          if (ZSTD_isError(got)) {
+            errors[k] = std::string("zstd: ") + ZSTD_getErrorName(got);
+            continue;
+          }
+          f.resize(got);
+        }
+      });
+  for (const std::string& e : errors)
+    if (!e.empty()) {
+      *why = e;
+      return false;
+    }
+  uint64_t total = n * sizeof(FrameEntry);
+  for (const std::vector<uint8_t>& f : frames) total += f.size();
+  stored->assign(total, 0);
+  uint8_t* out = stored->data() + n * sizeof(FrameEntry);
+  for (uint64_t k = 0; k < n; ++k) {
+    FrameEntry entry{};
+    entry.stored_size = static_cast<uint32_t>(frames[k].size());  // <= compressBound(256 KiB)
+    entry.checksum = XXH3_64bits(frames[k].data(), frames[k].size());
+    std::memcpy(stored->data() + k * sizeof(FrameEntry), &entry, sizeof entry);
+    std::memcpy(out, frames[k].data(), frames[k].size());
+    out += frames[k].size();
+  }
+  return true;
+}
+
+bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size,
+                      std::vector<FrameRef>* frames, std::string* why) {
+  const uint64_t n = frame_count(raw_size);
+  frames->clear();
+  // n <= 2^40 / 2^18 and sizeof(FrameEntry) = 16: no overflow.
+  uint64_t at = n * sizeof(FrameEntry);
+  if (at > stored_size) {
+    *why = "the frame index of " + std::to_string(n) + " entries does not fit in " +
+           std::to_string(stored_size) + " stored bytes";
+    return false;
+  }
+  frames->reserve(n);
+  for (uint64_t k = 0; k < n; ++k) {
+    FrameEntry e;
+    std::memcpy(&e, index + k * sizeof(FrameEntry), sizeof e);
+    if (e.reserved != 0) {
+      *why = "frame " + std::to_string(k) + ": reserved field is not zero";
+      return false;
+    }
+    if (e.stored_size == 0 || e.stored_size > stored_size - at) {
+      *why = "frame " + std::to_string(k) + ": " + std::to_string(e.stored_size) +
+             " bytes at offset " + std::to_string(at) + " do not fit in the " +
+             std::to_string(stored_size) + " stored bytes";
+      return false;
+    }
+    frames->push_back(FrameRef{at, e.stored_size, e.checksum});
+    at += e.stored_size;
+  }
+  if (at != stored_size) {
+    *why = std::to_string(stored_size - at) + " stored bytes follow the last frame";
+    return false;
+  }
+  return true;
+}
+
+bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
+                  uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
+                  std::string* why) {
+  if (XXH3_64bits(frame, ref.size) != ref.checksum) {
+    *why = "checksum mismatch";
+    return false;
+  }
+  const unsigned long long content = ZSTD_getFrameContentSize(frame, ref.size);
+  if (content == ZSTD_CONTENTSIZE_ERROR) {
+    *why = "zstd: not a zstd frame";
+    return false;
+  }
+  if (content != block_size) {
+    *why = content == ZSTD_CONTENTSIZE_UNKNOWN
+               ? std::string("zstd: the frame does not record its size")
+               : "zstd frame content size is " + std::to_string(content) + " but the block has " +
+                     std::to_string(block_size) + " bytes";
+    return false;
+  }
+  const size_t whole = ZSTD_findFrameCompressedSize(frame, ref.size);
+  if (ZSTD_isError(whole)) {
+    *why = std::string("zstd: ") + ZSTD_getErrorName(whole);
+    return false;
+  }
+  if (whole != ref.size) {
+    *why = std::to_string(ref.size - whole) + " bytes follow the zstd frame";
+    return false;
+  }
+  const size_t got = ZSTD_decompressDCtx(dctx, scratch, block_size, frame, ref.size);
+  if (ZSTD_isError(got)) {
+    *why = std::string("zstd: ") + ZSTD_getErrorName(got);
+    return false;
+  }
+  if (got != block_size) {
+    *why = "zstd frame decoded to " + std::to_string(got) + " bytes but the block has " +
+           std::to_string(block_size);
+    return false;
+  }
+  // Shuffled kShuffleBlock bytes at a time, each with the bounds' parts inside it.
+  // (Sorted by begin is all this needs: overlapping bounds are each checked whole.)
+  thread_local std::vector<WordBound> part;
+  thread_local std::vector<uint64_t> from;
+  uint64_t first = 0;  // bounds before it end before this shuffle block
+  for (uint64_t at = 0; at < block_size; at += kShuffleBlock) {
+    const uint64_t end = std::min(at + kShuffleBlock, block_size);
+    part.clear();
+    from.clear();
+    while (first < num_bounds && bounds[first].end <= at) ++first;
+    for (uint64_t k = first; k < num_bounds && bounds[k].begin < end; ++k) {
+      if (bounds[k].end <= at) continue;
+      part.push_back(WordBound{std::max(bounds[k].begin, at) - at,
+                               std::min(bounds[k].end, end) - at, bounds[k].limit, false});
+      from.push_back(k);
+    }
+    unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size());
+    for (uint64_t k = 0; k < part.size(); ++k) bounds[from[k]].exceeded |= part[k].exceeded;
+  }
+  return true;
+}
+
+}  // namespace pbrta

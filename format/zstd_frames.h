@@ -1,0 +1,66 @@
+// format/zstd_frames.h — codec 4 (kZstdShuffle4Frames): a section as independent zstd frames.
+//
+// The raw bytes are cut into blocks of kShuffleBlock bytes (the last shorter; none when empty),
+// each block is byte-shuffled on its own (format/byte_shuffle.h) and compressed into its own zstd
+// frame, which records its content size. The stored bytes are a FrameEntry index (format/
+// archive.h), one entry per block, then the frames back to back in block order. The section
+// table's checksum covers the index, each entry's checksum its frame.
+//
+// Why: a block is then read, verified, decoded and unshuffled while it sits in cache, one-shot
+// (no streaming window to copy through), and the blocks of one large section decode on every
+// thread at once instead of one section per thread.
+//
+// Failure: the reader functions take untrusted bytes; they return false with the reason in *why
+// (no path or section: the caller adds them).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <zstd.h>
+
+#include "format/archive.h"
+#include "format/byte_shuffle.h"
+
+namespace pbrta {
+
+// Raw bytes per frame (the last frame holds the rest), a multiple of kShuffleBlock. Measured on
+// mesh200 (4.5M triangles), 256 KiB / 1 / 2 / 4 / 8 MiB frames: archives 38.7 / 32.7 / 29.5 /
+// 26.1 / 24.8 MB (one frame per 16 MiB section: 24.3 MB); a frame cannot refer to an earlier one,
+// and a scene repeats whole meshes (killeroo-simple includes one twice: 53% at 256 KiB, 28% at
+// 4 MiB). 4 MiB keeps the size within 7% of one frame, loaded fastest, and still gives two
+// threads four frames of a 16 MiB section to share.
+inline constexpr uint64_t kFrameBlock = uint64_t{4} << 20;
+
+// Frames (and index entries) of a section of raw_size bytes.
+uint64_t frame_count(uint64_t raw_size);
+
+// The stored bytes of codec 4 for size raw bytes, at a zstd level; parallel over blocks on the
+// caller's oneTBB arena, and the same bytes whatever the thread count. False only when zstd
+// fails (out of memory).
+bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vector<uint8_t>* stored,
+                        std::string* why);
+
+// One frame: where it lies within the stored bytes and what its bytes hash to.
+struct FrameRef {
+  uint64_t offset;
+  uint64_t size;
+  uint64_t checksum;
+};
+
+// Lays out the frames from an index (frame_count(raw_size) entries, already verified against the
+// section's checksum): every entry's reserved field zero, no frame empty, and the frames tiling
+// the stored bytes after the index exactly.
+bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size,
+                      std::vector<FrameRef>* frames, std::string* why);
+
+// Verifies a frame's checksum, then decodes it one-shot into scratch (at least kFrameBlock
+// bytes) and unshuffles it into dst, block_size bytes, checking the bounds (byte offsets in the
+// block; sorted, disjoint) on the way: the frame must be exactly one zstd frame recording and
+// holding exactly block_size bytes.
+bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
+                  uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
+                  std::string* why);
+
+}  // namespace pbrta

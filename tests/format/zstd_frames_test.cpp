@@ -1,0 +1,307 @@
+// tests/format/zstd_frames_test.cpp — codec 4 (format/zstd_frames.h): a section stored as a
+// frame index and one zstd frame per shuffled block. The stored layout is what ARCHIVE.md says
+// (a stranger's plain ZSTD_decompress of each frame gives the shuffled block); every size around
+// the frame and shuffle blocks decodes exactly on 1 and 2 threads, from a file and from memory;
+// the bytes do not depend on the thread count; damage to a frame or to the index is refused with
+// the frame named; and the uint32 bounds checked while blocks unshuffle find the same first
+// offender as a plain scan, wherever it lies.
+#include <gtest/gtest.h>
+#include <xxhash.h>
+#include <zstd.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <oneapi/tbb/task_arena.h>
+
+#include "format/archive.h"
+#include "format/archive_reader.h"
+#include "format/archive_writer.h"
+#include "format/byte_shuffle.h"
+#include "format/zstd_frames.h"
+#include "test_support.h"
+
+namespace pbrta {
+namespace {
+
+// Smooth floats with noise (what meshes hold), ragged tail bytes random.
+std::vector<uint8_t> float_bytes(size_t bytes, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.f, 0.01f);
+  std::vector<uint8_t> v(bytes);
+  for (size_t i = 0; i + 4 <= bytes; i += 4) {
+    const float f = std::sin(0.001f * static_cast<float>(i)) + noise(rng);
+    std::memcpy(&v[i], &f, 4);
+  }
+  for (size_t i = bytes / 4 * 4; i < bytes; ++i) v[i] = static_cast<uint8_t>(rng());
+  return v;
+}
+
+std::string write_sections(const std::string& path, const std::vector<std::vector<uint8_t>>& raw) {
+  ArchiveWriter w;
+  for (const std::vector<uint8_t>& r : raw)
+    w.add_section(SectionKind::kGeometry, r, 1, Codec::kZstdShuffle4Frames);
+  std::string error;
+  EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+  return testing_support::read_file(path);
+}
+
+SectionEntry entry_of(const std::string& b, uint32_t i) {
+  SectionEntry e;
+  std::memcpy(&e, b.data() + sizeof(Header) + i * sizeof(SectionEntry), sizeof e);
+  return e;
+}
+
+FrameEntry frame_entry(const std::string& b, const SectionEntry& e, uint64_t k) {
+  FrameEntry f;
+  std::memcpy(&f, b.data() + e.offset + k * sizeof f, sizeof f);
+  return f;
+}
+
+// After an edit of section i's frame index: its table checksum, then the table's and header's.
+void reseal_index(std::string* b, uint32_t i) {
+  SectionEntry e = entry_of(*b, i);
+  e.checksum = XXH3_64bits(b->data() + e.offset, frame_count(e.raw_size) * sizeof(FrameEntry));
+  std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
+  Header h;
+  std::memcpy(&h, b->data(), sizeof h);
+  h.table_checksum =
+      XXH3_64bits(b->data() + sizeof(Header), uint64_t{h.section_count} * sizeof(SectionEntry));
+  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
+  std::memcpy(&(*b)[0], &h, sizeof h);
+}
+
+// The load's error from the file (2 threads) and from memory (1 thread), which must agree; "" if
+// either loads.
+std::string load_error(const std::string& path, const std::string& bytes) {
+  testing_support::write_file(path, bytes);
+  std::string file_error, memory_error;
+  ArchiveReader from_file, from_memory;
+  const bool file_ok = from_file.open(path, &file_error) && from_file.load_sections(2, &file_error);
+  const bool memory_ok = from_memory.open_memory(bytes, path, &memory_error) &&
+                         from_memory.load_sections(1, &memory_error);
+  if (file_ok || memory_ok) return "";
+  EXPECT_EQ(file_error, memory_error);
+  return file_error;
+}
+
+TEST(ZstdFrames, StoredLayoutIsAnIndexThenOnePlainZstdFramePerShuffledBlock) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.StoredLayout");
+  const std::vector<uint8_t> raw = float_bytes(2 * kFrameBlock + 3 * kShuffleBlock + 6, 3);
+  const std::string b = write_sections(dir + "/a.pbrta", {raw});
+  const SectionEntry e = entry_of(b, 0);
+  ASSERT_EQ(e.codec, uint32_t(Codec::kZstdShuffle4Frames));
+  ASSERT_EQ(e.raw_size, raw.size());
+  const uint64_t n = frame_count(raw.size());
+  ASSERT_EQ(n, 3u);
+  EXPECT_EQ(e.checksum, XXH3_64bits(b.data() + e.offset, n * sizeof(FrameEntry)));
+  uint64_t at = e.offset + n * sizeof(FrameEntry);
+  for (uint64_t k = 0; k < n; ++k) {
+    const FrameEntry f = frame_entry(b, e, k);
+    EXPECT_EQ(f.reserved, 0u);
+    EXPECT_EQ(f.checksum, XXH3_64bits(b.data() + at, f.stored_size));
+    const uint64_t begin = k * kFrameBlock, size = std::min(kFrameBlock, raw.size() - begin);
+    EXPECT_EQ(ZSTD_getFrameContentSize(b.data() + at, f.stored_size), size);
+    std::vector<uint8_t> decoded(size), shuffled(size);
+    ASSERT_EQ(ZSTD_decompress(decoded.data(), size, b.data() + at, f.stored_size), size);
+    shuffle4(raw.data() + begin, shuffled.data(), size);  // shuffle blocks start at frame starts
+    EXPECT_EQ(decoded, shuffled) << "frame " << k;
+    at += f.stored_size;
+  }
+  EXPECT_EQ(at, e.offset + e.stored_size);  // the frames tile the rest exactly
+}
+
+TEST(ZstdFrames, EverySizeAroundTheBlocksDecodesExactly) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.EverySize");
+  const uint64_t s = kShuffleBlock, f = kFrameBlock;
+  std::vector<std::vector<uint8_t>> raw;
+  uint32_t seed = 10;
+  for (uint64_t size : {uint64_t{0}, uint64_t{1}, uint64_t{3}, uint64_t{4}, s - 1, s + 1, f - 4, f,
+                        f + 1, f + s + 3, 2 * f + 7})
+    raw.push_back(float_bytes(size, seed++));
+  const std::string path = dir + "/sizes.pbrta";
+  const std::string bytes = write_sections(path, raw);
+  for (int threads : {1, 2}) {
+    for (bool from_file : {true, false}) {
+      SCOPED_TRACE("threads " + std::to_string(threads) + (from_file ? " file" : " memory"));
+      ArchiveReader r;
+      std::string error;
+      ASSERT_TRUE((from_file ? r.open(path, &error) : r.open_memory(bytes, "sizes", &error)) &&
+                  r.load_sections(threads, &error))
+          << error;
+      for (uint32_t i = 0; i < raw.size(); ++i) {
+        SCOPED_TRACE("section of " + std::to_string(raw[i].size()) + " bytes");
+        ASSERT_EQ(r.section_size(i), raw[i].size());
+        const uint8_t* d = r.section_data(i);
+        ASSERT_NE(d, nullptr);
+        EXPECT_EQ(reinterpret_cast<uintptr_t>(d) % 16, 0u);
+        if (!raw[i].empty()) EXPECT_EQ(std::memcmp(d, raw[i].data(), raw[i].size()), 0);
+        for (uint64_t k = 0; k < kSectionPadding; ++k) ASSERT_EQ(d[raw[i].size() + k], 0);
+      }
+    }
+  }
+}
+
+TEST(ZstdFrames, BytesDoNotDependOnTheThreadCount) {
+  const std::vector<uint8_t> raw = float_bytes(3 * kFrameBlock + 5, 4);
+  std::vector<uint8_t> one, two;
+  std::string why;
+  tbb::task_arena(1).execute(
+      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, &one, &why)); });
+  tbb::task_arena(2).execute(
+      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, &two, &why)); });
+  EXPECT_EQ(one, two);
+}
+
+class ZstdFramesDamage : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing_support::scratch_dir(
+        std::string("ZstdFrames.") +
+        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    good_ = write_sections(dir_ + "/good.pbrta",
+                           {float_bytes(1000, 5), float_bytes(2 * kFrameBlock + 100, 6)});
+    e_ = entry_of(good_, 1);
+    ASSERT_EQ(frame_count(e_.raw_size), 3u);
+  }
+  // File offset of frame k of section 1.
+  uint64_t frame_at(uint64_t k) const {
+    uint64_t at = e_.offset + 3 * sizeof(FrameEntry);
+    for (uint64_t j = 0; j < k; ++j) at += frame_entry(good_, e_, j).stored_size;
+    return at;
+  }
+  void put_frame_entry(std::string* b, uint64_t k, const FrameEntry& f) {
+    std::memcpy(&(*b)[e_.offset + k * sizeof f], &f, sizeof f);
+    reseal_index(b, 1);
+  }
+  std::string error_of(const std::string& b) { return load_error(dir_ + "/t.pbrta", b); }
+  std::string prefix() const { return dir_ + "/t.pbrta: section 'geometry' (#1): "; }
+
+  std::string dir_, good_;
+  SectionEntry e_{};
+};
+
+TEST_F(ZstdFramesDamage, FlippedByteInAFrameNamesTheFrame) {
+  std::string b = good_;
+  b[frame_at(1) + frame_entry(good_, e_, 1).stored_size / 2] ^= 0x10;
+  EXPECT_EQ(error_of(b), prefix() + "frame 1: checksum mismatch");
+  // And in the index itself: the section's checksum.
+  b = good_;
+  b[e_.offset + 20] ^= 0x01;
+  EXPECT_EQ(error_of(b), prefix() + "checksum mismatch");
+}
+
+TEST_F(ZstdFramesDamage, ForgedFrameDamageIsRefusedByZstd) {
+  std::string b = good_;
+  const FrameEntry f = frame_entry(good_, e_, 1);
+  ASSERT_GT(f.stored_size, 1000u);
+  std::memset(&b[frame_at(1) + f.stored_size / 2], 0xFF, 64);
+  FrameEntry forged = f;
+  forged.checksum = XXH3_64bits(b.data() + frame_at(1), f.stored_size);
+  put_frame_entry(&b, 1, forged);
+  const std::string m = error_of(b);
+  EXPECT_EQ(m.rfind(prefix() + "frame 1: zstd", 0), 0u) << m;
+}
+
+TEST_F(ZstdFramesDamage, MalformedIndexIsRefused) {
+  std::string b = good_;
+  FrameEntry f = frame_entry(good_, e_, 0);
+  f.reserved = 1;
+  put_frame_entry(&b, 0, f);
+  EXPECT_EQ(error_of(b), prefix() + "frame 0: reserved field is not zero");
+
+  b = good_;
+  f = frame_entry(good_, e_, 1);
+  f.stored_size = 0;
+  put_frame_entry(&b, 1, f);
+  EXPECT_EQ(error_of(b).rfind(prefix() + "frame 1: 0 bytes at offset", 0), 0u);
+
+  b = good_;
+  f = frame_entry(good_, e_, 2);
+  f.stored_size = static_cast<uint32_t>(e_.stored_size);  // runs past the section
+  put_frame_entry(&b, 2, f);
+  EXPECT_EQ(
+      error_of(b).rfind(prefix() + "frame 2: " + std::to_string(e_.stored_size) + " bytes", 0), 0u);
+
+  // A last frame one byte shorter leaves a byte over.
+  b = good_;
+  f = frame_entry(good_, e_, 2);
+  f.stored_size -= 1;
+  put_frame_entry(&b, 2, f);
+  EXPECT_EQ(error_of(b), prefix() + "1 stored bytes follow the last frame");
+}
+
+// bounds[b]'s first offender by a plain scan, as a byte offset, or its end.
+uint64_t plain_first(const std::vector<uint8_t>& raw, const ArchiveReader::U32Bound& u) {
+  for (uint64_t at = u.begin; at < u.end; at += 4) {
+    uint32_t v;
+    std::memcpy(&v, raw.data() + at, 4);
+    if (v >= u.limit) return at;
+  }
+  return u.end;
+}
+
+// Indices-like values (small, below 1000) in a section of three frames; bounds over several
+// ranges, with offenders at the start, at shuffle-block and frame boundaries, deep inside and at
+// the very end: every thread count reports what a plain scan finds.
+TEST(ZstdFrames, BoundsFindTheFirstOffenderWhereverItIs) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.Bounds");
+  const uint64_t words = (2 * kFrameBlock + 3 * kShuffleBlock + 40) / 4;
+  std::vector<uint8_t> raw(words * 4);
+  std::mt19937 rng(7);
+  for (uint64_t w = 0; w < words; ++w) {
+    const uint32_t v = rng() % 1000;
+    std::memcpy(&raw[4 * w], &v, 4);
+  }
+  auto put = [&](uint64_t byte, uint32_t v) { std::memcpy(&raw[byte], &v, 4); };
+  const uint64_t s = kShuffleBlock, f = kFrameBlock;
+  put(0, 5000);              // first word
+  put(s - 4, 1000);          // last word of a shuffle block, exactly the limit
+  put(f, 0xFFFFFFFFu);       // first word of frame 1
+  put(f + 2 * s + 8, 1001);  // inside
+  put(words * 4 - 4, 2000);  // very last word
+  const std::vector<ArchiveReader::U32Bound> bounds = {
+      {0, 0, 64, 1000},                 // offender at 0
+      {0, 16, s + 16, 1000},            // across a shuffle block: s - 4
+      {0, s, f + 64, 1000},             // across a frame: f
+      {0, f + 4, f + 3 * s, 1000},      // f + 2s + 8
+      {0, f + 3 * s, words * 4, 1000},  // the last word
+      {0, 64, s - 16, 1000},            // none
+      {0, 0, words * 4, 0xFFFFFFFFu},   // only 0xFFFFFFFF is not below: f
+      {0, 100, 100, 1},                 // empty
+      {0, 8, 12, 0},                    // limit 0: everything offends
+  };
+  const std::string path = dir + "/b.pbrta";
+  write_sections(path, {raw});
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    ArchiveReader r;
+    std::string error;
+    ASSERT_TRUE(r.open(path, &error)) << error;
+    std::vector<uint64_t> first;
+    ASSERT_TRUE(r.load_sections(threads, {0}, bounds, &first, &error)) << error;
+    ASSERT_EQ(first.size(), bounds.size());
+    for (size_t b = 0; b < bounds.size(); ++b)
+      EXPECT_EQ(first[b], plain_first(raw, bounds[b])) << "bound " << b;
+    EXPECT_EQ(std::memcmp(r.section_data(0), raw.data(), raw.size()), 0);
+  }
+  // The same bounds on the same bytes stored uncompressed and as one zstd frame (codecs 0, 1).
+  for (Codec codec : {Codec::kNone, Codec::kZstd}) {
+    ArchiveWriter w;
+    w.add_section(SectionKind::kGeometry, raw, 1, codec);
+    std::string error;
+    ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+    ArchiveReader r;
+    std::vector<uint64_t> first;
+    ASSERT_TRUE(r.open(path, &error) && r.load_sections(2, {0}, bounds, &first, &error)) << error;
+    for (size_t b = 0; b < bounds.size(); ++b)
+      EXPECT_EQ(first[b], plain_first(raw, bounds[b]))
+          << "codec " << uint32_t(codec) << " bound " << b;
+  }
+}
+
+}  // namespace
+}  // namespace pbrta
