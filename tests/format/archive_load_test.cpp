@@ -9,12 +9,12 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
-#include <cmath>
 #include <cstring>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "archive_bytes.h"
 #include "format/archive.h"
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
@@ -23,18 +23,9 @@
 namespace pbrta {
 namespace {
 
-// Smooth floats with noise: compress well shuffled, so zstd emits long compressed blocks.
-std::vector<uint8_t> float_bytes(size_t bytes, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> noise(0.f, 0.01f);
-  std::vector<uint8_t> v(bytes);
-  for (size_t i = 0; i + 4 <= bytes; i += 4) {
-    const float f = std::sin(0.001f * static_cast<float>(i)) + noise(rng);
-    std::memcpy(&v[i], &f, 4);
-  }
-  for (size_t i = bytes / 4 * 4; i < bytes; ++i) v[i] = static_cast<uint8_t>(rng());
-  return v;
-}
+using test_bytes::entry_of;
+using test_bytes::float_bytes;
+using test_bytes::load_error;
 
 struct Raw {
   Codec codec;
@@ -68,36 +59,9 @@ void expect_decodes(const ArchiveReader& r, const std::vector<Raw>& sections) {
   }
 }
 
-SectionEntry entry_of(const std::string& b, uint32_t i) {
-  SectionEntry e;
-  std::memcpy(&e, b.data() + sizeof(Header) + i * sizeof(SectionEntry), sizeof e);
-  return e;
-}
-
 // Recomputes section i's checksum and the table and header checksums after an edit.
 void forge_checksums(std::string* b, uint32_t i) {
-  SectionEntry e = entry_of(*b, i);
-  e.checksum = XXH3_64bits(b->data() + e.offset, e.stored_size);
-  std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
-  Header h;
-  std::memcpy(&h, b->data(), sizeof h);
-  h.table_checksum =
-      XXH3_64bits(b->data() + sizeof(Header), uint64_t{h.section_count} * sizeof(SectionEntry));
-  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
-  std::memcpy(&(*b)[0], &h, sizeof h);
-}
-
-// The load's error from the file and from memory (they must agree); "" if either loads.
-std::string load_error(const std::string& path, const std::string& bytes) {
-  testing_support::write_file(path, bytes);
-  std::string file_error, memory_error;
-  ArchiveReader from_file, from_memory;
-  const bool file_ok = from_file.open(path, &file_error) && from_file.load_sections(2, &file_error);
-  const bool memory_ok = from_memory.open_memory(bytes, path, &memory_error) &&
-                         from_memory.load_sections(1, &memory_error);
-  if (file_ok || memory_ok) return "";
-  EXPECT_EQ(file_error, memory_error);
-  return file_error;
+  test_bytes::reseal(b, i, test_bytes::entry_of(*b, i).stored_size);
 }
 
 // Every size around the shuffle block (empty, shorter than a word, ragged tails, exactly one

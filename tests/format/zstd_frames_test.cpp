@@ -9,7 +9,6 @@
 #include <xxhash.h>
 #include <zstd.h>
 
-#include <cmath>
 #include <cstring>
 #include <random>
 #include <string>
@@ -17,6 +16,7 @@
 
 #include <oneapi/tbb/task_arena.h>
 
+#include "archive_bytes.h"
 #include "format/archive.h"
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
@@ -27,18 +27,9 @@
 namespace pbrta {
 namespace {
 
-// Smooth floats with noise (what meshes hold), ragged tail bytes random.
-std::vector<uint8_t> float_bytes(size_t bytes, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> noise(0.f, 0.01f);
-  std::vector<uint8_t> v(bytes);
-  for (size_t i = 0; i + 4 <= bytes; i += 4) {
-    const float f = std::sin(0.001f * static_cast<float>(i)) + noise(rng);
-    std::memcpy(&v[i], &f, 4);
-  }
-  for (size_t i = bytes / 4 * 4; i < bytes; ++i) v[i] = static_cast<uint8_t>(rng());
-  return v;
-}
+using test_bytes::entry_of;
+using test_bytes::float_bytes;
+using test_bytes::load_error;
 
 std::string write_sections(const std::string& path, const std::vector<std::vector<uint8_t>>& raw) {
   ArchiveWriter w;
@@ -49,43 +40,15 @@ std::string write_sections(const std::string& path, const std::vector<std::vecto
   return testing_support::read_file(path);
 }
 
-SectionEntry entry_of(const std::string& b, uint32_t i) {
-  SectionEntry e;
-  std::memcpy(&e, b.data() + sizeof(Header) + i * sizeof(SectionEntry), sizeof e);
-  return e;
-}
-
 FrameEntry frame_entry(const std::string& b, const SectionEntry& e, uint64_t k) {
   FrameEntry f;
   std::memcpy(&f, b.data() + e.offset + k * sizeof f, sizeof f);
   return f;
 }
 
-// After an edit of section i's frame index: its table checksum, then the table's and header's.
+// After an edit of section i's frame index: its checksum, then the table's and header's.
 void reseal_index(std::string* b, uint32_t i) {
-  SectionEntry e = entry_of(*b, i);
-  e.checksum = XXH3_64bits(b->data() + e.offset, frame_count(e.raw_size) * sizeof(FrameEntry));
-  std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
-  Header h;
-  std::memcpy(&h, b->data(), sizeof h);
-  h.table_checksum =
-      XXH3_64bits(b->data() + sizeof(Header), uint64_t{h.section_count} * sizeof(SectionEntry));
-  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
-  std::memcpy(&(*b)[0], &h, sizeof h);
-}
-
-// The load's error from the file (2 threads) and from memory (1 thread), which must agree; "" if
-// either loads.
-std::string load_error(const std::string& path, const std::string& bytes) {
-  testing_support::write_file(path, bytes);
-  std::string file_error, memory_error;
-  ArchiveReader from_file, from_memory;
-  const bool file_ok = from_file.open(path, &file_error) && from_file.load_sections(2, &file_error);
-  const bool memory_ok = from_memory.open_memory(bytes, path, &memory_error) &&
-                         from_memory.load_sections(1, &memory_error);
-  if (file_ok || memory_ok) return "";
-  EXPECT_EQ(file_error, memory_error);
-  return file_error;
+  test_bytes::reseal(b, i, frame_count(test_bytes::entry_of(*b, i).raw_size) * sizeof(FrameEntry));
 }
 
 TEST(ZstdFrames, StoredLayoutIsAnIndexThenOnePlainZstdFramePerShuffledBlock) {
@@ -138,7 +101,9 @@ TEST(ZstdFrames, EverySizeAroundTheBlocksDecodesExactly) {
         const uint8_t* d = r.section_data(i);
         ASSERT_NE(d, nullptr);
         EXPECT_EQ(reinterpret_cast<uintptr_t>(d) % 16, 0u);
-        if (!raw[i].empty()) EXPECT_EQ(std::memcmp(d, raw[i].data(), raw[i].size()), 0);
+        if (!raw[i].empty()) {
+          EXPECT_EQ(std::memcmp(d, raw[i].data(), raw[i].size()), 0);
+        }
         for (uint64_t k = 0; k < kSectionPadding; ++k) ASSERT_EQ(d[raw[i].size() + k], 0);
       }
     }
