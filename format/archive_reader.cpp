@@ -567,16 +567,9 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     s.data = out;
     return true;
   }
-  const unsigned long long content = ZSTD_getFrameContentSize(src, e.stored_size);
-  if (content == ZSTD_CONTENTSIZE_ERROR) return bad("zstd: not a zstd frame");
-  if (content == ZSTD_CONTENTSIZE_UNKNOWN) return bad("zstd: the frame does not record its size");
-  if (content != raw)
-    return bad("zstd frame content size is " + std::to_string(content) + " but the table says " +
-               std::to_string(raw));
-  const size_t frame = ZSTD_findFrameCompressedSize(src, e.stored_size);
-  if (ZSTD_isError(frame)) return bad(std::string("zstd: ") + ZSTD_getErrorName(frame));
-  if (frame != e.stored_size)
-    return bad(std::to_string(e.stored_size - frame) + " bytes follow the zstd frame");
+  std::string why;
+  if (!is_one_zstd_frame(src, e.stored_size, raw, "the table says " + std::to_string(raw), &why))
+    return bad(why);
   ZSTD_DCtx* dctx = decoder->context();
   if (dctx == nullptr) return bad("zstd: cannot create a decompression context");
   auto decoded_to = [&](uint64_t got) {
@@ -767,7 +760,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   }
 
   // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
-  // 16 bytes per 256 KiB), every other section whole.
+  // 16 bytes per 4 MiB frame), every other section whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
   for (uint32_t i : order) {

@@ -120,6 +120,33 @@ bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_s
   return true;
 }
 
+bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
+                       const std::string& expected, std::string* why) {
+  const unsigned long long content = ZSTD_getFrameContentSize(src, size);
+  if (content == ZSTD_CONTENTSIZE_ERROR) {
+    *why = "zstd: not a zstd frame";
+    return false;
+  }
+  if (content == ZSTD_CONTENTSIZE_UNKNOWN) {
+    *why = "zstd: the frame does not record its size";
+    return false;
+  }
+  if (content != content_size) {
+    *why = "zstd frame content size is " + std::to_string(content) + " but " + expected;
+    return false;
+  }
+  const size_t whole = ZSTD_findFrameCompressedSize(src, size);
+  if (ZSTD_isError(whole)) {
+    *why = std::string("zstd: ") + ZSTD_getErrorName(whole);
+    return false;
+  }
+  if (whole != size) {
+    *why = std::to_string(size - whole) + " bytes follow the zstd frame";
+    return false;
+  }
+  return true;
+}
+
 bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
                   uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
                   std::string* why) {
@@ -127,27 +154,9 @@ bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, ui
     *why = "checksum mismatch";
     return false;
   }
-  const unsigned long long content = ZSTD_getFrameContentSize(frame, ref.size);
-  if (content == ZSTD_CONTENTSIZE_ERROR) {
-    *why = "zstd: not a zstd frame";
+  if (!is_one_zstd_frame(frame, ref.size, block_size,
+                         "the block has " + std::to_string(block_size) + " bytes", why))
     return false;
-  }
-  if (content != block_size) {
-    *why = content == ZSTD_CONTENTSIZE_UNKNOWN
-               ? std::string("zstd: the frame does not record its size")
-               : "zstd frame content size is " + std::to_string(content) + " but the block has " +
-                     std::to_string(block_size) + " bytes";
-    return false;
-  }
-  const size_t whole = ZSTD_findFrameCompressedSize(frame, ref.size);
-  if (ZSTD_isError(whole)) {
-    *why = std::string("zstd: ") + ZSTD_getErrorName(whole);
-    return false;
-  }
-  if (whole != ref.size) {
-    *why = std::to_string(ref.size - whole) + " bytes follow the zstd frame";
-    return false;
-  }
   const size_t got = ZSTD_decompressDCtx(dctx, scratch, block_size, frame, ref.size);
   if (ZSTD_isError(got)) {
     *why = std::string("zstd: ") + ZSTD_getErrorName(got);

@@ -55,6 +55,12 @@ struct FrameRef {
 bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size,
                       std::vector<FrameRef>* frames, std::string* why);
 
+// True when src holds exactly one zstd frame that records a content size of content_size
+// (codecs 1 and 2: the whole section; codec 4: each frame). Else the reason, naming `expected`
+// ("the table says 123") where the recorded size differs.
+bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
+                       const std::string& expected, std::string* why);
+
 // Verifies a frame's checksum, then decodes it one-shot into scratch (at least kFrameBlock
 // bytes) and unshuffles it into dst, block_size bytes, checking the bounds (byte offsets in the
 // block; sorted, disjoint) on the way: the frame must be exactly one zstd frame recording and
