@@ -19,13 +19,13 @@
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
-#include <xxhash.h>
 // For ZSTD_customMem and ZSTD_createDCtx_advanced: exported by the shared library since 1.3.
 #define ZSTD_STATIC_LINKING_ONLY
 #include <zstd.h>
 
 #include "format/archive_names.h"
 #include "format/byte_shuffle.h"
+#include "format/checksum.h"
 #include "format/draco_codec.h"
 #include "format/zstd_frames.h"
 
@@ -371,7 +371,7 @@ bool ArchiveReader::validate(std::string* error) {
     *error = fail("not a pbrt scene archive (bad magic)");
     return false;
   }
-  if (XXH3_64bits(base_, offsetof(Header, header_checksum)) != header_.header_checksum) {
+  if (checksum64(base_, offsetof(Header, header_checksum)) != header_.header_checksum) {
     *error = fail("header checksum mismatch");
     return false;
   }
@@ -405,7 +405,7 @@ bool ArchiveReader::validate(std::string* error) {
                   std::to_string(size_) + " bytes");
     return false;
   }
-  if (XXH3_64bits(base_ + sizeof(Header), table_bytes) != header_.table_checksum) {
+  if (checksum64(base_ + sizeof(Header), table_bytes) != header_.table_checksum) {
     *error = fail("section table checksum mismatch");
     return false;
   }
@@ -551,7 +551,7 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     src = stage;
   }
   // Before anything decodes these bytes.
-  if (XXH3_64bits(src, e.stored_size) != e.checksum) return bad("checksum mismatch");
+  if (checksum64(src, e.stored_size) != e.checksum) return bad("checksum mismatch");
   if (codec == Codec::kNone) {
     // validate() guarantees 16 bytes of (zero) padding after it inside the file.
     s.data = src;
@@ -782,7 +782,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       at = index.data();
     }
     std::vector<FrameRef> frames;
-    if (XXH3_64bits(at, index_bytes) != e.checksum) {
+    if (checksum64(at, index_bytes) != e.checksum) {
       errors[i] = section_error(i, "checksum mismatch");
     } else if (!read_frame_index(at, e.raw_size, e.stored_size, &frames, &why)) {
       errors[i] = section_error(i, why);

@@ -12,11 +12,11 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
-#include <xxhash.h>
 #include <zstd.h>
 
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
+#include "format/checksum.h"
 #include "format/zstd_frames.h"
 
 namespace pbrta {
@@ -186,9 +186,9 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             const uint8_t* stored = e.codec == Codec::kNone ? s.raw.data() : e.stored.data();
             e.stored_size = e.codec == Codec::kNone ? s.raw.size() : e.stored.size();
             // Codec 4's table checksum covers its frame index; the index covers the frames.
-            e.checksum = XXH3_64bits(stored, e.codec == Codec::kZstdShuffle4Frames
-                                                 ? frame_count(s.raw.size()) * sizeof(FrameEntry)
-                                                 : e.stored_size);
+            e.checksum = checksum64(stored, e.codec == Codec::kZstdShuffle4Frames
+                                                ? frame_count(s.raw.size()) * sizeof(FrameEntry)
+                                                : e.stored_size);
           }
         });
   });
@@ -237,7 +237,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     e.codec = Codec::kNone;
     e.stored = {};
     e.stored_size = sections_[worst].raw.size();
-    e.checksum = XXH3_64bits(sections_[worst].raw.data(), e.stored_size);
+    e.checksum = checksum64(sections_[worst].raw.data(), e.stored_size);
     file_size = fill_table();
   }
 
@@ -251,8 +251,8 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
   h.reserved0 = 0;
   h.table_offset = sizeof(Header);
   h.file_size = file_size;
-  h.table_checksum = XXH3_64bits(table.data(), table.size() * sizeof(SectionEntry));
-  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
+  h.table_checksum = checksum64(table.data(), table.size() * sizeof(SectionEntry));
+  h.header_checksum = checksum64(&h, offsetof(Header, header_checksum));
 
   // Write to a temporary beside path, sync, rename: readers see the old file or the new one.
   const std::string tmp = path + ".tmp-" + std::to_string(::getpid());

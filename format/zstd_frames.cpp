@@ -6,9 +6,9 @@
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
-#include <xxhash.h>
 
 #include "format/byte_shuffle.h"
+#include "format/checksum.h"
 
 namespace pbrta {
 
@@ -77,7 +77,7 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vecto
   for (uint64_t k = 0; k < n; ++k) {
     FrameEntry entry{};
     entry.stored_size = static_cast<uint32_t>(frames[k].size());  // <= compressBound(256 KiB)
-    entry.checksum = XXH3_64bits(frames[k].data(), frames[k].size());
+    entry.checksum = checksum64(frames[k].data(), frames[k].size());
     std::memcpy(stored->data() + k * sizeof(FrameEntry), &entry, sizeof entry);
     std::memcpy(out, frames[k].data(), frames[k].size());
     out += frames[k].size();
@@ -150,7 +150,7 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
 bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
                   uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
                   std::string* why) {
-  if (XXH3_64bits(frame, ref.size) != ref.checksum) {
+  if (checksum64(frame, ref.size) != ref.checksum) {
     *why = "checksum mismatch";
     return false;
   }
