@@ -61,7 +61,7 @@ bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_s
 bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
                        const std::string& expected, std::string* why);
 
-// Verifies a frame's checksum, then decodes it one-shot into scratch (at least kFrameBlock
+// Verifies a frame's checksum, then decodes it one-shot into scratch (at least block_size
 // bytes) and unshuffles it into dst, block_size bytes, checking the bounds (byte offsets in the
 // block; sorted, disjoint) on the way: the frame must be exactly one zstd frame recording and
 // holding exactly block_size bytes.
