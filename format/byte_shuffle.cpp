@@ -6,6 +6,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PBRTA_SHUFFLE_AVX2 1  // built with a target attribute, chosen at run time
+#endif
 
 namespace pbrta {
 
@@ -80,23 +84,98 @@ bool unshuffle_words(const uint8_t* src, uint8_t* dst, uint64_t words, uint64_t 
   return over != 0;
 }
 
+#if defined(PBRTA_SHUFFLE_AVX2)
+// The same with AVX2, 32 words at a time, the rest by the SSE2 version. The unpacks work within
+// each 16-byte half, so the halves of the four results are regrouped into consecutive words.
+// AVX2 has an unsigned max: x >= limit is max(x, limit) == x.
+template <bool kCheck>
+__attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, uint8_t* dst,
+                                                          uint64_t words, uint64_t w0, uint64_t w1,
+                                                          uint32_t limit) {
+  const uint8_t* s0 = src;
+  const uint8_t* s1 = src + words;
+  const uint8_t* s2 = src + 2 * words;
+  const uint8_t* s3 = src + 3 * words;
+  const __m256i lim = _mm256_set1_epi32(static_cast<int32_t>(limit));
+  __m256i any = _mm256_setzero_si256();
+  uint64_t w = w0;
+  for (; w + 32 <= w1; w += 32) {
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s0 + w));
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s1 + w));
+    const __m256i c = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s2 + w));
+    const __m256i d = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s3 + w));
+    const __m256i ab_lo = _mm256_unpacklo_epi8(a, b), ab_hi = _mm256_unpackhi_epi8(a, b);
+    const __m256i cd_lo = _mm256_unpacklo_epi8(c, d), cd_hi = _mm256_unpackhi_epi8(c, d);
+    // Words 0-3 | 16-19, 4-7 | 20-23, 8-11 | 24-27, 12-15 | 28-31.
+    const __m256i v0 = _mm256_unpacklo_epi16(ab_lo, cd_lo);
+    const __m256i v1 = _mm256_unpackhi_epi16(ab_lo, cd_lo);
+    const __m256i v2 = _mm256_unpacklo_epi16(ab_hi, cd_hi);
+    const __m256i v3 = _mm256_unpackhi_epi16(ab_hi, cd_hi);
+    const __m256i o0 = _mm256_permute2x128_si256(v0, v1, 0x20);
+    const __m256i o1 = _mm256_permute2x128_si256(v2, v3, 0x20);
+    const __m256i o2 = _mm256_permute2x128_si256(v0, v1, 0x31);
+    const __m256i o3 = _mm256_permute2x128_si256(v2, v3, 0x31);
+    __m256i* out = reinterpret_cast<__m256i*>(dst + 4 * w);
+    _mm256_storeu_si256(out + 0, o0);
+    _mm256_storeu_si256(out + 1, o1);
+    _mm256_storeu_si256(out + 2, o2);
+    _mm256_storeu_si256(out + 3, o3);
+    if constexpr (kCheck) {
+      any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o0, lim), o0));
+      any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o1, lim), o1));
+      any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o2, lim), o2));
+      any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o3, lim), o3));
+    }
+  }
+  bool over = false;
+  if constexpr (kCheck) over = _mm256_movemask_epi8(any) != 0;
+  return unshuffle_words<kCheck>(src, dst, words, w, w1, limit) || over;
+}
+#endif
+
+ShuffleKernel best_kernel() {
+#if defined(PBRTA_SHUFFLE_AVX2)
+  if (__builtin_cpu_supports("avx2")) return ShuffleKernel::kAvx2;
+#endif
+  return ShuffleKernel::kPortable;
+}
+
 }  // namespace
 
-void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds,
-                      uint64_t num_bounds) {
+bool shuffle_kernel_available(ShuffleKernel kernel) {
+  return kernel == ShuffleKernel::kPortable || best_kernel() == kernel;
+}
+
+void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* dst, uint64_t size,
+                           WordBound* bounds, uint64_t num_bounds) {
+  auto run = [&](uint64_t w0, uint64_t w1, uint32_t limit, bool check) {
+    const uint64_t words = size / 4;
+#if defined(PBRTA_SHUFFLE_AVX2)
+    if (kernel == ShuffleKernel::kAvx2)
+      return check ? unshuffle_words_avx2<true>(src, dst, words, w0, w1, limit)
+                   : unshuffle_words_avx2<false>(src, dst, words, w0, w1, 0);
+#endif
+    return check ? unshuffle_words<true>(src, dst, words, w0, w1, limit)
+                 : unshuffle_words<false>(src, dst, words, w0, w1, 0);
+  };
   const uint64_t words = size / 4;
   uint64_t w = 0;
   for (uint64_t k = 0; k < num_bounds; ++k) {
     WordBound& b = bounds[k];
     const uint64_t b0 = b.begin / 4, b1 = b.end / 4;
-    unshuffle_words<false>(src, dst, words, w, b0, 0);
+    run(w, b0, 0, false);
     // limit 0: every value exceeds it (and the biased compare needs limit >= 1).
-    b.exceeded =
-        unshuffle_words<true>(src, dst, words, b0, b1, b.limit) || (b.limit == 0 && b1 > b0);
+    b.exceeded = run(b0, b1, b.limit, true) || (b.limit == 0 && b1 > b0);
     w = b1;
   }
-  unshuffle_words<false>(src, dst, words, w, words, 0);
+  run(w, words, 0, false);
   std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
+}
+
+void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds,
+                      uint64_t num_bounds) {
+  static const ShuffleKernel kernel = best_kernel();
+  unshuffle4_block_with(kernel, src, dst, size, bounds, num_bounds);
 }
 
 void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {

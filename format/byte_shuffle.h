@@ -29,6 +29,13 @@ void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size);
 void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds = nullptr,
                       uint64_t num_bounds = 0);
 
+// The unshuffle's kernels: portable (SSE2 on x86-64) and AVX2, which unshuffle4_block picks when
+// the CPU has it. Exposed so tests can run each against the other on the same bytes.
+enum class ShuffleKernel { kPortable, kAvx2 };
+bool shuffle_kernel_available(ShuffleKernel kernel);
+void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* dst, uint64_t size,
+                           WordBound* bounds, uint64_t num_bounds);
+
 // A whole section, block by block.
 void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size);
 
