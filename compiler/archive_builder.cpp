@@ -11,6 +11,7 @@
 
 #include "compiler/refine.h"
 #include "format/archive_reader.h"
+#include "format/zstd_frames.h"
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
 #include "format/texel_format.h"
@@ -433,39 +434,38 @@ class Builder {
 
     using K = pbrta::SectionKind;
     pbrta::Codec plain = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone;
+    // A record section of a frame or more (100k shapes make 26 MB of transforms) is cut into
+    // frames like the geometry, so the loading threads share it instead of one taking it whole.
+    auto add_records = [&](K kind, const auto& records) {
+      std::vector<uint8_t> bytes = bytes_of(records);
+      const pbrta::Codec codec = opt.compress && bytes.size() >= pbrta::kFrameBlock
+                                     ? pbrta::Codec::kZstdShuffle4Frames
+                                     : plain;
+      w->add_section(kind, std::move(bytes), uint32_t(records.size()), codec);
+    };
     pbrta::Codec shuffled = opt.compress ? pbrta::Codec::kZstdShuffle4Frames : pbrta::Codec::kNone;
     std::vector<uint8_t> scene_bytes;
     append(&scene_bytes, sr);
     w->add_section(K::kScene, std::move(scene_bytes), 1, plain);
     w->add_section(K::kStrings, std::move(strings), uint32_t(strings_.size()), plain);
-    w->add_section(K::kEntities, bytes_of(entities_), uint32_t(entities_.size()), plain);
-    w->add_section(K::kValues, bytes_of(values_), uint32_t(values_.size()), plain);
+    add_records(K::kEntities, entities_);
+    add_records(K::kValues, values_);
     w->add_section(K::kWords, bytes_of(words_), uint32_t(words_.size()), shuffled);
-    w->add_section(K::kTransforms, bytes_of(transforms_), uint32_t(transforms_.size()), plain);
-    if (!textures.empty())
-      w->add_section(K::kTextures, bytes_of(textures), uint32_t(textures.size()), plain);
-    if (!materials.empty())
-      w->add_section(K::kMaterials, bytes_of(materials), uint32_t(materials.size()), plain);
-    if (!media.empty()) w->add_section(K::kMedia, bytes_of(media), uint32_t(media.size()), plain);
-    if (!lights.empty())
-      w->add_section(K::kLights, bytes_of(lights), uint32_t(lights.size()), plain);
-    if (!area_lights.empty())
-      w->add_section(K::kAreaLights, bytes_of(area_lights), uint32_t(area_lights.size()), plain);
-    if (!shapes.empty())
-      w->add_section(K::kShapes, bytes_of(shapes), uint32_t(shapes.size()), plain);
-    if (!objects.empty())
-      w->add_section(K::kObjects, bytes_of(objects), uint32_t(objects.size()), plain);
-    if (!object_shapes.empty())
-      w->add_section(K::kObjectShapes, bytes_of(object_shapes), uint32_t(object_shapes.size()),
-                     plain);
-    if (!instances.empty())
-      w->add_section(K::kInstances, bytes_of(instances), uint32_t(instances.size()), plain);
+    add_records(K::kTransforms, transforms_);
+    if (!textures.empty()) add_records(K::kTextures, textures);
+    if (!materials.empty()) add_records(K::kMaterials, materials);
+    if (!media.empty()) add_records(K::kMedia, media);
+    if (!lights.empty()) add_records(K::kLights, lights);
+    if (!area_lights.empty()) add_records(K::kAreaLights, area_lights);
+    if (!shapes.empty()) add_records(K::kShapes, shapes);
+    if (!objects.empty()) add_records(K::kObjects, objects);
+    if (!object_shapes.empty()) add_records(K::kObjectShapes, object_shapes);
+    if (!instances.empty()) add_records(K::kInstances, instances);
     // Meshes name their geometry section by table index: the meshes section
     // goes in now, the geometry chunks right after it.
     uint32_t first_geometry = w->section_count() + (meshes.empty() ? 0 : 1);
     for (size_t i = 0; i < meshes.size(); ++i) meshes[i].section = first_geometry + mesh_chunk[i];
-    if (!meshes.empty())
-      w->add_section(K::kMeshes, bytes_of(meshes), uint32_t(meshes.size()), plain);
+    if (!meshes.empty()) add_records(K::kMeshes, meshes);
     draco_streams.resize(chunks.size());
     for (size_t c = 0; c < chunks.size(); ++c) {
       if (!draco_streams[c].empty())
