@@ -7,8 +7,12 @@
 #define PBRTA_XXH3_AVX2 1
 // XXH3 compiled from libxxhash's header with its AVX2 kernel, in this file only, for CPUs that
 // have AVX2; names get libxxhash's XXH_INLINE_ prefix, so nothing clashes with the library.
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 #define XXH_INLINE_ALL
 #define XXH_VECTOR XXH_AVX2
 #include <xxhash.h>
@@ -19,7 +23,11 @@ uint64_t checksum64_avx2(const void* data, size_t size) {
 }
 }  // namespace
 }  // namespace pbrta
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 #endif
 
 namespace pbrta {
