@@ -4,7 +4,8 @@
 // good archive; without new checksums the loader would stop at the checksum
 // and never reach the check under test. reseal_and_load() recomputes the
 // section's checksum, the table's and the header's, writes the bytes to
-// `path` and returns load()'s error message (empty when the archive loaded).
+// `path` and returns load()'s error message (empty when the archive loaded) on
+// `threads` threads.
 // section_entry() finds the table entry of a section to edit.
 #pragma once
 
@@ -28,7 +29,7 @@ inline uint32_t section_entry(const pbrta::SceneArchive& archive, pbrta::Section
 }
 
 inline std::string reseal_and_load(std::string bytes, uint32_t section_entry,
-                                   const std::string& path) {
+                                   const std::string& path, int threads = 1) {
   const size_t entry_at = sizeof(pbrta::Header) + section_entry * sizeof(pbrta::SectionEntry);
   pbrta::SectionEntry e;
   std::memcpy(&e, &bytes[entry_at], sizeof e);
@@ -42,7 +43,7 @@ inline std::string reseal_and_load(std::string bytes, uint32_t section_entry,
   write_file(path, bytes);
   pbrta::SceneArchive archive;
   std::string message;
-  EXPECT_FALSE(archive.load(path, 1, &message));
+  EXPECT_FALSE(archive.load(path, threads, &message));
   return message;
 }
 
