@@ -11,10 +11,10 @@
 
 #include "compiler/refine.h"
 #include "format/archive_reader.h"
-#include "format/zstd_frames.h"
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
 #include "format/texel_format.h"
+#include "format/zstd_frames.h"
 
 namespace pbrtc {
 

@@ -148,8 +148,8 @@ bool shuffle_kernel_available(ShuffleKernel kernel) {
 
 void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* dst, uint64_t size,
                            WordBound* bounds, uint64_t num_bounds) {
+  const uint64_t words = size / 4;
   auto run = [&](uint64_t w0, uint64_t w1, uint32_t limit, bool check) {
-    const uint64_t words = size / 4;
 #if defined(PBRTA_SHUFFLE_AVX2)
     if (kernel == ShuffleKernel::kAvx2)
       return check ? unshuffle_words_avx2<true>(src, dst, words, w0, w1, limit)
@@ -158,7 +158,6 @@ void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* ds
     return check ? unshuffle_words<true>(src, dst, words, w0, w1, limit)
                  : unshuffle_words<false>(src, dst, words, w0, w1, 0);
   };
-  const uint64_t words = size / 4;
   uint64_t w = 0;
   for (uint64_t k = 0; k < num_bounds; ++k) {
     WordBound& b = bounds[k];

@@ -76,7 +76,7 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vecto
   uint8_t* out = stored->data() + n * sizeof(FrameEntry);
   for (uint64_t k = 0; k < n; ++k) {
     FrameEntry entry{};
-    entry.stored_size = static_cast<uint32_t>(frames[k].size());  // <= compressBound(256 KiB)
+    entry.stored_size = static_cast<uint32_t>(frames[k].size());  // <= compressBound(4 MiB)
     entry.checksum = checksum64(frames[k].data(), frames[k].size());
     std::memcpy(stored->data() + k * sizeof(FrameEntry), &entry, sizeof entry);
     std::memcpy(out, frames[k].data(), frames[k].size());
