@@ -37,11 +37,14 @@ class Checker {
     }
     return false;
   }
-  // index < count, or NONE when allowed.
+  // index < count, or NONE when allowed. Inline: the record loops call it ~10 times per shape.
   bool index(uint32_t i, uint32_t count, const char* record, uint32_t at, const char* field,
              const char* array, bool none_ok) {
-    if (i == kNoIndex && none_ok) return true;
-    if (i < count) return true;
+    return i < count || (i == kNoIndex && none_ok) ||
+           index_failed(i, count, record, at, field, array);
+  }
+  [[gnu::noinline]] bool index_failed(uint32_t i, uint32_t count, const char* record, uint32_t at,
+                                      const char* field, const char* array) {
     return fail(
         std::string(record) + " " + std::to_string(at) + ": " + field + " " +
         (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
@@ -532,8 +535,10 @@ bool SceneArchive::validate(int threads, std::string* error) {
   // checks: its arrays must agree. One written before version 1.1 has none (the renderer
   // reports that); one that has a table must have a consistent one.
   c.in(sec(SectionKind::kEntities));
+  const int fourier = find_type(Category::kMaterial, "fourier");
   for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
-    if (entities[i].category != uint8_t(Category::kMaterial) || type_name(i) != "fourier") continue;
+    if (entities[i].category != uint8_t(Category::kMaterial) || int(entities[i].type) != fourier)
+      continue;
     FourierTableView t;
     std::string why;
     const ValueRecord* mu = value(i, "bsdfmu");
@@ -596,12 +601,9 @@ bool SceneArchive::validate(int threads, std::string* error) {
          c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   }
   c.in(sec(SectionKind::kMeshes));
-  // Meshes whose layout checks passed, in order; their indices are checked after the loop, in
-  // parallel (the largest part of validation: every index of every mesh is read).
-  // (Reserved: growing these by doubling faulted in ~2 MB of fresh pages per load for 50k
-  // meshes, at ~10 us per 4 KiB page in a VM.)
-  std::vector<uint32_t> laid_out;
-  laid_out.reserve(meshes.size);
+  // Meshes [0, laid_out) passed their layout checks; their indices are checked after the loop
+  // (the largest part of validation: every index of every mesh is read).
+  uint32_t laid_out = 0;
   for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
     const MeshRecord& m = meshes[i];
     auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
@@ -643,36 +645,63 @@ bool SceneArchive::validate(int threads, std::string* error) {
           array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
           c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true)))
       break;
-    laid_out.push_back(i);
+    laid_out = i + 1;
   }
   {
-    // The bulk sections (geometry, texels) decode now, with every laid-out mesh's triangle
-    // indices checked against its vertex count block by block as they decode (reading them back
-    // afterwards was the largest part of validation). The reported index is the first in mesh
-    // order, as a serial check finds it, and it comes before any failure of a later mesh's
-    // layout. Nothing is decoded when the records already failed.
+    // The bulk sections (geometry, texels) decode now, with the triangle indices of every
+    // laid-out mesh checked against its vertex count. A large mesh's are checked block by block
+    // as they decode (reading them back afterwards was the largest part of validation); a small
+    // one's are read back afterwards, as a bound's bookkeeping in the decoder (~100 bytes, copied
+    // per frame and per shuffle block) outweighs reading a few hundred bytes again: 50k
+    // one-triangle meshes spent 10 ms faulting in and growing the bound lists. The reported
+    // index is the first in mesh order, as a serial check finds it, and it comes before any
+    // failure of a later mesh's layout. Nothing is decoded when the records already failed.
+    constexpr uint64_t kBoundIndexBytes = 4096;
+    auto index_bytes = [&](uint32_t m) { return uint64_t(meshes[m].num_triangles) * 12; };
     std::vector<ArchiveReader::U32Bound> bounds;
-    bounds.reserve(laid_out.size());
-    for (uint32_t i : laid_out) {
+    std::vector<uint32_t> bound_mesh;
+    for (uint32_t i = 0; i < laid_out; ++i) {
       const MeshRecord& m = meshes[i];
-      bounds.push_back(
-          {m.section, m.indices, m.indices + uint64_t(m.num_triangles) * 12, m.num_vertices});
+      if (index_bytes(i) < kBoundIndexBytes) continue;
+      bounds.push_back({m.section, m.indices, m.indices + index_bytes(i), m.num_vertices});
+      bound_mesh.push_back(i);
     }
-    if (!c.failed() || !laid_out.empty()) {
+    if (!c.failed() || laid_out > 0) {
       std::vector<uint32_t> bulk;
       for (uint32_t i = 0; i < r.section_count(); ++i)
         if (!r.skipped(i) && r.section_data(i) == nullptr) bulk.push_back(i);
       std::vector<uint64_t> first;
       if (!reader_.load_sections(threads, bulk, bounds, &first, error)) return false;
-      for (size_t b = 0; b < bounds.size(); ++b) {
-        if (first[b] == bounds[b].end) continue;
-        const uint32_t mesh = laid_out[b];
-        const uint64_t k = (first[b] - bounds[b].begin) / 4;
-        c.fail_instead("mesh " + std::to_string(mesh) + ": triangle " + std::to_string(k / 3) +
-                       " has vertex index " + std::to_string(indices(mesh)[k]) + " (" +
-                       std::to_string(meshes[mesh].num_vertices) + " vertices)");
+      // The first offending index of mesh m, or kClean.
+      constexpr uint64_t kClean = ~uint64_t{0};
+      auto first_bad = [&](uint32_t m) -> uint64_t {
+        const uint32_t* v = indices(m);
+        const uint64_t n = uint64_t(meshes[m].num_triangles) * 3;
+        for (uint64_t k = 0; k < n; ++k)
+          if (v[k] >= meshes[m].num_vertices) return k;
+        return kClean;
+      };
+      uint32_t bad_mesh = laid_out;
+      uint64_t bad_at = 0;
+      for (size_t b = 0; b < bounds.size(); ++b)
+        if (first[b] != bounds[b].end) {
+          bad_mesh = bound_mesh[b];
+          bad_at = (first[b] - bounds[b].begin) / 4;
+          break;
+        }
+      for (uint32_t i = 0; i < bad_mesh; ++i) {
+        if (index_bytes(i) >= kBoundIndexBytes) continue;
+        const uint64_t k = first_bad(i);
+        if (k == kClean) continue;
+        bad_mesh = i;
+        bad_at = k;
         break;
       }
+      if (bad_mesh < laid_out)
+        c.fail_instead("mesh " + std::to_string(bad_mesh) + ": triangle " +
+                       std::to_string(bad_at / 3) + " has vertex index " +
+                       std::to_string(indices(bad_mesh)[bad_at]) + " (" +
+                       std::to_string(meshes[bad_mesh].num_vertices) + " vertices)");
     }
   }
   c.in(sec(SectionKind::kImages));

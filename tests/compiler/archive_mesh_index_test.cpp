@@ -3,8 +3,9 @@
 // index deep in a large mesh is found whatever the thread count, the message names the first bad
 // one in mesh order, and an earlier mesh's bad index is reported before a later mesh's bad
 // layout (the order a serial check would find them in), whether the indices are read back from
-// an uncompressed archive or checked as codec-4 frames unshuffle. Also: a large mesh archived
-// with zstd loads to the same arrays as the uncompressed archive.
+// an uncompressed archive or checked as codec-4 frames unshuffle, and whether a mesh's indices are
+// checked as they decode (large meshes) or read back afterwards (small ones). Also: a large mesh
+// archived with zstd loads to the same arrays as the uncompressed archive.
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
@@ -41,6 +42,10 @@ class MeshIndexCheck : public ::testing::Test {
   // 224 x 224 quads: 100352 triangles, 301056 indices, more than one 2^18-index chunk.
   static constexpr int kBig = 224;
   static constexpr uint32_t kBigVertices = (kBig + 1) * (kBig + 1);
+  // 40 x 40 quads: 3200 triangles, 38400 bytes of indices, enough to be checked as they decode;
+  // the 3 x 3 mesh between them (216 bytes) is read back.
+  static constexpr int kMid = 40;
+  static constexpr uint32_t kMidVertices = (kMid + 1) * (kMid + 1);
 
   void SetUp() override {
     dir_ = testing_support::scratch_dir(
@@ -50,7 +55,7 @@ class MeshIndexCheck : public ::testing::Test {
         dir_ + "/s.pbrt",
         "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
         "LightSource \"point\"\n" +
-            grid_mesh(kBig) + grid_mesh(3) + "WorldEnd\n");
+            grid_mesh(kBig) + grid_mesh(3) + grid_mesh(kMid) + "WorldEnd\n");
   }
 
   // Compiles the scene to path, compressed or not; returns the archive's bytes.
@@ -91,8 +96,9 @@ class MeshIndexCheck : public ::testing::Test {
     plain_ = compile_to(dir_ + "/plain.pbrta", false);
     std::string error;
     ASSERT_TRUE(archive_.load(dir_ + "/plain.pbrta", 1, &error)) << error;
-    ASSERT_EQ(archive_.meshes.size, 2u);
+    ASSERT_EQ(archive_.meshes.size, 3u);
     ASSERT_EQ(archive_.meshes[0].num_vertices, kBigVertices);
+    ASSERT_EQ(archive_.meshes[2].num_vertices, kMidVertices);
     const int s = archive_.reader().find_section(pbrta::SectionKind::kMeshes);
     ASSERT_GE(s, 0);
     meshes_at_ = entry(plain_, uint32_t(s)).offset;
@@ -173,6 +179,17 @@ TEST_F(MeshIndexCheck, BadIndexDeepInALargeMeshIsFoundOnAnyThreadCount) {
     b = plain_;
     set_u32(&b, index_at(1, 53), 16);
     EXPECT_EQ(error_of(b, 2), prefix + "mesh 1: triangle 17 has vertex index 16 (16 vertices)");
+    // A small mesh's (read back after decoding) before a later large one's (checked as it
+    // decodes), and the large one's alone.
+    set_u32(&b, index_at(2, 9000), kMidVertices);
+    for (int threads : {1, 2})
+      EXPECT_EQ(error_of(b, threads),
+                prefix + "mesh 1: triangle 17 has vertex index 16 (16 vertices)");
+    set_u32(&b, index_at(1, 53), 15);
+    for (int threads : {1, 2})
+      EXPECT_EQ(error_of(b, threads), prefix + "mesh 2: triangle 3000 has vertex index " +
+                                          std::to_string(kMidVertices) + " (" +
+                                          std::to_string(kMidVertices) + " vertices)");
     // Mesh 0's bad index comes before mesh 1's bad layout, as in a serial check.
     b = plain_;
     set_u32(&b, index_at(0, 300000), kBigVertices + 7);
@@ -196,11 +213,11 @@ TEST_F(MeshIndexCheck, ZstdArchiveLoadsTheSameArrays) {
     pbrta::SceneArchive z;
     std::string error;
     ASSERT_TRUE(z.load(dir_ + "/z.pbrta", threads, &error)) << error;
-    ASSERT_EQ(z.meshes.size, 2u);
+    ASSERT_EQ(z.meshes.size, 3u);
     const pbrta::MeshRecord& m = z.meshes[0];
     EXPECT_EQ(z.reader().entry(m.section).codec, uint32_t(pbrta::Codec::kZstdShuffle4Frames));
     EXPECT_GT(z.reader().section_size(m.section), 4 * pbrta::kShuffleBlock);
-    for (uint32_t k = 0; k < 2; ++k) {
+    for (uint32_t k = 0; k < 3; ++k) {
       const pbrta::MeshRecord& p = archive_.meshes[k];
       ASSERT_EQ(z.meshes[k].num_triangles, p.num_triangles);
       EXPECT_EQ(std::memcmp(z.indices(k), archive_.indices(k), 12 * uint64_t(p.num_triangles)), 0);
