@@ -116,11 +116,18 @@ void zstd_free(void*, void* address) {
 
 }  // namespace
 
-// One loading thread's state, kept by the reader across load_sections calls and freed once every
-// section is loaded: the decompression context (reused across sections, so a streaming window
-// buffer is allocated once), the block that shuffled data is decoded into before it is unshuffled
-// into place, and the buffer stored bytes are read into. Each is made on first need: a thread
-// that only decodes small record sections never maps a scratch block.
+// Bytes of huge-page buffers (scratch and staging) that loading threads keep between loads, in
+// all: each thread keeps its buffers for the next load while the total stays within this.
+constexpr uint64_t kKeptBufferBudget = uint64_t{32} << 20;
+std::atomic<uint64_t> kept_buffer_bytes{0};
+
+// One loading thread's state, kept across load_sections calls and across loads (and readers) for
+// the life of the process: the decompression context (reused across sections, so a streaming
+// window buffer is allocated once), the block that shuffled data is decoded into before it is
+// unshuffled into place, and the buffer stored bytes are read into. Each is made on first need: a
+// thread that only decodes small record sections never maps a scratch block. Keeping the buffers
+// matters in a VM: mapping, zeroing and unmapping fresh huge pages for them was half of a
+// 0.75 ms load of killeroo-simple, repeated.
 struct archive_detail::Decoder {
   ZSTD_DCtx* dctx = nullptr;
   bool tried = false;
@@ -135,23 +142,33 @@ struct archive_detail::Decoder {
   Decoder() = default;
   Decoder(const Decoder&) {}  // a fresh one: contexts are per thread, never shared
   Decoder& operator=(const Decoder&) = delete;
-  ~Decoder() { release(); }
-  // Frees the context and buffers (made again on the next need).
-  void release() {
+  ~Decoder() {
     ZSTD_freeDCtx(dctx);
-    dctx = nullptr;
-    tried = false;
     free_scratch();
-    if (staging != nullptr) munmap(staging, staging_mapped);
-    staging = nullptr;
-    staging_mapped = 0;
+    free_staging();
+  }
+  // After a load: frees the buffers unless they fit the process's budget for kept buffers, and
+  // the context if a streamed (codec 2) section grew its window buffer past 1 MiB.
+  void trim() {
+    if (kept_buffer_bytes.load() > kKeptBufferBudget) {
+      free_scratch();
+      free_staging();
+    }
+    if (dctx != nullptr && ZSTD_sizeof_DCtx(dctx) > (size_t{1} << 20)) {
+      ZSTD_freeDCtx(dctx);
+      dctx = nullptr;
+      tried = false;
+    }
+    bounds = {};
+    bound_ids = {};
   }
   // A staging buffer of at least bytes, or nullptr when out of memory.
   uint8_t* stage(uint64_t bytes) {
     if (bytes > staging_mapped) {
-      if (staging != nullptr) munmap(staging, staging_mapped);
+      free_staging();
       staging = map_fresh(bytes, &staging_mapped);
       if (staging == nullptr) staging_mapped = 0;
+      kept_buffer_bytes += staging_mapped;
     }
     return staging;
   }
@@ -169,13 +186,14 @@ struct archive_detail::Decoder {
   }
   // A scratch block of at least bytes to decode shuffled data into (codec 2: kShuffleBlock, codec
   // 4: its frame's block), or nullptr when out of memory. Sized by need: a small frame (a records
-  // section) takes a heap block, not fresh huge pages to zero and unmap on every load; a full
-  // frame takes exactly its two huge pages.
+  // section) takes a heap block, not fresh huge pages; a full frame takes exactly two huge pages.
   uint8_t* block(uint64_t bytes) {
     if (bytes > scratch_size) {
       free_scratch();
       if (bytes >= kHugeBufferThreshold) {
         scratch = map_fresh(bytes, &scratch_mapped);
+        if (scratch == nullptr) scratch_mapped = 0;
+        kept_buffer_bytes += scratch_mapped;
       } else {
         scratch = static_cast<uint8_t*>(std::malloc(bytes));
         scratch_mapped = 0;
@@ -191,8 +209,15 @@ struct archive_detail::Decoder {
       munmap(scratch, scratch_mapped);
     else
       std::free(scratch);
+    kept_buffer_bytes -= scratch_mapped;
     scratch = nullptr;
     scratch_size = scratch_mapped = 0;
+  }
+  void free_staging() {
+    if (staging != nullptr) munmap(staging, staging_mapped);
+    kept_buffer_bytes -= staging_mapped;
+    staging = nullptr;
+    staging_mapped = 0;
   }
 };
 
@@ -226,6 +251,15 @@ uint64_t max_total_raw_size(uint64_t file_size) {
 }
 
 struct archive_detail::Decoders : tbb::enumerable_thread_specific<Decoder> {};
+
+namespace {
+// Every reader's loading threads share these (a thread runs one load task at a time, so no two
+// uses of one Decoder overlap). Never destroyed: a reader may load during static destruction.
+archive_detail::Decoders& process_decoders() {
+  static archive_detail::Decoders* decoders = new archive_detail::Decoders;
+  return *decoders;
+}
+}  // namespace
 
 void archive_detail::BufferFree::operator()(uint8_t* p) const {
   if (mapped_size > 0)
@@ -269,7 +303,6 @@ ArchiveReader& ArchiveReader::operator=(ArchiveReader&& other) noexcept {
   map_size_ = other.map_size_;
   copy_ = std::move(other.copy_);
   decoded_ = std::move(other.decoded_);
-  decoders_ = std::move(other.decoders_);
   base_ = other.base_;
   size_ = other.size_;
   header_ = other.header_;
@@ -285,7 +318,6 @@ void ArchiveReader::reset() {
   sections_.clear();
   entries_.clear();
   decoded_.clear();
-  decoders_.reset();
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (map_ != nullptr) munmap(map_, map_size_);
@@ -861,8 +893,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   std::stable_sort(schedule.begin(), schedule.end(),
                    [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; });
   std::vector<std::string> task_errors(tasks.size());
-  if (!decoders_) decoders_ = std::make_unique<archive_detail::Decoders>();
-  archive_detail::Decoders& decoders = *decoders_;
+  archive_detail::Decoders& decoders = process_decoders();
   // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
   auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
     const uint64_t k4 = first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo),
@@ -909,19 +940,15 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order) work_bytes += entries_[i].stored_size + entries_[i].raw_size;
   if (threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2) {
     for (uint32_t k : schedule) run(k);
+    decoders.local().trim();
   } else {
-    // Each thread takes the next task in schedule order until none is left. When this call
-    // loads the last sections, a thread then frees its decoder's buffers at once, while the
-    // others finish their last tasks (unmapping them all on this thread afterwards took 0.3 ms).
-    bool finishing = true;
-    for (uint32_t i = 0; i < n; ++i)
-      finishing = finishing && (sections_[i].skipped || sections_[i].data || wanted[i]);
+    // Each thread takes the next task in schedule order until none is left.
     std::atomic<size_t> next{0};
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
       tbb::parallel_for(0, arena.max_concurrency(), [&](int) {
         for (size_t k = next++; k < schedule.size(); k = next++) run(schedule[k]);
-        if (finishing) decoders.local().release();
+        decoders.local().trim();
       });
     });
   }
@@ -943,9 +970,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order)
     if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames))
       sections_[i].data = decoded + slot[i];
-  bool all_loaded = true;
-  for (const Section& sec : sections_) all_loaded = all_loaded && (sec.skipped || sec.data);
-  if (all_loaded) decoders_.reset();
   first_out->resize(bounds.size());
   for (uint32_t b = 0; b < bounds.size(); ++b) (*first_out)[b] = first[b].load();
   return true;

@@ -17,7 +17,10 @@
 // unshuffled from there straight into its place, so the decoded bytes are written to memory once
 // and every other step works on cached data; the caller's uint32 bounds (triangle indices) are
 // checked in the same pass. Legacy codec-2 sections stream one shuffle block at a time through
-// the scratch block the same way, one section per thread.
+// the scratch block the same way, one section per thread. Each loading thread keeps its zstd
+// context, scratch block and staging buffer for the next load, by any reader, as long as all
+// threads' kept buffers stay within 32 MiB: mapping and zeroing them anew was half of a repeated
+// 1 MB load (a process's first load pays for them once).
 // Ownership: the reader owns the mapping and the open file (or, for open_memory, borrows the
 // caller's bytes) and the decoded buffer; every pointer it hands out lives until the reader is
 // destroyed or moved from.
@@ -77,7 +80,7 @@ struct BufferFree {
   void operator()(uint8_t* p) const;
 };
 struct Decoder;   // one loading thread's zstd context and unshuffle scratch
-struct Decoders;  // one per thread, kept across load_sections calls
+struct Decoders;  // one per thread, kept for the life of the process
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -189,7 +192,6 @@ class ArchiveReader {
   // The decoded (not in-place) sections, one buffer per load_sections call, each section at its
   // own 64-byte aligned offset.
   std::vector<Buffer> decoded_;
-  std::unique_ptr<archive_detail::Decoders> decoders_;  // while sections remain to load
   const uint8_t* base_ = nullptr;
   uint64_t size_ = 0;
   Header header_{};

@@ -3,7 +3,10 @@
 // buffer, compressed sections read with pread. Sections of every size around the shuffle block
 // decode to their exact bytes on 1 and 2 threads, from a file and from memory; damage in the
 // middle of a large section is still caught (checksum, or zstd itself when the checksum is
-// forged); a file that shrinks after open gives an error, not SIGBUS.
+// forged); a file that shrinks after open gives an error, not SIGBUS. The loading threads' zstd
+// contexts and buffers are kept across loads for the whole process: readers on several threads at
+// once, loading archives whose frames need larger and smaller buffers in turn, still decode
+// exactly.
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -12,6 +15,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "archive_bytes.h"
@@ -91,6 +95,33 @@ TEST(ArchiveLoad, EverySizeAroundTheShuffleBlockDecodesExactly) {
         << error;
     expect_decodes(from_memory, sections);
   }
+}
+
+// Two archives, the first with frames (and stored frames, read through a staging buffer) larger
+// than the second's, each loaded in turn by three readers on their own threads, each of which
+// loads with two threads: every load must decode exactly, whatever buffers the threads kept from
+// the loads before.
+TEST(ArchiveLoad, ConcurrentReadersShareTheKeptDecodersSafely) {
+  const std::string dir = testing_support::scratch_dir("ArchiveLoad.ConcurrentReaders");
+  const std::vector<Raw> big = {{Codec::kZstdShuffle4Frames, float_bytes(9 * (1u << 20) + 12, 1)},
+                                {Codec::kZstd, float_bytes(300 * 1024, 2)}};
+  const std::vector<Raw> small = {{Codec::kZstdShuffle4Frames, float_bytes(700 * 1024, 3)},
+                                  {Codec::kZstdShuffle4Frames, float_bytes(2 * (1u << 20), 4)}};
+  const std::string paths[2] = {dir + "/big.pbrta", dir + "/small.pbrta"};
+  write_sections(paths[0], big);
+  write_sections(paths[1], small);
+  std::vector<std::thread> readers;
+  for (int t = 0; t < 3; ++t)
+    readers.emplace_back([&, t] {
+      for (int round = 0; round < 4; ++round) {
+        const int which = (round + t) % 2;
+        ArchiveReader r;
+        std::string error;
+        ASSERT_TRUE(r.open(paths[which], &error) && r.load_sections(2, &error)) << error;
+        expect_decodes(r, which == 0 ? big : small);
+      }
+    });
+  for (std::thread& t : readers) t.join();
 }
 
 class ArchiveLoadDamage : public ::testing::Test {
