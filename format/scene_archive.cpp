@@ -177,23 +177,56 @@ std::string_view SceneArchive::path_of(uint32_t index) const {
   return index < provenance.size ? provenance_string(provenance[index].path) : std::string_view();
 }
 
+namespace {
+// A mesh with fewer bytes of triangle indices than this has them read back after the load instead
+// of checked as they decode: a bound's bookkeeping in the decoder (~100 bytes, copied per frame and
+// per shuffle block) outweighs reading a few hundred bytes again. 50k one-triangle meshes spent
+// 10 ms of a 26 ms load building, growing and faulting in their bound lists.
+constexpr uint64_t kBoundIndexBytes = 4096;
+}  // namespace
+
 bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
   path_ = path;
   if (!reader_.open(path, error)) return false;
-  // The records first: validating them tells which triangle indices the geometry must keep
-  // within bounds, which validate() then checks while the bulk sections decode.
-  std::vector<uint32_t> records;
-  for (uint32_t i = 0; i < reader_.section_count(); ++i) {
-    const uint32_t kind = reader_.entry(i).kind;
-    if (kind != uint32_t(SectionKind::kGeometry) && kind != uint32_t(SectionKind::kTexels))
-      records.push_back(i);
-  }
+  // The mesh records first, alone: they say which triangle indices the geometry must keep within
+  // which vertex counts, checked as the geometry decodes. Then every other section in one
+  // parallel pass (records and bulk data together: a barrier between them left a thread idle
+  // while the other decoded a scene's one mesh), and only then is what it all means validated.
+  std::vector<uint32_t> meshes_first, rest;
+  for (uint32_t i = 0; i < reader_.section_count(); ++i)
+    (reader_.entry(i).kind == uint32_t(SectionKind::kMeshes) ? meshes_first : rest).push_back(i);
   std::vector<uint64_t> unused;
-  if (!reader_.load_sections(threads, records, {}, &unused, error)) return false;
-  return validate(threads, error);
+  if (!reader_.load_sections(threads, meshes_first, {}, &unused, error)) return false;
+  IndexChecks checks;
+  plan_index_checks(&checks);
+  if (!reader_.load_sections(threads, rest, checks.bounds, &checks.first, error)) return false;
+  return validate(threads, checks, error);
 }
 
-bool SceneArchive::validate(int threads, std::string* error) {
+// From the mesh records as they are, unvalidated: a mesh whose indices do not lie on 4-byte
+// boundaries inside a geometry section gets no bound, and validate() rejects its layout before it
+// would look at its indices.
+void SceneArchive::plan_index_checks(IndexChecks* checks) const {
+  const int s = reader_.find_section(SectionKind::kMeshes);
+  if (s < 0) return;
+  const uint8_t* data = reader_.section_data(uint32_t(s));
+  const uint64_t count = reader_.entry(uint32_t(s)).count;
+  if (data == nullptr || reader_.section_size(uint32_t(s)) != count * sizeof(MeshRecord)) return;
+  for (uint32_t i = 0; i < count; ++i) {
+    MeshRecord m;
+    std::memcpy(&m, data + uint64_t(i) * sizeof m, sizeof m);
+    const uint64_t bytes = uint64_t(m.num_triangles) * 12;
+    if (bytes < kBoundIndexBytes || m.section >= reader_.section_count()) continue;
+    const SectionEntry& e = reader_.entry(m.section);
+    if (e.kind != uint32_t(SectionKind::kGeometry) || reader_.skipped(m.section) ||
+        m.indices % 4 != 0 || m.indices > e.raw_size || bytes > e.raw_size - m.indices)
+      continue;
+    checks->bounds.push_back({m.section, m.indices, m.indices + bytes, m.num_vertices});
+    checks->mesh.push_back(i);
+  }
+}
+
+bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string* error) {
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -647,62 +680,37 @@ bool SceneArchive::validate(int threads, std::string* error) {
       break;
     laid_out = i + 1;
   }
-  {
-    // The bulk sections (geometry, texels) decode now, with the triangle indices of every
-    // laid-out mesh checked against its vertex count. A large mesh's are checked block by block
-    // as they decode (reading them back afterwards was the largest part of validation); a small
-    // one's are read back afterwards, as a bound's bookkeeping in the decoder (~100 bytes, copied
-    // per frame and per shuffle block) outweighs reading a few hundred bytes again: 50k
-    // one-triangle meshes spent 10 ms faulting in and growing the bound lists. The reported
-    // index is the first in mesh order, as a serial check finds it, and it comes before any
-    // failure of a later mesh's layout. Nothing is decoded when the records already failed.
-    constexpr uint64_t kBoundIndexBytes = 4096;
-    auto index_bytes = [&](uint32_t m) { return uint64_t(meshes[m].num_triangles) * 12; };
-    std::vector<ArchiveReader::U32Bound> bounds;
-    std::vector<uint32_t> bound_mesh;
-    for (uint32_t i = 0; i < laid_out; ++i) {
-      const MeshRecord& m = meshes[i];
-      if (index_bytes(i) < kBoundIndexBytes) continue;
-      bounds.push_back({m.section, m.indices, m.indices + index_bytes(i), m.num_vertices});
-      bound_mesh.push_back(i);
-    }
-    if (!c.failed() || laid_out > 0) {
-      std::vector<uint32_t> bulk;
-      for (uint32_t i = 0; i < r.section_count(); ++i)
-        if (!r.skipped(i) && r.section_data(i) == nullptr) bulk.push_back(i);
-      std::vector<uint64_t> first;
-      if (!reader_.load_sections(threads, bulk, bounds, &first, error)) return false;
-      // The first offending index of mesh m, or kClean.
-      constexpr uint64_t kClean = ~uint64_t{0};
-      auto first_bad = [&](uint32_t m) -> uint64_t {
-        const uint32_t* v = indices(m);
-        const uint64_t n = uint64_t(meshes[m].num_triangles) * 3;
-        for (uint64_t k = 0; k < n; ++k)
-          if (v[k] >= meshes[m].num_vertices) return k;
-        return kClean;
-      };
-      uint32_t bad_mesh = laid_out;
-      uint64_t bad_at = 0;
-      for (size_t b = 0; b < bounds.size(); ++b)
-        if (first[b] != bounds[b].end) {
-          bad_mesh = bound_mesh[b];
-          bad_at = (first[b] - bounds[b].begin) / 4;
-          break;
-        }
-      for (uint32_t i = 0; i < bad_mesh; ++i) {
-        if (index_bytes(i) >= kBoundIndexBytes) continue;
-        const uint64_t k = first_bad(i);
-        if (k == kClean) continue;
-        bad_mesh = i;
-        bad_at = k;
+  if (laid_out > 0) {
+    // Every laid-out mesh's triangle indices against its vertex count: a large mesh's were
+    // checked as they decoded, a small one's are read back now. The reported index is the first
+    // in mesh order, as a serial check finds it, and it comes before any failure of a later
+    // mesh's layout.
+    uint32_t bad_mesh = laid_out;
+    uint64_t bad_at = 0;
+    for (size_t b = 0; b < checks.bounds.size() && checks.mesh[b] < laid_out; ++b)
+      if (checks.first[b] != checks.bounds[b].end) {
+        bad_mesh = checks.mesh[b];
+        bad_at = (checks.first[b] - checks.bounds[b].begin) / 4;
         break;
       }
-      if (bad_mesh < laid_out)
-        c.fail_instead("mesh " + std::to_string(bad_mesh) + ": triangle " +
-                       std::to_string(bad_at / 3) + " has vertex index " +
-                       std::to_string(indices(bad_mesh)[bad_at]) + " (" +
-                       std::to_string(meshes[bad_mesh].num_vertices) + " vertices)");
+    size_t next_bound = 0;
+    for (uint32_t i = 0; i < bad_mesh; ++i) {
+      while (next_bound < checks.mesh.size() && checks.mesh[next_bound] < i) ++next_bound;
+      if (next_bound < checks.mesh.size() && checks.mesh[next_bound] == i) continue;
+      const uint32_t* v = indices(i);
+      const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
+      uint64_t k = 0;
+      while (k < n && v[k] < meshes[i].num_vertices) ++k;
+      if (k == n) continue;
+      bad_mesh = i;
+      bad_at = k;
+      break;
     }
+    if (bad_mesh < laid_out)
+      c.fail_instead("mesh " + std::to_string(bad_mesh) + ": triangle " +
+                     std::to_string(bad_at / 3) + " has vertex index " +
+                     std::to_string(indices(bad_mesh)[bad_at]) + " (" +
+                     std::to_string(meshes[bad_mesh].num_vertices) + " vertices)");
   }
   c.in(sec(SectionKind::kImages));
   for (uint32_t i = 0; i < images.size && !c.failed(); ++i) {

@@ -1,9 +1,9 @@
 // format/scene_archive.h — a loaded, fully validated scene archive.
 //
 // SceneArchive::load() opens a .pbrta with ArchiveReader (header, table,
-// checksums, decoding, in parallel): the record sections first, then, once
-// the records are checked, the bulk sections (geometry, texels) with the
-// triangle indices bounded as they decode. It checks every record as
+// checksums, decoding, in parallel): the mesh records first, then every other
+// section in one pass, the large meshes' triangle indices bounded as they
+// decode, and then what it all means. It checks every record as
 // ARCHIVE.md section 10 requires: each index below the count of the array it
 // names, each entity's category, type and value range known to this reader's
 // schema, each value's words in range, the string table well formed, every
@@ -99,7 +99,15 @@ class SceneArchive {
   std::string_view provenance_string(uint32_t i) const;
 
  private:
-  bool validate(int threads, std::string* error);
+  // The triangle indices load() has the reader check as the geometry decodes: bound b covers
+  // mesh[b]'s indices (ascending mesh order), and first[b] is what load_sections found.
+  struct IndexChecks {
+    std::vector<ArchiveReader::U32Bound> bounds;
+    std::vector<uint32_t> mesh;
+    std::vector<uint64_t> first;
+  };
+  void plan_index_checks(IndexChecks* checks) const;
+  bool validate(int threads, const IndexChecks& checks, std::string* error);
 
   ArchiveReader reader_;
   std::string path_;
