@@ -46,6 +46,14 @@ constexpr uint64_t kHugeBufferThreshold = uint64_t{256} << 10;
 // Compressed sections from this size on are read with pread (see load_one); smaller ones, the
 // records, are decoded from the mapping, whose pages around them validate() has mostly touched.
 constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
+// Uncompressed sections from this size on have their pages mapped in one madvise call before
+// they are read (MADV_POPULATE_READ, Linux 5.14; older kernels refuse it and fault as before).
+constexpr uint64_t kPopulateThreshold = uint64_t{256} << 10;
+#ifdef MADV_POPULATE_READ
+constexpr int kMadvPopulateRead = MADV_POPULATE_READ;
+#else
+constexpr int kMadvPopulateRead = 22;
+#endif
 // Loads that read and write fewer bytes than this (stored plus decoded) run on the calling
 // thread. Both count: a flat texture's pyramid stores 0.5% of the 18 MB it decodes to, and
 // writing those fresh pages is most of its load (f3-18: 5.1 ms on one thread, 3.6 on two).
@@ -631,6 +639,17 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     std::string why;
     if (!read_at(e.offset, e.stored_size, stage, &why)) return bad(why);
     src = stage;
+  }
+  if (codec == Codec::kNone && map_ != nullptr && e.stored_size >= kPopulateThreshold) {
+    // Used in place: map all its pages in one call before the checksum reads them, instead of
+    // one fault per 64 KiB (shapes100k uncompressed, 55 MB: 21.5 -> 19.5 ms; cloud 3.0 -> 2.4).
+    // A file that shrank since open fails here (EFAULT) rather than with SIGBUS below.
+    const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+    const uintptr_t begin = reinterpret_cast<uintptr_t>(src) / page * page;
+    const uintptr_t end = reinterpret_cast<uintptr_t>(src) + e.stored_size + kSectionPadding;
+    if (madvise(reinterpret_cast<void*>(begin), end - begin, kMadvPopulateRead) != 0 &&
+        errno == EFAULT)
+      return bad("truncated while loading: the file shrank after it was opened");
   }
   // Before anything decodes these bytes.
   if (checksum64(src, e.stored_size) != e.checksum) return bad("checksum mismatch");

@@ -3,10 +3,12 @@
 // buffer, compressed sections read with pread. Sections of every size around the shuffle block
 // decode to their exact bytes on 1 and 2 threads, from a file and from memory; damage in the
 // middle of a large section is still caught (checksum, or zstd itself when the checksum is
-// forged); a file that shrinks after open gives an error, not SIGBUS. The loading threads' zstd
+// forged); a file that shrinks after open gives an error, not SIGBUS, whether its sections are
+// compressed or used in place. The loading threads' zstd
 // contexts and buffers are kept across loads for the whole process: readers on several threads at
 // once, loading archives whose frames need larger and smaller buffers in turn, still decode
 // exactly.
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -175,6 +177,30 @@ TEST_F(ArchiveLoadDamage, FileThatShrinksAfterOpenIsAnError) {
                        ": section 'geometry' (#1): truncated while loading: the file shrank after "
                        "it was opened");
   EXPECT_EQ(r.section_data(0), nullptr);  // all or nothing
+}
+
+// An uncompressed section is used in place from the mapping; its pages are mapped in before its
+// checksum reads them, so a file that shrank since open is an error there too, not SIGBUS
+// (where the kernel can map pages ahead: MADV_POPULATE_READ, Linux 5.14).
+TEST_F(ArchiveLoadDamage, UncompressedFileThatShrinksAfterOpenIsAnError) {
+  void* probe = mmap(nullptr, 4096, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(probe, MAP_FAILED);
+  const bool can_populate = madvise(probe, 4096, 22 /* MADV_POPULATE_READ */) == 0;
+  munmap(probe, 4096);
+  if (!can_populate) GTEST_SKIP() << "this kernel cannot map pages ahead (MADV_POPULATE_READ)";
+  const std::string path = dir_ + "/shrinks-none.pbrta";
+  write_sections(path, {{Codec::kNone, float_bytes(1000, 1)},
+                        {Codec::kNone, float_bytes(3 * kShuffleBlock, 2)}});
+  ArchiveReader r;
+  std::string error;
+  ASSERT_TRUE(r.open(path, &error)) << error;
+  const SectionEntry e = entry_of(testing_support::read_file(path), 1);
+  ASSERT_EQ(::truncate(path.c_str(), static_cast<off_t>(e.offset + 100)), 0);
+  EXPECT_FALSE(r.load_sections(2, &error));
+  EXPECT_EQ(error, path +
+                       ": section 'geometry' (#1): truncated while loading: the file shrank after "
+                       "it was opened");
+  EXPECT_EQ(r.section_data(0), nullptr);
 }
 
 }  // namespace
