@@ -48,7 +48,9 @@ constexpr uint64_t kHugeBufferThreshold = uint64_t{256} << 10;
 constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
 // Uncompressed sections from this size on have their pages mapped in one madvise call before
 // they are read (MADV_POPULATE_READ, Linux 5.14; older kernels refuse it and fault as before).
-constexpr uint64_t kPopulateThreshold = uint64_t{256} << 10;
+// Small: teapot's 13 sections of 0.9 MB, most under 256 KiB, loaded in 0.31-0.33 ms against
+// 0.38-0.39 ms with only the 256 KiB ones mapped ahead.
+constexpr uint64_t kPopulateThreshold = uint64_t{16} << 10;
 #ifdef MADV_POPULATE_READ
 constexpr int kMadvPopulateRead = MADV_POPULATE_READ;
 #else

@@ -34,7 +34,7 @@
 // path: "<path>: <reason>" for the header and table, "<path>: section '<name>' (#<index>):
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
 // touching the lost pages raises SIGBUS, as with any memory-mapped reader. Compressed sections of
-// 64 KiB or more are read with pread and uncompressed ones of 256 KiB or more have their pages
+// 64 KiB or more are read with pread and uncompressed ones of 16 KiB or more have their pages
 // mapped in ahead (MADV_POPULATE_READ, Linux 5.14 on), so for them it is an error; smaller ones,
 // the whole header and table, and large uncompressed ones on older kernels are read through the
 // mapping.
