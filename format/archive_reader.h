@@ -1,12 +1,13 @@
 // format/archive_reader.h — opens a scene archive (.pbrta) and decodes its sections.
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
-// maps the file read-only, validates the header, the section table and the layout of every
-// section, then load_sections() verifies each section's checksum and decodes it, in parallel over
-// sections. Uncompressed (kNone) sections are used in place from the mapping, 16-byte aligned and
-// followed by 16 bytes of padding; compressed ones are decoded into one owned buffer, each at a
-// 64-byte aligned offset with 16 zero bytes after its data. What the sections mean is the
-// caller's business.
+// maps the file read-only (reads it whole when it is 64 KiB or less: a small scene's load was
+// mostly one page fault and a read per padding gap), validates the header, the section table and
+// the layout of every section, then load_sections() verifies each section's checksum and decodes
+// it, in parallel over sections. Uncompressed (kNone) sections are used in place from the mapping
+// (or the copy), 16-byte aligned and followed by 16 bytes of padding; compressed ones are
+// decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero bytes after its
+// data. What the sections mean is the caller's business.
 //
 // Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
 // and 4 KiB page faults are very slow under virtualization, so everything large the load writes
@@ -35,9 +36,9 @@
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
 // touching the lost pages raises SIGBUS, as with any memory-mapped reader. Compressed sections of
 // 64 KiB or more are read with pread and uncompressed ones of 16 KiB or more have their pages
-// mapped in ahead (MADV_POPULATE_READ, Linux 5.14 on), so for them it is an error; smaller ones,
-// the whole header and table, and large uncompressed ones on older kernels are read through the
-// mapping.
+// mapped in ahead (MADV_POPULATE_READ, Linux 5.14 on), so for them it is an error, as for every
+// file read whole; smaller ones, the header and table, and large uncompressed ones on older
+// kernels are read through the mapping.
 #pragma once
 
 #include <cstddef>

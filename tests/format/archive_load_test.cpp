@@ -7,7 +7,7 @@
 // compressed or used in place. The loading threads' zstd
 // contexts and buffers are kept across loads for the whole process: readers on several threads at
 // once, loading archives whose frames need larger and smaller buffers in turn, still decode
-// exactly.
+// exactly. A small file is read whole at open instead of mapped.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -124,6 +124,25 @@ TEST(ArchiveLoad, ConcurrentReadersShareTheKeptDecodersSafely) {
       }
     });
   for (std::thread& t : readers) t.join();
+}
+
+// A file of 64 KiB or less is read whole when opened, not mapped: what happens to the file
+// afterwards does not reach the sections, which load from the copy (uncompressed ones in place).
+TEST(ArchiveLoad, SmallFileIsReadWholeAtOpen) {
+  const std::string dir = testing_support::scratch_dir("ArchiveLoad.SmallFile");
+  const std::vector<Raw> sections = {{Codec::kNone, float_bytes(3000, 1)},
+                                     {Codec::kZstd, float_bytes(2000, 2)},
+                                     {Codec::kZstdShuffle4Frames, float_bytes(1000, 3)}};
+  const std::string path = dir + "/small.pbrta";
+  const std::string bytes = write_sections(path, sections);
+  ASSERT_LE(bytes.size(), 64u << 10);
+  ArchiveReader r;
+  std::string error;
+  ASSERT_TRUE(r.open(path, &error)) << error;
+  ASSERT_EQ(::truncate(path.c_str(), 0), 0);
+  ASSERT_TRUE(r.load_sections(2, &error)) << error;
+  expect_decodes(r, sections);
+  EXPECT_FALSE(r.open(path, &error));  // and the file itself is now too short to open
 }
 
 class ArchiveLoadDamage : public ::testing::Test {
