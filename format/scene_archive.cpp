@@ -57,6 +57,12 @@ class Checker {
   }
   bool failed() const { return failed_; }
   const std::string& message() const { return message_; }
+  // One for another thread: same file and section, no failure yet.
+  Checker blank() const {
+    Checker b(path_, r_);
+    b.section_ = section_;
+    return b;
+  }
 
  private:
   const std::string& path_;
@@ -65,6 +71,39 @@ class Checker {
   bool failed_ = false;
   std::string message_;
 };
+
+// The first i in [0, n) for which check(i, checker) fails, or n. A large n is checked in blocks
+// on the load's threads, each block stopping at its first failure; the lowest failing one is then
+// checked again on c for the message, so the error is the one a serial check reports (100k shapes:
+// 150k entities and 750k values, 100k shape and 50k mesh records).
+template <class Check>
+uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
+  constexpr uint32_t kBlock = 8192;
+  std::atomic<uint32_t> first_bad{n};
+  auto check_block = [&](uint32_t begin, uint32_t end) {
+    Checker local = c.blank();
+    for (uint32_t i = begin; i < end && i < first_bad.load(std::memory_order_relaxed); ++i)
+      if (!check(i, local)) {
+        uint32_t seen = first_bad.load();
+        while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
+        }
+        return;
+      }
+  };
+  if (threads == 1 || n < 4 * kBlock) {
+    check_block(0, n);
+  } else {
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<uint32_t>(0, n, kBlock),
+          [&](const tbb::blocked_range<uint32_t>& b) { check_block(b.begin(), b.end()); });
+    });
+  }
+  const uint32_t bad = first_bad.load();
+  if (bad < n) check(bad, c);
+  return bad;
+}
 
 }  // namespace
 
@@ -472,37 +511,10 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     return true;
   };
   c.in(sec(SectionKind::kEntities));
-  {
-    // Large scenes check blocks of entities on every thread, each finding its first failing
-    // entity; the lowest is checked again here for the message, so the error is the one a
-    // serial check reports (100k shapes: 150k entities and 750k values).
-    constexpr uint32_t kBlock = 8192;
-    std::atomic<uint32_t> first_bad{entities.size};
-    auto check_block = [&](uint32_t begin, uint32_t end) {
-      Checker local(path_, reader_);
-      for (uint32_t i = begin; i < end && i < first_bad.load(std::memory_order_relaxed); ++i)
-        if (!check_entity(i, local)) {
-          uint32_t seen = first_bad.load();
-          while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
-          }
-          return;
-        }
-    };
-    if (threads == 1 || entities.size < 4 * kBlock) {
-      check_block(0, entities.size);
-    } else {
-      tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-      arena.execute([&] {
-        tbb::parallel_for(
-            tbb::blocked_range<uint32_t>(0, entities.size, kBlock),
-            [&](const tbb::blocked_range<uint32_t>& b) { check_block(b.begin(), b.end()); });
-      });
-    }
-    if (first_bad.load() < entities.size) check_entity(first_bad.load(), c);
-  }
+  first_failure(entities.size, threads, c, check_entity);
   // Render options point at entities of the right category.
   c.in(sec(SectionKind::kScene));
-  auto entity_of = [&](uint32_t e, Category cat, const char* record, uint32_t at,
+  auto entity_of = [&](Checker& c, uint32_t e, Category cat, const char* record, uint32_t at,
                        const char* field) {
     if (!c.index(e, entities.size, record, at, field, "entities", false)) return false;
     if (entities[e].category != uint8_t(cat))
@@ -513,12 +525,12 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     return true;
   };
   if (!c.failed()) {
-    entity_of(sr.camera, Category::kCamera, "scene", 0, "camera") &&
-        entity_of(sr.film, Category::kFilm, "scene", 0, "film") &&
-        entity_of(sr.filter, Category::kFilter, "scene", 0, "filter") &&
-        entity_of(sr.sampler, Category::kSampler, "scene", 0, "sampler") &&
-        entity_of(sr.integrator, Category::kIntegrator, "scene", 0, "integrator") &&
-        entity_of(sr.accelerator, Category::kAccelerator, "scene", 0, "accelerator") &&
+    entity_of(c, sr.camera, Category::kCamera, "scene", 0, "camera") &&
+        entity_of(c, sr.film, Category::kFilm, "scene", 0, "film") &&
+        entity_of(c, sr.filter, Category::kFilter, "scene", 0, "filter") &&
+        entity_of(c, sr.sampler, Category::kSampler, "scene", 0, "sampler") &&
+        entity_of(c, sr.integrator, Category::kIntegrator, "scene", 0, "integrator") &&
+        entity_of(c, sr.accelerator, Category::kAccelerator, "scene", 0, "accelerator") &&
         c.index(sr.camera_transform, transforms.size, "scene", 0, "camera transform", "transforms",
                 false) &&
         c.index(sr.camera_medium, media.size, "scene", 0, "camera medium", "media", true);
@@ -538,7 +550,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   }
   // Texture bindings must match the parameter's class.
   c.in(sec(SectionKind::kValues));
-  for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
+  auto check_bindings = [&](uint32_t i, Checker& c) {
     const EntityRecord& e = entities[i];
     const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
     const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
@@ -547,23 +559,24 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       if (v.texture == kNoIndex) continue;
       Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
                                                            : Category::kSpectrumTexture;
-      if (entities[textures[v.texture].entity].category != uint8_t(want)) {
-        c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
-               "\": texture " + std::to_string(v.texture) + " is not a " +
-               std::string(category_name(want)));
-        break;
-      }
+      if (entities[textures[v.texture].entity].category != uint8_t(want))
+        return c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
+                      "\": texture " + std::to_string(v.texture) + " is not a " +
+                      std::string(category_name(want)));
     }
-  }
+    return true;
+  };
+  if (!c.failed()) first_failure(entities.size, threads, c, check_bindings);
   c.in(sec(SectionKind::kMaterials));
-  for (uint32_t i = 0; i < materials.size && !c.failed(); ++i) {
+  auto check_material = [&](uint32_t i, Checker& c) {
     const MaterialRecord& m = materials[i];
-    entity_of(m.entity, Category::kMaterial, "material", i, "entity") &&
-        (m.reserved == 0 ||
-         c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
-        c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
-        c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
-  }
+    return entity_of(c, m.entity, Category::kMaterial, "material", i, "entity") &&
+           (m.reserved == 0 ||
+            c.fail("material " + std::to_string(i) + ": reserved field is not zero")) &&
+           c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
+           c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
+  };
+  if (!c.failed()) first_failure(materials.size, threads, c, check_material);
   // A fourier material's table (derived from its file) is indexed by the renderer without
   // checks: its arrays must agree. One written before version 1.1 has none (the renderer
   // reports that); one that has a table must have a consistent one.
@@ -582,7 +595,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   c.in(sec(SectionKind::kMedia));
   for (uint32_t i = 0; i < media.size && !c.failed(); ++i) {
     const MediumRecord& m = media[i];
-    entity_of(m.entity, Category::kMedium, "medium", i, "entity") &&
+    entity_of(c, m.entity, Category::kMedium, "medium", i, "entity") &&
         c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
         ((m.reserved[0] | m.reserved[1]) == 0 ||
          c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
@@ -590,29 +603,31 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   c.in(sec(SectionKind::kLights));
   for (uint32_t i = 0; i < lights.size && !c.failed(); ++i) {
     const LightRecord& l = lights[i];
-    entity_of(l.entity, Category::kLight, "light", i, "entity") &&
+    entity_of(c, l.entity, Category::kLight, "light", i, "entity") &&
         c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
         c.index(l.medium, media.size, "light", i, "medium", "media", true) &&
         c.index(l.image, images.size, "light", i, "image", "images", true);
   }
   c.in(sec(SectionKind::kAreaLights));
   for (uint32_t i = 0; i < area_lights.size && !c.failed(); ++i)
-    entity_of(area_lights[i], Category::kAreaLight, "area light", i, "entity");
+    entity_of(c, area_lights[i], Category::kAreaLight, "area light", i, "entity");
   c.in(sec(SectionKind::kShapes));
-  for (uint32_t i = 0; i < shapes.size && !c.failed(); ++i) {
+  auto check_shape = [&](uint32_t i, Checker& c) {
     const ShapeRecord& s = shapes[i];
-    entity_of(s.entity, Category::kShape, "shape", i, "entity") &&
-        c.index(s.mesh, meshes.size, "shape", i, "mesh", "meshes", true) &&
-        c.index(s.material, materials.size, "shape", i, "material", "materials", false) &&
-        c.index(s.area_light, area_lights.size, "shape", i, "area light", "area lights", true) &&
-        c.index(s.inside_medium, media.size, "shape", i, "inside medium", "media", true) &&
-        c.index(s.outside_medium, media.size, "shape", i, "outside medium", "media", true) &&
-        c.index(s.transform, transforms.size, "shape", i, "transform", "transforms", false) &&
-        c.index(s.object, objects.size, "shape", i, "object", "objects", true) &&
-        ((s.flags & ~uint32_t(kShapeReverseOrientation | kShapeSwapsHandedness)) == 0 ||
-         c.fail("shape " + std::to_string(i) + ": unknown flags")) &&
-        (s.reserved == 0 || c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
-  }
+    return entity_of(c, s.entity, Category::kShape, "shape", i, "entity") &&
+           c.index(s.mesh, meshes.size, "shape", i, "mesh", "meshes", true) &&
+           c.index(s.material, materials.size, "shape", i, "material", "materials", false) &&
+           c.index(s.area_light, area_lights.size, "shape", i, "area light", "area lights", true) &&
+           c.index(s.inside_medium, media.size, "shape", i, "inside medium", "media", true) &&
+           c.index(s.outside_medium, media.size, "shape", i, "outside medium", "media", true) &&
+           c.index(s.transform, transforms.size, "shape", i, "transform", "transforms", false) &&
+           c.index(s.object, objects.size, "shape", i, "object", "objects", true) &&
+           ((s.flags & ~uint32_t(kShapeReverseOrientation | kShapeSwapsHandedness)) == 0 ||
+            c.fail("shape " + std::to_string(i) + ": unknown flags")) &&
+           (s.reserved == 0 ||
+            c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
+  };
+  if (!c.failed()) first_failure(shapes.size, threads, c, check_shape);
   c.in(sec(SectionKind::kObjects));
   for (uint32_t i = 0; i < objects.size && !c.failed(); ++i) {
     const ObjectRecord& o = objects[i];
@@ -634,29 +649,22 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
          c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   }
   c.in(sec(SectionKind::kMeshes));
-  // Meshes [0, laid_out) passed their layout checks; their indices are checked after the loop
+  // Meshes [0, laid_out) passed their layout checks; their indices are checked after them
   // (the largest part of validation: every index of every mesh is read).
-  uint32_t laid_out = 0;
-  for (uint32_t i = 0; i < meshes.size && !c.failed(); ++i) {
+  auto check_mesh = [&](uint32_t i, Checker& c) {
     const MeshRecord& m = meshes[i];
     auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
     if (m.section >= r.section_count() ||
-        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry)) {
-      c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
-      break;
-    }
-    if (m.flags & ~uint32_t(kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices)) {
-      c.fail(at() + "unknown flags");
-      break;
-    }
+        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry))
+      return c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
+    if (m.flags & ~uint32_t(kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices))
+      return c.fail(at() + "unknown flags");
     if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
       // A Draco section decodes to exactly one mesh's layout: the record must describe it.
       MeshRecord expect = m;
       if ((m.flags & kMeshTangents) || single_mesh_layout(&expect) != r.section_size(m.section) ||
-          std::memcmp(&expect, &m, sizeof m) != 0) {
-        c.fail(at() + "does not match the layout of its draco section");
-        break;
-      }
+          std::memcmp(&expect, &m, sizeof m) != 0)
+        return c.fail(at() + "does not match the layout of its draco section");
     }
     uint64_t size = r.section_size(m.section);
     auto array_ok = [&](bool present, uint64_t offset, uint64_t elems, uint64_t elem_bytes,
@@ -670,16 +678,15 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       return true;
     };
     uint64_t nv = m.num_vertices, nt = m.num_triangles;
-    if (!(array_ok(true, m.positions, nv, 12, "positions") &&
-          array_ok(m.flags & kMeshNormals, m.normals, nv, 12, "normals") &&
-          array_ok(m.flags & kMeshTangents, m.tangents, nv, 12, "tangents") &&
-          array_ok(m.flags & kMeshUV, m.uv, nv, 8, "uv") &&
-          array_ok(true, m.indices, nt, 12, "indices") &&
-          array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
-          c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true)))
-      break;
-    laid_out = i + 1;
-  }
+    return array_ok(true, m.positions, nv, 12, "positions") &&
+           array_ok(m.flags & kMeshNormals, m.normals, nv, 12, "normals") &&
+           array_ok(m.flags & kMeshTangents, m.tangents, nv, 12, "tangents") &&
+           array_ok(m.flags & kMeshUV, m.uv, nv, 8, "uv") &&
+           array_ok(true, m.indices, nt, 12, "indices") &&
+           array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
+           c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true);
+  };
+  const uint32_t laid_out = c.failed() ? 0 : first_failure(meshes.size, threads, c, check_mesh);
   if (laid_out > 0) {
     // Every laid-out mesh's triangle indices against its vertex count: a large mesh's were
     // checked as they decoded, a small one's are read back now. The reported index is the first

@@ -1,8 +1,8 @@
-// tests/compiler/archive_entity_check_test.cpp — SceneArchive's entity checks on a scene large
+// tests/compiler/archive_entity_check_test.cpp — SceneArchive's record checks on a scene large
 // enough that they run in blocks on several threads: whatever the thread count, the error names
-// the first bad entity in entity order (the one a serial check finds), for damage in the record
-// itself and in one of its values, and a damaged entity in an early block wins over one in a
-// later block.
+// the first bad record in order (the one a serial check finds), and a damaged record in an early
+// block wins over one in a later block. Entities (damage in the record itself and in one of its
+// values), texture bindings, materials, shapes and mesh layouts.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -20,16 +20,21 @@ namespace {
 
 class EntityCheck : public ::testing::Test {
  protected:
-  // 40000 spheres: more than the 4 blocks of 8192 entities from which the check runs in parallel.
+  // 40000 one-triangle meshes, each with its own material bound to a spectrum texture: more than
+  // the 4 blocks of 8192 records from which the checks run in parallel.
   static constexpr int kShapes = 40000;
 
   void SetUp() override {
     dir_ = testing_support::scratch_dir(
         std::string("EntityCheck.") +
         ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::string text = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n";
+    std::string text =
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+        "Texture \"f\" \"float\" \"constant\"\nTexture \"s\" \"spectrum\" \"constant\"\n";
     for (int i = 0; i < kShapes; ++i)
-      text += "Shape \"sphere\" \"float radius\" " + std::to_string(1 + i % 7) + "\n";
+      text += "Material \"matte\" \"texture Kd\" \"s\" \"float sigma\" " + std::to_string(i % 7) +
+              "\nShape \"trianglemesh\" \"point P\" [0 0 0 1 0 0 0 1 " + std::to_string(i) +
+              "] \"integer indices\" [0 1 2]\n";
     text += "WorldEnd\n";
     const std::string scene = testing_support::write_file(dir_ + "/s.pbrt", text);
     CompiledScene c;
@@ -44,6 +49,9 @@ class EntityCheck : public ::testing::Test {
     good_ = testing_support::read_file(path);
     ASSERT_TRUE(archive_.load(path, 2, &error)) << error;
     ASSERT_GT(archive_.entities.size, 4u * 8192u);
+    ASSERT_GT(archive_.materials.size, 4u * 8192u);
+    ASSERT_EQ(archive_.shapes.size, uint32_t(kShapes));
+    ASSERT_EQ(archive_.meshes.size, uint32_t(kShapes));
     entities_ = testing_support::section_entry(archive_, pbrta::SectionKind::kEntities);
     values_ = testing_support::section_entry(archive_, pbrta::SectionKind::kValues);
     ASSERT_NE(entities_, pbrta::kNoIndex);
@@ -51,6 +59,20 @@ class EntityCheck : public ::testing::Test {
   }
 
   uint64_t offset_of(uint32_t section) const { return archive_.reader().entry(section).offset; }
+  uint32_t section(pbrta::SectionKind kind) const {
+    const uint32_t s = testing_support::section_entry(archive_, kind);
+    EXPECT_NE(s, pbrta::kNoIndex);
+    return s;
+  }
+  // Record i of a section of T records, edited by f, into b.
+  template <class T, class F>
+  void edit(std::string* b, pbrta::SectionKind kind, uint32_t i, F f) const {
+    T r;
+    const uint64_t at = offset_of(section(kind)) + uint64_t(i) * sizeof(T);
+    std::memcpy(&r, b->data() + at, sizeof r);
+    f(&r);
+    std::memcpy(&(*b)[at], &r, sizeof r);
+  }
   // Byte `field` of entity i's record set to v.
   void set_entity_byte(std::string* b, uint32_t i, size_t field, uint8_t v) const {
     (*b)[offset_of(entities_) + i * sizeof(pbrta::EntityRecord) + field] = char(v);
@@ -97,8 +119,75 @@ TEST_F(EntityCheck, BadValueNamesItsEntity) {
                       offsetof(pbrta::ValueRecord, flags);
   b[at + 3] = char(0x80);
   const std::string error = error_of(b, values_);
-  EXPECT_NE(error.find("entity " + std::to_string(i) + ": sphere"), std::string::npos) << error;
+  EXPECT_NE(error.find("entity " + std::to_string(i) + ": " + std::string(archive_.type_name(i))),
+            std::string::npos)
+      << error;
   EXPECT_NE(error.find("unknown value flags"), std::string::npos) << error;
+}
+
+// A material's "Kd" bound to the float texture instead of the spectrum one.
+TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
+  uint32_t float_tex = pbrta::kNoIndex;
+  for (uint32_t t = 0; t < archive_.textures.size; ++t)
+    if (archive_.entities[archive_.textures[t].entity].category ==
+        uint8_t(pbrta::Category::kFloatTexture))
+      float_tex = t;
+  ASSERT_NE(float_tex, pbrta::kNoIndex);
+  const uint32_t early = archive_.materials[2000].entity, late = archive_.materials[39000].entity;
+  std::string b = good_;
+  for (uint32_t e : {late, early}) {
+    const pbrta::ValueRecord* kd = archive_.value(e, "Kd");
+    ASSERT_NE(kd, nullptr);
+    ASSERT_NE(kd->texture, pbrta::kNoIndex);
+    edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
+                             [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
+    const std::string error = error_of(b, values_);
+    EXPECT_NE(error.find("entity " + std::to_string(e) + " \"Kd\": texture " +
+                         std::to_string(float_tex) + " is not a"),
+              std::string::npos)
+        << error;
+  }
+}
+
+TEST_F(EntityCheck, FirstBadMaterialInOrder) {
+  std::string b = good_;
+  const uint32_t mats = section(pbrta::SectionKind::kMaterials);
+  edit<pbrta::MaterialRecord>(&b, pbrta::SectionKind::kMaterials, 39000,
+                              [](pbrta::MaterialRecord* m) { m->reserved = 1; });
+  EXPECT_NE(error_of(b, mats).find("material 39000: reserved field is not zero"),
+            std::string::npos);
+  edit<pbrta::MaterialRecord>(&b, pbrta::SectionKind::kMaterials, 3000,
+                              [](pbrta::MaterialRecord* m) { m->mix[0] = 123456789; });
+  const std::string error = error_of(b, mats);
+  EXPECT_NE(error.find("material 3000: mix material 1 123456789 out of range"), std::string::npos)
+      << error;
+}
+
+TEST_F(EntityCheck, FirstBadShapeInOrder) {
+  std::string b = good_;
+  const uint32_t shapes = section(pbrta::SectionKind::kShapes);
+  edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, 38000,
+                           [](pbrta::ShapeRecord* s) { s->reserved = 7; });
+  EXPECT_NE(error_of(b, shapes).find("shape 38000: reserved field is not zero"), std::string::npos);
+  edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, 100,
+                           [](pbrta::ShapeRecord* s) { s->flags |= 0x100; });
+  const std::string error = error_of(b, shapes);
+  EXPECT_NE(error.find("shape 100: unknown flags"), std::string::npos) << error;
+}
+
+// A mesh's bad layout; the meshes before it have their indices checked, the ones after do not.
+TEST_F(EntityCheck, FirstBadMeshLayoutInOrder) {
+  std::string b = good_;
+  const uint32_t meshes = section(pbrta::SectionKind::kMeshes);
+  edit<pbrta::MeshRecord>(&b, pbrta::SectionKind::kMeshes, 39999,
+                          [](pbrta::MeshRecord* m) { m->indices += 4; });
+  EXPECT_NE(error_of(b, meshes).find("mesh 39999: indices offset is not 16-byte aligned"),
+            std::string::npos);
+  edit<pbrta::MeshRecord>(&b, pbrta::SectionKind::kMeshes, 20000,
+                          [](pbrta::MeshRecord* m) { m->section = 999; });
+  const std::string error = error_of(b, meshes);
+  EXPECT_NE(error.find("mesh 20000: section 999 is not a geometry section"), std::string::npos)
+      << error;
 }
 
 }  // namespace
