@@ -16,7 +16,6 @@
 #include <system_error>
 
 #include <oneapi/tbb/blocked_range.h>
-#include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 // For ZSTD_customMem and ZSTD_createDCtx_advanced: exported by the shared library since 1.3.
@@ -152,7 +151,7 @@ constexpr uint64_t kKeptBufferBudget = uint64_t{32} << 20;
 std::atomic<uint64_t> kept_buffer_bytes{0};
 
 // One loading thread's state, kept across load_sections calls and across loads (and readers) for
-// the life of the process: the decompression context (reused across sections, so a streaming
+// the life of the thread: the decompression context (reused across sections, so a streaming
 // window buffer is allocated once), the block that shuffled data is decoded into before it is
 // unshuffled into place, and the buffer stored bytes are read into. Each is made on first need: a
 // thread that only decodes small record sections never maps a scratch block. Keeping the buffers
@@ -170,7 +169,7 @@ struct archive_detail::Decoder {
   std::vector<uint32_t> bound_ids;
 
   Decoder() = default;
-  Decoder(const Decoder&) {}  // a fresh one: contexts are per thread, never shared
+  Decoder(const Decoder&) = delete;
   Decoder& operator=(const Decoder&) = delete;
   ~Decoder() {
     ZSTD_freeDCtx(dctx);
@@ -280,14 +279,14 @@ uint64_t max_total_raw_size(uint64_t file_size) {
   return limit;
 }
 
-struct archive_detail::Decoders : tbb::enumerable_thread_specific<Decoder> {};
-
 namespace {
-// Every reader's loading threads share these (a thread runs one load task at a time, so no two
-// uses of one Decoder overlap). Never destroyed: a reader may load during static destruction.
-archive_detail::Decoders& process_decoders() {
-  static archive_detail::Decoders* decoders = new archive_detail::Decoders;
-  return *decoders;
+// This thread's decoder, made on first need and freed when the thread ends; the loading tasks of
+// every reader that run on this thread share it (a thread runs one load task at a time). Owned
+// through the thread's own storage, where leak checkers see it.
+archive_detail::Decoder& thread_decoder() {
+  thread_local std::unique_ptr<archive_detail::Decoder> decoder;
+  if (!decoder) decoder = std::make_unique<archive_detail::Decoder>();
+  return *decoder;
 }
 }  // namespace
 
@@ -417,34 +416,29 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
       return false;
     }
     base_ = copy_.get();
-    size_ = size;
-    if (!validate(error)) {
-      const std::string name = path_;
-      reset();
-      path_ = name;
+  } else {
+    void* map = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
+    const int map_errno = errno;
+    if (map == MAP_FAILED) {
+      ::close(fd);
+      *error = fail("cannot map: " + errno_text(map_errno));
       return false;
     }
-    return true;
+    fd_ = fd;  // kept for load_sections' reads of compressed sections
+    map_ = map;
+    map_size_ = size;
+    base_ = static_cast<const uint8_t*>(map);
   }
-  void* map = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
-  const int map_errno = errno;
-  if (map == MAP_FAILED) {
-    ::close(fd);
-    *error = fail("cannot map: " + errno_text(map_errno));
-    return false;
-  }
-  fd_ = fd;  // kept for load_sections' reads of compressed sections
-  map_ = map;
-  map_size_ = size;
-  base_ = static_cast<const uint8_t*>(map);
   size_ = size;
-  if (!validate(error)) {
-    const std::string name = path_;
-    reset();
-    path_ = name;
-    return false;
-  }
-  return true;
+  return validate_or_reset(error);
+}
+
+bool ArchiveReader::validate_or_reset(std::string* error) {
+  if (validate(error)) return true;
+  const std::string name = path_;
+  reset();
+  path_ = name;
+  return false;
 }
 
 bool ArchiveReader::open_memory(std::string_view bytes, std::string_view name, std::string* error) {
@@ -463,13 +457,7 @@ bool ArchiveReader::open_memory(std::string_view bytes, std::string_view name, s
     base_ = copy_.get();
   }
   size_ = bytes.size();
-  if (!validate(error)) {
-    const std::string keep = path_;
-    reset();
-    path_ = keep;
-    return false;
-  }
-  return true;
+  return validate_or_reset(error);
 }
 
 // Checks, in this order: header size, magic, header checksum, version, reserved header fields,
@@ -945,7 +933,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   std::stable_sort(schedule.begin(), schedule.end(),
                    [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; });
   std::vector<std::string> task_errors(tasks.size());
-  archive_detail::Decoders& decoders = process_decoders();
   // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
   auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
     const uint64_t k4 = first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo),
@@ -959,7 +946,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   auto run = [&](uint32_t k) {
     const LoadTask& t = tasks[k];
     uint8_t* out = decoded + slot[t.section];
-    archive_detail::Decoder& decoder = decoders.local();
+    archive_detail::Decoder& decoder = thread_decoder();
     if (t.frame == kWholeSection) {
       if (!load_one(t.section, out, &decoder, &task_errors[k])) return;
       const uint8_t* data = sections_[t.section].data;
@@ -992,7 +979,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order) work_bytes += entries_[i].stored_size + entries_[i].raw_size;
   if (threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2) {
     for (uint32_t k : schedule) run(k);
-    decoders.local().trim();
+    thread_decoder().trim();
   } else {
     // Each thread takes the next task in schedule order until none is left.
     std::atomic<size_t> next{0};
@@ -1000,7 +987,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     arena.execute([&] {
       tbb::parallel_for(0, arena.max_concurrency(), [&](int) {
         for (size_t k = next++; k < schedule.size(); k = next++) run(schedule[k]);
-        decoders.local().trim();
+        thread_decoder().trim();
       });
     });
   }

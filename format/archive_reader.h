@@ -82,8 +82,7 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
-struct Decoder;   // one loading thread's zstd context and unshuffle scratch
-struct Decoders;  // one per thread, kept for the life of the process
+struct Decoder;  // one loading thread's zstd context and unshuffle scratch
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -174,6 +173,8 @@ class ArchiveReader {
   static constexpr uint32_t kWholeSection = 0xFFFFFFFFu;
   struct LoadTask;
   bool validate(std::string* error);
+  // validate(), and on failure reset() with the path kept for messages.
+  bool validate_or_reset(std::string* error);
   // Checks and decodes section index into out (raw_size bytes plus zeroed padding, unless in
   // place).
   bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder, std::string* error);
