@@ -77,6 +77,19 @@ class EntityCheck : public ::testing::Test {
   void set_entity_byte(std::string* b, uint32_t i, size_t field, uint8_t v) const {
     (*b)[offset_of(entities_) + i * sizeof(pbrta::EntityRecord) + field] = char(v);
   }
+  // Damage to a late record is reported; then, with an early one damaged too, the early one.
+  template <class T, class F, class G>
+  void expect_first_wins(pbrta::SectionKind kind, uint32_t late, F damage_late,
+                         const std::string& late_error, uint32_t early, G damage_early,
+                         const std::string& early_error) {
+    std::string b = good_;
+    edit<T>(&b, kind, late, damage_late);
+    std::string error = error_of(b, section(kind));
+    EXPECT_NE(error.find(late_error), std::string::npos) << error;
+    edit<T>(&b, kind, early, damage_early);
+    error = error_of(b, section(kind));
+    EXPECT_NE(error.find(early_error), std::string::npos) << error;
+  }
   // The same error on 1 and 2 threads (after resealing the edited sections).
   std::string error_of(std::string bytes, uint32_t section) {
     const std::string path = dir_ + "/bad.pbrta";
@@ -150,44 +163,27 @@ TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
 }
 
 TEST_F(EntityCheck, FirstBadMaterialInOrder) {
-  std::string b = good_;
-  const uint32_t mats = section(pbrta::SectionKind::kMaterials);
-  edit<pbrta::MaterialRecord>(&b, pbrta::SectionKind::kMaterials, 39000,
-                              [](pbrta::MaterialRecord* m) { m->reserved = 1; });
-  EXPECT_NE(error_of(b, mats).find("material 39000: reserved field is not zero"),
-            std::string::npos);
-  edit<pbrta::MaterialRecord>(&b, pbrta::SectionKind::kMaterials, 3000,
-                              [](pbrta::MaterialRecord* m) { m->mix[0] = 123456789; });
-  const std::string error = error_of(b, mats);
-  EXPECT_NE(error.find("material 3000: mix material 1 123456789 out of range"), std::string::npos)
-      << error;
+  expect_first_wins<pbrta::MaterialRecord>(
+      pbrta::SectionKind::kMaterials, 39000, [](pbrta::MaterialRecord* m) { m->reserved = 1; },
+      "material 39000: reserved field is not zero", 3000,
+      [](pbrta::MaterialRecord* m) { m->mix[0] = 123456789; },
+      "material 3000: mix material 1 123456789 out of range");
 }
 
 TEST_F(EntityCheck, FirstBadShapeInOrder) {
-  std::string b = good_;
-  const uint32_t shapes = section(pbrta::SectionKind::kShapes);
-  edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, 38000,
-                           [](pbrta::ShapeRecord* s) { s->reserved = 7; });
-  EXPECT_NE(error_of(b, shapes).find("shape 38000: reserved field is not zero"), std::string::npos);
-  edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, 100,
-                           [](pbrta::ShapeRecord* s) { s->flags |= 0x100; });
-  const std::string error = error_of(b, shapes);
-  EXPECT_NE(error.find("shape 100: unknown flags"), std::string::npos) << error;
+  expect_first_wins<pbrta::ShapeRecord>(
+      pbrta::SectionKind::kShapes, 38000, [](pbrta::ShapeRecord* s) { s->reserved = 7; },
+      "shape 38000: reserved field is not zero", 100,
+      [](pbrta::ShapeRecord* s) { s->flags |= 0x100; }, "shape 100: unknown flags");
 }
 
 // A mesh's bad layout; the meshes before it have their indices checked, the ones after do not.
 TEST_F(EntityCheck, FirstBadMeshLayoutInOrder) {
-  std::string b = good_;
-  const uint32_t meshes = section(pbrta::SectionKind::kMeshes);
-  edit<pbrta::MeshRecord>(&b, pbrta::SectionKind::kMeshes, 39999,
-                          [](pbrta::MeshRecord* m) { m->indices += 4; });
-  EXPECT_NE(error_of(b, meshes).find("mesh 39999: indices offset is not 16-byte aligned"),
-            std::string::npos);
-  edit<pbrta::MeshRecord>(&b, pbrta::SectionKind::kMeshes, 20000,
-                          [](pbrta::MeshRecord* m) { m->section = 999; });
-  const std::string error = error_of(b, meshes);
-  EXPECT_NE(error.find("mesh 20000: section 999 is not a geometry section"), std::string::npos)
-      << error;
+  expect_first_wins<pbrta::MeshRecord>(
+      pbrta::SectionKind::kMeshes, 39999, [](pbrta::MeshRecord* m) { m->indices += 4; },
+      "mesh 39999: indices offset is not 16-byte aligned", 20000,
+      [](pbrta::MeshRecord* m) { m->section = 999; },
+      "mesh 20000: section 999 is not a geometry section");
 }
 
 }  // namespace
