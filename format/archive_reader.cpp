@@ -188,8 +188,6 @@ struct archive_detail::Decoder {
       dctx = nullptr;
       tried = false;
     }
-    bounds = {};
-    bound_ids = {};
   }
   // A staging buffer of at least bytes, or nullptr when out of memory.
   uint8_t* stage(uint64_t bytes) {
@@ -753,10 +751,8 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   return true;
 }
 
-namespace {
-
-// The first of n values that is >= limit, or n. Branch-free within blocks of 1024 so the compiler
-// vectorizes it (with plain SSE2 too, which has no unsigned compare).
+// Branch-free within blocks of 1024 so the compiler vectorizes it (with plain SSE2 too, which has
+// no unsigned compare).
 uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
   constexpr uint64_t kBlock = 1024;
   for (uint64_t at = 0; at < n; at += kBlock) {
@@ -769,8 +765,6 @@ uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
   }
   return n;
 }
-
-}  // namespace
 
 // One unit of parallel loading: a whole section, or one frame of a codec-4 section.
 struct ArchiveReader::LoadTask {
@@ -839,12 +833,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   std::sort(order.begin(), order.end());
   // The bounds, by section; each must lie inside a section loaded here, on 4-byte boundaries.
   std::vector<std::vector<uint32_t>> bounds_of(n);
-  {
-    std::vector<uint32_t> per_section(n, 0);  // reserved: see SceneArchive::validate
-    for (const U32Bound& u : bounds)
-      if (u.section < n) ++per_section[u.section];
-    for (uint32_t i = 0; i < n; ++i) bounds_of[i].reserve(per_section[i]);
-  }
   for (uint32_t b = 0; b < bounds.size(); ++b) {
     const U32Bound& u = bounds[b];
     if (u.section >= n || !wanted[u.section] || u.begin > u.end ||

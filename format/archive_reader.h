@@ -76,6 +76,10 @@ bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_siz
 // The most decoded bytes, over all sections, an archive of file_size bytes may hold.
 uint64_t max_total_raw_size(uint64_t file_size);
 
+// The index of the first of n values that is >= limit, or n: the check of a U32Bound (below),
+// vectorized.
+uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit);
+
 namespace archive_detail {
 // Frees a decode buffer: munmap for the large ones (mapped_size > 0), aligned delete else.
 struct BufferFree {

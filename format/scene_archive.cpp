@@ -704,10 +704,8 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     for (uint32_t i = 0; i < bad_mesh; ++i) {
       while (next_bound < checks.mesh.size() && checks.mesh[next_bound] < i) ++next_bound;
       if (next_bound < checks.mesh.size() && checks.mesh[next_bound] == i) continue;
-      const uint32_t* v = indices(i);
       const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
-      uint64_t k = 0;
-      while (k < n && v[k] < meshes[i].num_vertices) ++k;
+      const uint64_t k = first_at_or_above(indices(i), n, meshes[i].num_vertices);
       if (k == n) continue;
       bad_mesh = i;
       bad_at = k;
