@@ -1,12 +1,13 @@
 // format/archive_reader.h — opens a scene archive (.pbrta) and decodes its sections.
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
-// maps the file read-only (reads it whole when it is 64 KiB or less: a small scene's load was
-// mostly one page fault and a read per padding gap), validates the header, the section table and
-// the layout of every section, then load_sections() verifies each section's checksum and decodes
-// it, in parallel over sections. Uncompressed (kNone) sections are used in place from the mapping
-// (or the copy), 16-byte aligned and followed by 16 bytes of padding; compressed ones are
-// decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero bytes after its
+// maps the file read-only (reads it whole when it is 64 KiB or less, or 2 MiB or less and mostly
+// uncompressed sections: page faults cost more than the read; a mostly uncompressed larger file
+// has its whole mapping populated before anything reads it), validates the header, the section
+// table and the layout of every section, then load_sections() verifies each section's checksum
+// and decodes it, in parallel over sections. Uncompressed (kNone) sections are used in place from
+// the mapping (or the copy), 16-byte aligned and followed by 16 bytes of padding; compressed ones
+// are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero bytes after its
 // data. What the sections mean is the caller's business.
 //
 // Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,

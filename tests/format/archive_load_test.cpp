@@ -145,6 +145,41 @@ TEST(ArchiveLoad, SmallFileIsReadWholeAtOpen) {
   EXPECT_FALSE(r.open(path, &error));  // and the file itself is now too short to open
 }
 
+// Between 64 KiB and 2 MiB the reader reads a file whole at open when at least half of its bytes
+// are uncompressed sections, and maps it otherwise: only a mapped file can see it shrink.
+TEST(ArchiveLoad, MidSizedFileIsReadWholeOnlyWhenMostlyUncompressed) {
+  const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSized");
+  std::mt19937 rng(5);
+  std::vector<uint8_t> noise(600u << 10);  // incompressible: stored as large as it is raw
+  for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
+  const std::vector<Raw> mostly_none = {{Codec::kNone, float_bytes(800u << 10, 1)},
+                                        {Codec::kZstd, noise}};
+  const std::vector<Raw> mostly_zstd = {{Codec::kNone, float_bytes(400u << 10, 2)},
+                                        {Codec::kZstd, noise}};
+  for (const auto& [name, sections] :
+       {std::pair{"mostly-none", mostly_none}, std::pair{"mostly-zstd", mostly_zstd}}) {
+    SCOPED_TRACE(name);
+    const std::string path = dir + "/" + name + ".pbrta";
+    const std::string bytes = write_sections(path, sections);
+    ASSERT_GT(bytes.size(), 64u << 10);
+    ASSERT_LT(bytes.size(), 2u << 20);
+    ArchiveReader r;
+    std::string error;
+    ASSERT_TRUE(r.open(path, &error)) << error;
+    ASSERT_EQ(::truncate(path.c_str(), 64), 0);
+    const bool loaded = r.load_sections(2, &error);
+    if (std::string(name) == "mostly-none") {
+      ASSERT_TRUE(loaded) << error;
+      expect_decodes(r, sections);
+    } else {
+      EXPECT_FALSE(loaded);
+      EXPECT_NE(error.find("truncated while loading: the file shrank after it was opened"),
+                std::string::npos)
+          << error;
+    }
+  }
+}
+
 class ArchiveLoadDamage : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -207,9 +242,10 @@ TEST_F(ArchiveLoadDamage, UncompressedFileThatShrinksAfterOpenIsAnError) {
   const bool can_populate = madvise(probe, 4096, 22 /* MADV_POPULATE_READ */) == 0;
   munmap(probe, 4096);
   if (!can_populate) GTEST_SKIP() << "this kernel cannot map pages ahead (MADV_POPULATE_READ)";
+  // Over 2 MiB, so mapped (a smaller file of mostly uncompressed sections is read at open).
   const std::string path = dir_ + "/shrinks-none.pbrta";
   write_sections(path, {{Codec::kNone, float_bytes(1000, 1)},
-                        {Codec::kNone, float_bytes(3 * kShuffleBlock, 2)}});
+                        {Codec::kNone, float_bytes(9 * kShuffleBlock, 2)}});
   ArchiveReader r;
   std::string error;
   ASSERT_TRUE(r.open(path, &error)) << error;
