@@ -60,14 +60,14 @@ constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
 // A file whose bytes are mostly uncompressed sections is read whole too, into huge pages, up to
 // this size; above it, its whole mapping is populated before anything reads through it. In this
 // VM the first read of each 4 KiB page of a mapping costs ~0.6 us even once MADV_POPULATE_READ
-// has mapped it, while a fresh 2 MiB page is one fault, and a file's page cache is mapped 2 MiB
-// at a time only where the first fault in each 2 MiB of the mapping finds no 4 KiB page mapped
-// there yet: so the header must not be read through the mapping first. Best of 50 loads, 2
-// threads, uncompressed: killeroo-simple (1.9 MB) 0.45 -> 0.18 ms, teapot (0.9 MB) 0.33-0.38 ->
-// 0.24 ms, caustic glass (2.1 MB) 0.54-0.57 -> 0.20-0.34 ms, 2d-mappings (4.2 MB) 0.54-0.71 ->
-// 0.22-0.36 ms, a generated 5.7 MB mesh file 0.95-1.0 -> 0.62-0.72 ms; 11-23 MB files the same
-// either way (reading them whole was up to twice as slow: projection's 16 MB 1.2 -> 2.0 ms).
-constexpr uint64_t kReadWholeSize = uint64_t{2} << 20;
+// has mapped it, while a fresh 2 MiB page is one fault; whether the kernel maps a file's page
+// cache 2 MiB at a time varies from run to run (and never happens where the header was read
+// through the mapping first), so mapped loads are bimodal and read ones steady. Uncompressed,
+// 2 threads, best of 30 loads in each of 6 processes, mapped -> read: killeroo-simple (1.9 MB)
+// 0.20-0.46 -> 0.19-0.21 ms, caustic glass (2.1 MB) 0.21-0.59 -> 0.30-0.32 ms, 2d-mappings
+// (4.2 MB) 0.30-0.96 -> 0.36-0.40 ms, a generated 5.7 MB mesh file 0.82-0.89 -> 0.72-0.78 ms.
+// Larger files lose by the copy as often as they win (projection's 16 MB: 1.2 -> 2.0 ms).
+constexpr uint64_t kReadWholeSize = uint64_t{8} << 20;
 // Loads that read and write fewer bytes than this (stored plus decoded) run on the calling
 // thread. Both count: a flat texture's pyramid stores 0.5% of the 18 MB it decodes to, and
 // writing those fresh pages is most of its load (f3-18: 5.1 ms on one thread, 3.6 on two).

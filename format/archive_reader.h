@@ -1,7 +1,7 @@
 // format/archive_reader.h — opens a scene archive (.pbrta) and decodes its sections.
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
-// maps the file read-only (reads it whole when it is 64 KiB or less, or 2 MiB or less and mostly
+// maps the file read-only (reads it whole when it is 64 KiB or less, or 8 MiB or less and mostly
 // uncompressed sections: page faults cost more than the read; a mostly uncompressed larger file
 // has its whole mapping populated before anything reads it), validates the header, the section
 // table and the layout of every section, then load_sections() verifies each section's checksum

@@ -145,7 +145,7 @@ TEST(ArchiveLoad, SmallFileIsReadWholeAtOpen) {
   EXPECT_FALSE(r.open(path, &error));  // and the file itself is now too short to open
 }
 
-// Between 64 KiB and 2 MiB the reader reads a file whole at open when at least half of its bytes
+// Between 64 KiB and 8 MiB the reader reads a file whole at open when at least half of its bytes
 // are uncompressed sections, and maps it otherwise: only a mapped file can see it shrink.
 TEST(ArchiveLoad, MidSizedFileIsReadWholeOnlyWhenMostlyUncompressed) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSized");
@@ -242,10 +242,10 @@ TEST_F(ArchiveLoadDamage, UncompressedFileThatShrinksAfterOpenIsAnError) {
   const bool can_populate = madvise(probe, 4096, 22 /* MADV_POPULATE_READ */) == 0;
   munmap(probe, 4096);
   if (!can_populate) GTEST_SKIP() << "this kernel cannot map pages ahead (MADV_POPULATE_READ)";
-  // Over 2 MiB, so mapped (a smaller file of mostly uncompressed sections is read at open).
+  // Over 8 MiB, so mapped (a smaller file of mostly uncompressed sections is read at open).
   const std::string path = dir_ + "/shrinks-none.pbrta";
   write_sections(path, {{Codec::kNone, float_bytes(1000, 1)},
-                        {Codec::kNone, float_bytes(9 * kShuffleBlock, 2)}});
+                        {Codec::kNone, float_bytes(33 * kShuffleBlock, 2)}});
   ArchiveReader r;
   std::string error;
   ASSERT_TRUE(r.open(path, &error)) << error;
