@@ -432,8 +432,8 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
                   " bytes, less than the 64-byte header");
     return false;
   }
-  const bool in_place = size > kSmallFileSize && mostly_uncompressed(fd, size);
-  if (size <= kSmallFileSize || (in_place && size <= kReadWholeSize)) {
+  const bool uncompressed = size > kSmallFileSize && mostly_uncompressed(fd, size);
+  if (size <= kSmallFileSize || (uncompressed && size <= kReadWholeSize)) {
     // Read whole, not mapped, and its sections used in place from this copy. Small files: one
     // read instead of a page fault for the first page (~8 us here) and one read per padding gap
     // (~1.2 us each); a 2 KB archive opened in 31 us that way.
@@ -457,7 +457,7 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
       return false;
     }
     // A file that shrank since fstat fails here rather than with SIGBUS in validate().
-    if (in_place && madvise(map, size, kMadvPopulateRead) != 0 && errno == EFAULT) {
+    if (uncompressed && madvise(map, size, kMadvPopulateRead) != 0 && errno == EFAULT) {
       munmap(map, size);
       ::close(fd);
       *error = fail("truncated while loading: the file shrank after it was opened");
