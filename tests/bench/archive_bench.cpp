@@ -9,7 +9,8 @@
 // project's parser, single-threaded); the time to compile and write each archive; and the time
 // to load each archive ready for the renderer (SceneArchive::load: mapped, every checksum
 // verified, every section decoded, every record validated) with T threads, warm page cache,
-// not counting the archive's destruction. Best of N runs (default 5) for every time.
+// not counting the archive's destruction. Best of N runs (default 5) for every time; the loads
+// and the zstd baselines they are compared with are timed in the same rounds.
 //
 // Issue 4's zstd target compares the zstd load with "the sum of single-threaded ZSTD_decompress
 // times for the same sections divided by 2" (T = 2). Which output buffer that baseline decodes
@@ -73,7 +74,7 @@ constexpr const char* kBaselineLegend =
     "shuffled bytes are decoded, not unshuffled; codec 4's frames one after another) of\n"
     "single-threaded "
     "ZSTD_decompressDCtx\n"
-    "times, best of N each, divided by T.\n"
+    "times, best of N rounds each (rounds interleaved with the loads), divided by T.\n"
     "  warm/T:  into an output buffer already written, so no page is faulted or zeroed in the\n"
     "           timing: decompression alone, a bound no load into new memory can reach.\n"
     "  fresh/T: into fresh anonymous memory (mmap + MADV_HUGEPAGE, what the loader allocates),\n"
@@ -83,54 +84,80 @@ constexpr const char* kBaselineLegend =
     "  xwarm, xfresh: load z / warm/T and load z / fresh/T; issue 4's target is <= 1.5.\n"
     "  cpu z: the zstd load's process CPU time (all threads), best of N.\n";
 
-// Sum of single-threaded ZSTD_decompress times over the archive's zstd sections (see
-// kBaselineLegend). warm: into a buffer written beforehand; else into a fresh huge-page mapping
-// per run (mapped and unmapped outside the timing: the page faults happen inside it).
-double zstd_baseline(const std::string& path, int repeat, bool warm) {
-  pbrta::ArchiveReader r;
-  std::string error;
-  if (!r.open(path, &error)) return -1;
-  FILE* f = std::fopen(path.c_str(), "rb");
-  std::vector<uint8_t> file(file_size(path));
-  if (!f || std::fread(file.data(), 1, file.size(), f) != file.size()) return -1;
-  std::fclose(f);
-  double total = 0;
-  ZSTD_DCtx* ctx = ZSTD_createDCtx();
-  for (uint32_t i = 0; i < r.section_count(); ++i) {
-    const pbrta::SectionEntry& e = r.entry(i);
-    if (e.codec != uint32_t(pbrta::Codec::kZstd) &&
-        e.codec != uint32_t(pbrta::Codec::kZstdShuffle4) &&
-        e.codec != uint32_t(pbrta::Codec::kZstdShuffle4Frames))
-      continue;
-    // Codec 4: its frames, after the frame index (ZSTD_decompress decodes concatenated frames).
-    const uint64_t skip = e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)
-                              ? pbrta::frame_count(e.raw_size) * sizeof(pbrta::FrameEntry)
-                              : 0;
-    const size_t size = e.raw_size + 16;
-    const size_t mapped = (size + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20);
-    std::vector<uint8_t> out(warm ? size : 0);
-    if (warm) std::memset(out.data(), 0, out.size());  // touched: no page faults in the timing
-    double best = 1e30;
-    for (int k = 0; k < repeat; ++k) {
-      uint8_t* dst = out.data();
-      if (!warm) {
-        void* p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-        if (p == MAP_FAILED) return -1;
-        madvise(p, mapped, MADV_HUGEPAGE);
-        dst = static_cast<uint8_t*>(p);
-      }
-      const auto t = Clock::now();
-      const size_t got =
-          ZSTD_decompressDCtx(ctx, dst, size, file.data() + e.offset + skip, e.stored_size - skip);
-      best = std::min(best, since(t));
-      if (!warm) munmap(dst, mapped);
-      if (ZSTD_isError(got)) return -1;
+// The single-threaded ZSTD_decompress baselines of one archive (see kBaselineLegend), sampled
+// one round at a time so that rounds can be interleaved with the loads they are compared with:
+// this VM's speed wanders by a third within minutes, and a baseline timed a minute after its
+// load measures the machine as much as the loader. Keeps each section's best time.
+class ZstdBaseline {
+ public:
+  bool open(const std::string& path) {
+    std::string error;
+    if (!reader_.open(path, &error)) return false;
+    FILE* f = std::fopen(path.c_str(), "rb");
+    file_.resize(file_size(path));
+    const bool read = f && std::fread(file_.data(), 1, file_.size(), f) == file_.size();
+    if (f) std::fclose(f);
+    if (!read) return false;
+    for (uint32_t i = 0; i < reader_.section_count(); ++i) {
+      const pbrta::SectionEntry& e = reader_.entry(i);
+      if (e.codec == uint32_t(pbrta::Codec::kZstd) ||
+          e.codec == uint32_t(pbrta::Codec::kZstdShuffle4) ||
+          e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames))
+        sections_.push_back(i);
     }
-    total += best;
+    warm_.assign(sections_.size(), 1e30);
+    fresh_.assign(sections_.size(), 1e30);
+    return true;
   }
-  ZSTD_freeDCtx(ctx);
-  return total;
-}
+  ~ZstdBaseline() { ZSTD_freeDCtx(ctx_); }
+
+  // One timed decode of every zstd section, warm and fresh.
+  bool round() {
+    for (size_t k = 0; k < sections_.size(); ++k) {
+      const pbrta::SectionEntry& e = reader_.entry(sections_[k]);
+      // Codec 4: its frames, after the frame index (ZSTD_decompress decodes concatenated frames).
+      const uint64_t skip = e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)
+                                ? pbrta::frame_count(e.raw_size) * sizeof(pbrta::FrameEntry)
+                                : 0;
+      const uint8_t* src = file_.data() + e.offset + skip;
+      const size_t src_size = e.stored_size - skip, size = e.raw_size + 16;
+      // warm: into a buffer written beforehand (resize zero-fills), so no page is faulted in the
+      // timing.
+      warm_out_.resize(std::max(warm_out_.size(), size));
+      auto t = Clock::now();
+      if (ZSTD_isError(ZSTD_decompressDCtx(ctx_, warm_out_.data(), size, src, src_size)))
+        return false;
+      warm_[k] = std::min(warm_[k], since(t));
+      // fresh: into a new huge-page mapping, mapped and unmapped outside the timing, so the
+      // page faults happen inside it.
+      const size_t mapped = (size + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20);
+      void* p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+      if (p == MAP_FAILED) return false;
+      madvise(p, mapped, MADV_HUGEPAGE);
+      t = Clock::now();
+      const size_t got = ZSTD_decompressDCtx(ctx_, p, size, src, src_size);
+      fresh_[k] = std::min(fresh_[k], since(t));
+      munmap(p, mapped);
+      if (ZSTD_isError(got)) return false;
+    }
+    return true;
+  }
+  // Sums of the sections' best times so far.
+  double warm() const { return sum(warm_); }
+  double fresh() const { return sum(fresh_); }
+
+ private:
+  static double sum(const std::vector<double>& v) {
+    double total = 0;
+    for (double x : v) total += x;
+    return total;
+  }
+  pbrta::ArchiveReader reader_;
+  std::vector<uint8_t> file_, warm_out_;
+  std::vector<uint32_t> sections_;
+  std::vector<double> warm_, fresh_;
+  ZSTD_DCtx* ctx_ = ZSTD_createDCtx();
+};
 
 // Best of n SceneArchive::load times (wall and process CPU), destruction not timed.
 bool time_load(const std::string& path, int n, int threads, double* wall, double* cpu) {
@@ -176,18 +203,18 @@ int main(int argc, char** argv) {
       std::printf("%s: load %.5f s (cpu %.5f s)\n", scenes[1].c_str(), wall, cpu);
       return 0;
     }
-    // N rounds of one load and one run of each baseline, so that the machine's drift (this VM's
-    // speed wanders by a third within minutes) reaches all three alike; best of each.
-    double base = 1e30, fresh = 1e30;
+    // N rounds of one load and one run of each baseline, so that the machine's drift reaches
+    // all three alike; best of each.
+    ZstdBaseline baseline;
+    if (!baseline.open(scenes[1])) return 1;
     wall = cpu = 1e30;
     for (int k = 0; k < repeat; ++k) {
       double w = 0, c = 0;
-      if (!time_load(scenes[1], 1, threads, &w, &c)) return 1;
+      if (!time_load(scenes[1], 1, threads, &w, &c) || !baseline.round()) return 1;
       wall = std::min(wall, w);
       cpu = std::min(cpu, c);
-      base = std::min(base, zstd_baseline(scenes[1], 1, true) / threads);
-      fresh = std::min(fresh, zstd_baseline(scenes[1], 1, false) / threads);
     }
+    const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     std::printf(
         "%s: load %.5f s (cpu %.5f s), %d threads, best of %d rounds; warm/T %.5f s (x%.2f), "
         "fresh/T %.5f s (x%.2f)\n",
@@ -239,12 +266,22 @@ int main(int argc, char** argv) {
       std::remove(az.c_str());
       continue;
     }
-    double load_z = 0, cpu_z = 0, load_n = 0, cpu_n = 0;
-    if (!time_load(az, repeat, threads, &load_z, &cpu_z) ||
-        !time_load(an, repeat, threads, &load_n, &cpu_n))
-      return 1;
-    double base = zstd_baseline(az, repeat, true) / threads;
-    double fresh = zstd_baseline(az, repeat, false) / threads;
+    // Rounds of one zstd load, one uncompressed load and one run of the baselines (see
+    // ZstdBaseline); best of each.
+    double load_z = 1e30, cpu_z = 1e30, load_n = 1e30, cpu_n = 1e30;
+    ZstdBaseline baseline;
+    if (!baseline.open(az)) return 1;
+    for (int k = 0; k < repeat; ++k) {
+      double wz = 0, cz = 0, wn = 0, cn = 0;
+      if (!time_load(az, 1, threads, &wz, &cz) || !time_load(an, 1, threads, &wn, &cn) ||
+          !baseline.round())
+        return 1;
+      load_z = std::min(load_z, wz);
+      cpu_z = std::min(cpu_z, cz);
+      load_n = std::min(load_n, wn);
+      cpu_n = std::min(cpu_n, cn);
+    }
+    const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     uint64_t zb = file_size(az), nb = file_size(an);
     std::string name = scene.size() > 44 ? "..." + scene.substr(scene.size() - 41) : scene;
     std::printf(
