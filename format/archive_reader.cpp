@@ -68,6 +68,11 @@ constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
 // (4.2 MB) 0.30-0.96 -> 0.36-0.40 ms, a generated 5.7 MB mesh file 0.82-0.89 -> 0.72-0.78 ms.
 // Larger files lose by the copy as often as they win (projection's 16 MB: 1.2 -> 2.0 ms).
 constexpr uint64_t kReadWholeSize = uint64_t{8} << 20;
+// Codec-4 sections from this size on are unshuffled with non-temporal stores (unshuffle4_block):
+// too big to stay cached until the renderer reads them, and written into freshly zeroed pages.
+// mesh200 (109 MB, 2 threads, paired best of 15): 16.8-18.8 -> 15.6-16.6 ms; f10-1ac (40 MB):
+// 8.5-8.9 -> 7.8-8.5 ms. Smaller ones, read again soon, keep ordinary stores.
+constexpr uint64_t kStreamSectionSize = uint64_t{8} << 20;
 // Loads that read and write fewer bytes than this (stored plus decoded) run on the calling
 // thread. Both count: a flat texture's pyramid stores 0.5% of the 18 MB it decodes to, and
 // writing those fresh pages is most of its load (f3-18: 5.1 ms on one thread, 3.6 on two).
@@ -840,7 +845,7 @@ bool ArchiveReader::load_frame(const LoadTask& t, uint8_t* out, archive_detail::
   }
   std::string why;
   if (!decode_frame(dctx, src, t.ref, t.raw_size, scratch, out + t.raw_offset, bounds, num_bounds,
-                    &why))
+                    e.raw_size >= kStreamSectionSize, &why))
     return bad(why);
   return true;
 }

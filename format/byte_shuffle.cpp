@@ -91,7 +91,7 @@ bool unshuffle_words(const uint8_t* src, uint8_t* dst, uint64_t words, uint64_t 
 template <bool kCheck>
 __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, uint8_t* dst,
                                                           uint64_t words, uint64_t w0, uint64_t w1,
-                                                          uint32_t limit) {
+                                                          uint32_t limit, bool stream) {
   const uint8_t* s0 = src;
   const uint8_t* s1 = src + words;
   const uint8_t* s2 = src + 2 * words;
@@ -99,6 +99,7 @@ __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, ui
   const __m256i lim = _mm256_set1_epi32(static_cast<int32_t>(limit));
   __m256i any = _mm256_setzero_si256();
   uint64_t w = w0;
+  stream = stream && reinterpret_cast<uintptr_t>(dst + 4 * w0) % 32 == 0;  // each step is 128 B
   for (; w + 32 <= w1; w += 32) {
     const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s0 + w));
     const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s1 + w));
@@ -116,10 +117,17 @@ __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, ui
     const __m256i o2 = _mm256_permute2x128_si256(v0, v1, 0x31);
     const __m256i o3 = _mm256_permute2x128_si256(v2, v3, 0x31);
     __m256i* out = reinterpret_cast<__m256i*>(dst + 4 * w);
-    _mm256_storeu_si256(out + 0, o0);
-    _mm256_storeu_si256(out + 1, o1);
-    _mm256_storeu_si256(out + 2, o2);
-    _mm256_storeu_si256(out + 3, o3);
+    if (stream) {
+      _mm256_stream_si256(out + 0, o0);
+      _mm256_stream_si256(out + 1, o1);
+      _mm256_stream_si256(out + 2, o2);
+      _mm256_stream_si256(out + 3, o3);
+    } else {
+      _mm256_storeu_si256(out + 0, o0);
+      _mm256_storeu_si256(out + 1, o1);
+      _mm256_storeu_si256(out + 2, o2);
+      _mm256_storeu_si256(out + 3, o3);
+    }
     if constexpr (kCheck) {
       any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o0, lim), o0));
       any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o1, lim), o1));
@@ -127,6 +135,7 @@ __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, ui
       any = _mm256_or_si256(any, _mm256_cmpeq_epi32(_mm256_max_epu32(o3, lim), o3));
     }
   }
+  if (stream) _mm_sfence();  // ordered before whatever this thread publishes next
   bool over = false;
   if constexpr (kCheck) over = _mm256_movemask_epi8(any) != 0;
   return unshuffle_words<kCheck>(src, dst, words, w, w1, limit) || over;
@@ -147,13 +156,13 @@ bool shuffle_kernel_available(ShuffleKernel kernel) {
 }
 
 void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* dst, uint64_t size,
-                           WordBound* bounds, uint64_t num_bounds) {
+                           WordBound* bounds, uint64_t num_bounds, bool stream) {
   const uint64_t words = size / 4;
   auto run = [&](uint64_t w0, uint64_t w1, uint32_t limit, bool check) {
 #if defined(PBRTA_SHUFFLE_AVX2)
     if (kernel == ShuffleKernel::kAvx2)
-      return check ? unshuffle_words_avx2<true>(src, dst, words, w0, w1, limit)
-                   : unshuffle_words_avx2<false>(src, dst, words, w0, w1, 0);
+      return check ? unshuffle_words_avx2<true>(src, dst, words, w0, w1, limit, stream)
+                   : unshuffle_words_avx2<false>(src, dst, words, w0, w1, 0, stream);
 #endif
     return check ? unshuffle_words<true>(src, dst, words, w0, w1, limit)
                  : unshuffle_words<false>(src, dst, words, w0, w1, 0);
@@ -172,9 +181,9 @@ void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* ds
 }
 
 void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds,
-                      uint64_t num_bounds) {
+                      uint64_t num_bounds, bool stream) {
   static const ShuffleKernel kernel = best_kernel();
-  unshuffle4_block_with(kernel, src, dst, size, bounds, num_bounds);
+  unshuffle4_block_with(kernel, src, dst, size, bounds, num_bounds, stream);
 }
 
 void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {

@@ -24,17 +24,20 @@ struct WordBound {
 
 // One block of size <= kShuffleBlock bytes, and its inverse. The inverse checks the bounds
 // (sorted by begin, disjoint) on the words while it has them in registers, which costs next to
-// nothing; reading the indices back afterwards cost a tenth of a load.
+// nothing; reading the indices back afterwards cost a tenth of a load. With stream, the AVX2
+// kernel writes around the cache (non-temporal stores, where dst is 32-byte aligned): for
+// sections too big to stay cached until they are used, whose fresh pages the kernel has just
+// zeroed, so ordinary stores would first read every line back from memory.
 void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size);
 void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds = nullptr,
-                      uint64_t num_bounds = 0);
+                      uint64_t num_bounds = 0, bool stream = false);
 
 // The unshuffle's kernels: portable (SSE2 on x86-64) and AVX2, which unshuffle4_block picks when
 // the CPU has it. Exposed so tests can run each against the other on the same bytes.
 enum class ShuffleKernel { kPortable, kAvx2 };
 bool shuffle_kernel_available(ShuffleKernel kernel);
 void unshuffle4_block_with(ShuffleKernel kernel, const uint8_t* src, uint8_t* dst, uint64_t size,
-                           WordBound* bounds, uint64_t num_bounds);
+                           WordBound* bounds, uint64_t num_bounds, bool stream = false);
 
 // A whole section, block by block.
 void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size);

@@ -149,7 +149,7 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
 
 bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
                   uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
-                  std::string* why) {
+                  bool stream, std::string* why) {
   if (checksum64(frame, ref.size) != ref.checksum) {
     *why = "checksum mismatch";
     return false;
@@ -183,7 +183,7 @@ bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, ui
                                std::min(bounds[k].end, end) - at, bounds[k].limit, false});
       from.push_back(k);
     }
-    unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size());
+    unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size(), stream);
     for (uint64_t k = 0; k < part.size(); ++k) bounds[from[k]].exceeded |= part[k].exceeded;
   }
   return true;

@@ -64,9 +64,9 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
 // Verifies a frame's checksum, then decodes it one-shot into scratch (at least block_size
 // bytes) and unshuffles it into dst, block_size bytes, checking the bounds (byte offsets in the
 // block; sorted, disjoint) on the way: the frame must be exactly one zstd frame recording and
-// holding exactly block_size bytes.
+// holding exactly block_size bytes. stream: see unshuffle4_block.
 bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
                   uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
-                  std::string* why);
+                  bool stream, std::string* why);
 
 }  // namespace pbrta

@@ -1,6 +1,7 @@
 // The unshuffle kernels against each other and against the definition (shuffle4_block's
 // inverse, bounds checked word by word): every kernel this CPU has, on sizes around the kernels'
-// 16- and 32-word steps, with bounds whose offenders sit at every position class.
+// 16- and 32-word steps, with bounds whose offenders sit at every position class, with ordinary
+// and streamed stores into aligned and misaligned destinations.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -83,16 +84,24 @@ TEST(ByteShuffle, EveryKernelFlagsExactlyTheBoundsWithAnOffender) {
     for (size_t b = 0; b < bounds.size(); ++b)
       for (uint64_t w = bounds[b].begin / 4; w < bounds[b].end / 4; ++w)
         if (values[w] >= limit) truth[b] = true;
-    for (ShuffleKernel k : kernels()) {
-      std::vector<WordBound> got = bounds;
-      std::vector<uint8_t> back(size);
-      unshuffle4_block_with(k, shuffled.data(), back.data(), size, got.data(), got.size());
-      ASSERT_EQ(0, std::memcmp(back.data(), raw.data(), size)) << "trial " << trial;
-      for (size_t b = 0; b < bounds.size(); ++b)
-        ASSERT_EQ(truth[b], got[b].exceeded)
-            << "trial " << trial << " kernel " << int(k) << " bound " << b << " ["
-            << bounds[b].begin / 4 << ", " << bounds[b].end / 4 << ")";
-    }
+    // Into a 64-byte aligned buffer at an offset that is 32-byte aligned or not (streamed
+    // stores apply only where it is), with ordinary and with streamed stores.
+    const uint64_t offset = uint64_t{trial % 2 ? 32u : 0u} + (trial % 3 == 0 ? 4 : 0);
+    for (ShuffleKernel k : kernels())
+      for (bool stream : {false, true}) {
+        std::vector<WordBound> got = bounds;
+        std::vector<uint8_t> buffer(size + offset + 64 + 1, 0xAB);
+        const uintptr_t at = reinterpret_cast<uintptr_t>(buffer.data());
+        uint8_t* back = buffer.data() + (64 - at % 64) % 64 + offset;
+        unshuffle4_block_with(k, shuffled.data(), back, size, got.data(), got.size(), stream);
+        ASSERT_EQ(0, std::memcmp(back, raw.data(), size))
+            << "trial " << trial << " kernel " << int(k) << " stream " << stream;
+        ASSERT_EQ(0xAB, back[size]) << "wrote past the block";
+        for (size_t b = 0; b < bounds.size(); ++b)
+          ASSERT_EQ(truth[b], got[b].exceeded)
+              << "trial " << trial << " kernel " << int(k) << " stream " << stream << " bound " << b
+              << " [" << bounds[b].begin / 4 << ", " << bounds[b].end / 4 << ")";
+      }
   }
 }
 
