@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
+#include <cstddef>
 #include <cstring>
 #include <random>
 #include <string>
@@ -178,6 +179,40 @@ TEST(ArchiveLoad, MidSizedFileIsReadWholeOnlyWhenMostlyUncompressed) {
           << error;
     }
   }
+}
+
+// The choice between reading and mapping rests on the header and table before they are checked:
+// damaged so as to tip that choice either way, they must still be refused as they are in memory.
+TEST(ArchiveLoad, MidSizedFileWithADamagedTableIsRefusedWhicheverWayItIsRead) {
+  const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSizedDamage");
+  std::mt19937 rng(9);
+  std::vector<uint8_t> noise(600u << 10);
+  for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
+  const std::string path = dir + "/t.pbrta";
+  const std::string mostly_none = write_sections(
+      dir + "/none.pbrta", {{Codec::kNone, float_bytes(800u << 10, 1)}, {Codec::kZstd, noise}});
+  const std::string mostly_zstd = write_sections(
+      dir + "/zstd.pbrta", {{Codec::kNone, float_bytes(400u << 10, 2)}, {Codec::kZstd, noise}});
+  auto with_codec = [](std::string b, uint32_t i, Codec codec) {
+    SectionEntry e = entry_of(b, i);
+    e.codec = static_cast<uint32_t>(codec);
+    std::memcpy(&b[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
+    return b;
+  };
+  // Now mostly compressed by its table, so mapped; then mostly uncompressed, so read whole.
+  EXPECT_EQ(load_error(path, with_codec(mostly_none, 0, Codec::kZstd)),
+            path + ": section table checksum mismatch");
+  EXPECT_EQ(load_error(path, with_codec(mostly_zstd, 1, Codec::kNone)),
+            path + ": section table checksum mismatch");
+  // A section count the 4 KiB probe cannot hold: mapped, and refused by the header's checksum.
+  std::string b = mostly_none;
+  const uint32_t count = 0xFFFFFFFFu;
+  std::memcpy(&b[offsetof(Header, section_count)], &count, sizeof count);
+  EXPECT_EQ(load_error(path, b), path + ": header checksum mismatch");
+  // Resealed, so the tables agree with their checksums: refused later, the same way both ways.
+  b = with_codec(mostly_zstd, 1, Codec::kNone);
+  test_bytes::reseal(&b, 1, entry_of(b, 1).stored_size);
+  EXPECT_NE(load_error(path, b), "");
 }
 
 class ArchiveLoadDamage : public ::testing::Test {
