@@ -69,9 +69,9 @@ constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
 // Larger files lose by the copy as often as they win (projection's 16 MB: 1.2 -> 2.0 ms).
 constexpr uint64_t kReadWholeSize = uint64_t{8} << 20;
 // Codec-4 sections from this size on are unshuffled with non-temporal stores (unshuffle4_block):
-// too big to stay cached until the renderer reads them, and written into freshly zeroed pages.
-// mesh200 (109 MB, 2 threads, paired best of 15): 16.8-18.8 -> 15.6-16.6 ms; f10-1ac (40 MB):
-// 8.5-8.9 -> 7.8-8.5 ms. Smaller ones, read again soon, keep ordinary stores.
+// far larger than the cache, so ordinary stores would read in every line only to overwrite it
+// and see it evicted before the renderer reads it. mesh200 (109 MB, 2 threads, paired best of
+// 15): 16.8-18.8 -> 15.6-16.6 ms; f10-1ac (40 MB): 8.5-8.9 -> 7.8-8.5 ms.
 constexpr uint64_t kStreamSectionSize = uint64_t{8} << 20;
 // Loads that read and write fewer bytes than this (stored plus decoded) run on the calling
 // thread. Both count: a flat texture's pyramid stores 0.5% of the 18 MB it decodes to, and
@@ -108,8 +108,9 @@ bool read_fully(int fd, uint64_t offset, uint64_t size, uint8_t* dst, std::strin
 }
 
 // Whether at least half of a file's bytes are in uncompressed sections, judged from one read of
-// its first 4 KiB (the header and a table of up to 84 sections). Only a choice between reading
-// and mapping rests on these unchecked bytes; validate() checks whichever copy is used.
+// its first 4 KiB (the header and a table of up to 84 sections; a longer table counts as
+// compressed, so the file is mapped as before). Only a choice between reading and mapping rests
+// on these unchecked bytes; validate() checks whichever copy is used.
 bool mostly_uncompressed(int fd, uint64_t size) {
   alignas(8) uint8_t probe[4096];
   const ssize_t got = ::pread(fd, probe, sizeof probe, 0);
@@ -461,7 +462,9 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
       *error = fail("cannot map: " + errno_text(map_errno));
       return false;
     }
-    // A file that shrank since fstat fails here rather than with SIGBUS in validate().
+    // Populated whole, here on one thread: measured no slower than per section in the load for
+    // 11-109 MB files (shapes100k's 55 MB: 9.1-9.6 ms either way). A file that shrank since
+    // fstat usually fails here rather than with SIGBUS in validate().
     if (uncompressed && madvise(map, size, kMadvPopulateRead) != 0 && errno == EFAULT) {
       munmap(map, size);
       ::close(fd);

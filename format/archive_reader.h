@@ -194,10 +194,11 @@ class ArchiveReader {
   void reset();
 
   std::string path_;
-  int fd_ = -1;          // the open file, or -1 (open_memory)
+  int fd_ = -1;          // the open file while mapped, or -1 (read whole, or open_memory)
   void* map_ = nullptr;  // the mmap'ed file, or nullptr
   size_t map_size_ = 0;
-  Buffer copy_;  // open_memory of unaligned bytes
+  Buffer copy_;  // a file read whole (up to 8 MiB, kept for the reader's life), or unaligned
+                 // open_memory bytes
   // The decoded (not in-place) sections, one buffer per load_sections call, each section at its
   // own 64-byte aligned offset.
   std::vector<Buffer> decoded_;

@@ -99,7 +99,18 @@ __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, ui
   const __m256i lim = _mm256_set1_epi32(static_cast<int32_t>(limit));
   __m256i any = _mm256_setzero_si256();
   uint64_t w = w0;
-  stream = stream && reinterpret_cast<uintptr_t>(dst + 4 * w0) % 32 == 0;  // each step is 128 B
+  bool over = false;
+  if (stream) {
+    // Streamed stores need 32-byte aligned destinations: the words up to the first aligned one
+    // (a mesh's indices start anywhere) go the ordinary way; each step below is then 128 bytes.
+    const uintptr_t at = reinterpret_cast<uintptr_t>(dst + 4 * w0);
+    stream = at % 4 == 0 && w1 - w0 >= 64;
+    if (stream) {
+      const uint64_t lead = std::min<uint64_t>((32 - at % 32) % 32 / 4, w1 - w0);
+      over = unshuffle_words<kCheck>(src, dst, words, w0, w0 + lead, limit);
+      w = w0 + lead;
+    }
+  }
   for (; w + 32 <= w1; w += 32) {
     const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s0 + w));
     const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s1 + w));
@@ -136,8 +147,7 @@ __attribute__((target("avx2"))) bool unshuffle_words_avx2(const uint8_t* src, ui
     }
   }
   if (stream) _mm_sfence();  // ordered before whatever this thread publishes next
-  bool over = false;
-  if constexpr (kCheck) over = _mm256_movemask_epi8(any) != 0;
+  if constexpr (kCheck) over = over || _mm256_movemask_epi8(any) != 0;
   return unshuffle_words<kCheck>(src, dst, words, w, w1, limit) || over;
 }
 #endif

@@ -25,9 +25,9 @@ struct WordBound {
 // One block of size <= kShuffleBlock bytes, and its inverse. The inverse checks the bounds
 // (sorted by begin, disjoint) on the words while it has them in registers, which costs next to
 // nothing; reading the indices back afterwards cost a tenth of a load. With stream, the AVX2
-// kernel writes around the cache (non-temporal stores, where dst is 32-byte aligned): for
-// sections too big to stay cached until they are used, whose fresh pages the kernel has just
-// zeroed, so ordinary stores would first read every line back from memory.
+// kernel writes around the cache (non-temporal stores, from the first 32-byte aligned word on):
+// for a section far larger than the cache, an ordinary store first reads in each line it will
+// overwrite whole, and the line is evicted before anything reads it.
 void shuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size);
 void unshuffle4_block(const uint8_t* src, uint8_t* dst, uint64_t size, WordBound* bounds = nullptr,
                       uint64_t num_bounds = 0, bool stream = false);

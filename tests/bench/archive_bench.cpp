@@ -90,9 +90,12 @@ constexpr const char* kBaselineLegend =
 // load measures the machine as much as the loader. Keeps each section's best time.
 class ZstdBaseline {
  public:
+  ZstdBaseline() = default;
+  ZstdBaseline(const ZstdBaseline&) = delete;
+  ZstdBaseline& operator=(const ZstdBaseline&) = delete;
   bool open(const std::string& path) {
     std::string error;
-    if (!reader_.open(path, &error)) return false;
+    if (ctx_ == nullptr || !reader_.open(path, &error)) return false;
     FILE* f = std::fopen(path.c_str(), "rb");
     file_.resize(file_size(path));
     const bool read = f && std::fread(file_.data(), 1, file_.size(), f) == file_.size();
