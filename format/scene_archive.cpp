@@ -72,12 +72,14 @@ class Checker {
   std::string message_;
 };
 
-// The first i in [0, n) for which check(i, checker) fails, or n. A large n is checked in blocks
-// on the load's threads, each block stopping at its first failure; the lowest failing one is then
-// checked again on c for the message, so the error is the one a serial check reports (100k shapes:
-// 150k entities and 750k values, 100k shape and 50k mesh records).
+// The first i in [0, n) for which check(i, checker) fails, or n; 0, checking nothing, when c has
+// already failed. A large n is checked in blocks on the load's threads, each block stopping at its
+// first failure; the lowest failing one is then checked again on c for the message, so the error
+// is the one a serial check reports (100k shapes: 150k entities and 750k values, 100k shape and
+// 50k mesh records).
 template <class Check>
 uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
+  if (c.failed()) return 0;
   constexpr uint32_t kBlock = 8192;
   std::atomic<uint32_t> first_bad{n};
   auto check_block = [&](uint32_t begin, uint32_t end) {
@@ -536,18 +538,17 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
         c.index(sr.camera_medium, media.size, "scene", 0, "camera medium", "media", true);
   }
   c.in(sec(SectionKind::kTextures));
-  for (uint32_t i = 0; i < textures.size && !c.failed(); ++i) {
+  first_failure(textures.size, threads, c, [&](uint32_t i, Checker& c) {
     const TextureRecord& t = textures[i];
-    if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) break;
+    if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) return false;
     uint8_t cat = entities[t.entity].category;
-    if (cat != uint8_t(Category::kFloatTexture) && cat != uint8_t(Category::kSpectrumTexture)) {
-      c.fail("texture " + std::to_string(i) + ": entity is not a texture");
-      break;
-    }
-    (t.reserved == 0 || c.fail("texture " + std::to_string(i) + ": reserved field is not zero")) &&
-        c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
-        c.index(t.image, images.size, "texture", i, "image", "images", true);
-  }
+    if (cat != uint8_t(Category::kFloatTexture) && cat != uint8_t(Category::kSpectrumTexture))
+      return c.fail("texture " + std::to_string(i) + ": entity is not a texture");
+    return (t.reserved == 0 ||
+            c.fail("texture " + std::to_string(i) + ": reserved field is not zero")) &&
+           c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
+           c.index(t.image, images.size, "texture", i, "image", "images", true);
+  });
   // Texture bindings must match the parameter's class.
   c.in(sec(SectionKind::kValues));
   auto check_bindings = [&](uint32_t i, Checker& c) {
@@ -566,7 +567,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     }
     return true;
   };
-  if (!c.failed()) first_failure(entities.size, threads, c, check_bindings);
+  first_failure(entities.size, threads, c, check_bindings);
   c.in(sec(SectionKind::kMaterials));
   auto check_material = [&](uint32_t i, Checker& c) {
     const MaterialRecord& m = materials[i];
@@ -576,7 +577,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
            c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   };
-  if (!c.failed()) first_failure(materials.size, threads, c, check_material);
+  first_failure(materials.size, threads, c, check_material);
   // A fourier material's table (derived from its file) is indexed by the renderer without
   // checks: its arrays must agree. One written before version 1.1 has none (the renderer
   // reports that); one that has a table must have a consistent one.
@@ -593,24 +594,25 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       c.fail("entity " + std::to_string(i) + ": fourier table " + why);
   }
   c.in(sec(SectionKind::kMedia));
-  for (uint32_t i = 0; i < media.size && !c.failed(); ++i) {
+  first_failure(media.size, threads, c, [&](uint32_t i, Checker& c) {
     const MediumRecord& m = media[i];
-    entity_of(c, m.entity, Category::kMedium, "medium", i, "entity") &&
-        c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
-        ((m.reserved[0] | m.reserved[1]) == 0 ||
-         c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
-  }
+    return entity_of(c, m.entity, Category::kMedium, "medium", i, "entity") &&
+           c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
+           ((m.reserved[0] | m.reserved[1]) == 0 ||
+            c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
+  });
   c.in(sec(SectionKind::kLights));
-  for (uint32_t i = 0; i < lights.size && !c.failed(); ++i) {
+  first_failure(lights.size, threads, c, [&](uint32_t i, Checker& c) {
     const LightRecord& l = lights[i];
-    entity_of(c, l.entity, Category::kLight, "light", i, "entity") &&
-        c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
-        c.index(l.medium, media.size, "light", i, "medium", "media", true) &&
-        c.index(l.image, images.size, "light", i, "image", "images", true);
-  }
+    return entity_of(c, l.entity, Category::kLight, "light", i, "entity") &&
+           c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
+           c.index(l.medium, media.size, "light", i, "medium", "media", true) &&
+           c.index(l.image, images.size, "light", i, "image", "images", true);
+  });
   c.in(sec(SectionKind::kAreaLights));
-  for (uint32_t i = 0; i < area_lights.size && !c.failed(); ++i)
-    entity_of(c, area_lights[i], Category::kAreaLight, "area light", i, "entity");
+  first_failure(area_lights.size, threads, c, [&](uint32_t i, Checker& c) {
+    return entity_of(c, area_lights[i], Category::kAreaLight, "area light", i, "entity");
+  });
   c.in(sec(SectionKind::kShapes));
   auto check_shape = [&](uint32_t i, Checker& c) {
     const ShapeRecord& s = shapes[i];
@@ -627,27 +629,30 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            (s.reserved == 0 ||
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
-  if (!c.failed()) first_failure(shapes.size, threads, c, check_shape);
+  first_failure(shapes.size, threads, c, check_shape);
   c.in(sec(SectionKind::kObjects));
-  for (uint32_t i = 0; i < objects.size && !c.failed(); ++i) {
+  first_failure(objects.size, threads, c, [&](uint32_t i, Checker& c) {
     const ObjectRecord& o = objects[i];
-    (o.reserved == 0 || c.fail("object " + std::to_string(i) + ": reserved field is not zero")) &&
-        c.index(o.provenance, provenance.size, "object", i, "provenance", "records", false) &&
-        (uint64_t(o.first_shape) + o.num_shapes <= object_shapes.size ||
-         c.fail("object " + std::to_string(i) + ": shapes out of range"));
-  }
+    return (o.reserved == 0 ||
+            c.fail("object " + std::to_string(i) + ": reserved field is not zero")) &&
+           c.index(o.provenance, provenance.size, "object", i, "provenance", "records", false) &&
+           (uint64_t(o.first_shape) + o.num_shapes <= object_shapes.size ||
+            c.fail("object " + std::to_string(i) + ": shapes out of range"));
+  });
   c.in(sec(SectionKind::kObjectShapes));
-  for (uint32_t i = 0; i < object_shapes.size && !c.failed(); ++i)
-    c.index(object_shapes[i], shapes.size, "entry", i, "shape", "shapes", false);
+  first_failure(object_shapes.size, threads, c, [&](uint32_t i, Checker& c) {
+    return c.index(object_shapes[i], shapes.size, "entry", i, "shape", "shapes", false);
+  });
   c.in(sec(SectionKind::kInstances));
-  for (uint32_t i = 0; i < instances.size && !c.failed(); ++i) {
+  first_failure(instances.size, threads, c, [&](uint32_t i, Checker& c) {
     const InstanceRecord& in = instances[i];
-    c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
-        c.index(in.transform, transforms.size, "instance", i, "transform", "transforms", false) &&
-        c.index(in.provenance, provenance.size, "instance", i, "provenance", "records", false) &&
-        (in.reserved == 0 ||
-         c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
-  }
+    return c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
+           c.index(in.transform, transforms.size, "instance", i, "transform", "transforms",
+                   false) &&
+           c.index(in.provenance, provenance.size, "instance", i, "provenance", "records", false) &&
+           (in.reserved == 0 ||
+            c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
+  });
   c.in(sec(SectionKind::kMeshes));
   // Meshes [0, laid_out) passed their layout checks; their indices are checked after them
   // (the largest part of validation: every index of every mesh is read).
@@ -686,7 +691,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
            c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true);
   };
-  const uint32_t laid_out = c.failed() ? 0 : first_failure(meshes.size, threads, c, check_mesh);
+  const uint32_t laid_out = first_failure(meshes.size, threads, c, check_mesh);
   if (laid_out > 0) {
     // Every laid-out mesh's triangle indices against its vertex count: a large mesh's were
     // checked as they decoded, a small one's are read back now. The reported index is the first
