@@ -181,6 +181,21 @@ bool time_load(const std::string& path, int n, int threads, double* wall, double
   return true;
 }
 
+// N rounds of one zstd load of path and one run of its baselines, so that the machine's drift
+// reaches both alike; the best load (wall and CPU) and, in *baseline, each section's best time.
+bool time_rounds(const std::string& path, int n, int threads, ZstdBaseline* baseline, double* wall,
+                 double* cpu) {
+  *wall = *cpu = 1e30;
+  if (!baseline->open(path)) return false;
+  for (int k = 0; k < n; ++k) {
+    double w = 0, c = 0;
+    if (!time_load(path, 1, threads, &w, &c) || !baseline->round()) return false;
+    *wall = std::min(*wall, w);
+    *cpu = std::min(*cpu, c);
+  }
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,17 +221,8 @@ int main(int argc, char** argv) {
       std::printf("%s: load %.5f s (cpu %.5f s)\n", scenes[1].c_str(), wall, cpu);
       return 0;
     }
-    // N rounds of one load and one run of each baseline, so that the machine's drift reaches
-    // all three alike; best of each.
     ZstdBaseline baseline;
-    if (!baseline.open(scenes[1])) return 1;
-    wall = cpu = 1e30;
-    for (int k = 0; k < repeat; ++k) {
-      double w = 0, c = 0;
-      if (!time_load(scenes[1], 1, threads, &w, &c) || !baseline.round()) return 1;
-      wall = std::min(wall, w);
-      cpu = std::min(cpu, c);
-    }
+    if (!time_rounds(scenes[1], repeat, threads, &baseline, &wall, &cpu)) return 1;
     const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     std::printf(
         "%s: load %.5f s (cpu %.5f s), %d threads, best of %d rounds; warm/T %.5f s (x%.2f), "
@@ -269,19 +275,14 @@ int main(int argc, char** argv) {
       std::remove(az.c_str());
       continue;
     }
-    // The zstd load in rounds with its baselines (see ZstdBaseline), best of each. The
-    // uncompressed load is timed back to back, N loads in a row, as the parse it is compared
-    // with is: interleaved with other work, both would start each run with colder caches.
-    double load_z = 1e30, cpu_z = 1e30, load_n = 0, cpu_n = 0;
+    // The zstd load in rounds with its baselines. The uncompressed load is timed back to back,
+    // N loads in a row, as the parse it is compared with is: interleaved with other work, both
+    // would start each run with colder caches.
+    double load_z = 0, cpu_z = 0, load_n = 0, cpu_n = 0;
     ZstdBaseline baseline;
-    if (!baseline.open(az)) return 1;
-    for (int k = 0; k < repeat; ++k) {
-      double wz = 0, cz = 0;
-      if (!time_load(az, 1, threads, &wz, &cz) || !baseline.round()) return 1;
-      load_z = std::min(load_z, wz);
-      cpu_z = std::min(cpu_z, cz);
-    }
-    if (!time_load(an, repeat, threads, &load_n, &cpu_n)) return 1;
+    if (!time_rounds(az, repeat, threads, &baseline, &load_z, &cpu_z) ||
+        !time_load(an, repeat, threads, &load_n, &cpu_n))
+      return 1;
     const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     uint64_t zb = file_size(az), nb = file_size(an);
     std::string name = scene.size() > 44 ? "..." + scene.substr(scene.size() - 41) : scene;
