@@ -19,6 +19,7 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "archive_bytes.h"
@@ -146,19 +147,24 @@ TEST(ArchiveLoad, SmallFileIsReadWholeAtOpen) {
   EXPECT_FALSE(r.open(path, &error));  // and the file itself is now too short to open
 }
 
+// Two sets of sections that make files between 64 KiB and 2 MiB: mostly uncompressed (800 KiB
+// plain, 600 KiB zstd) and mostly compressed (400 KiB plain, the same 600 KiB zstd). The zstd
+// section is random bytes, which do not compress: stored as large as they are raw.
+std::pair<std::vector<Raw>, std::vector<Raw>> mid_sized_sections() {
+  std::mt19937 rng(5);
+  std::vector<uint8_t> noise(600u << 10);
+  for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
+  return {{{Codec::kNone, float_bytes(800u << 10, 1)}, {Codec::kZstd, noise}},
+          {{Codec::kNone, float_bytes(400u << 10, 2)}, {Codec::kZstd, noise}}};
+}
+
 // Between 64 KiB and 8 MiB the reader reads a file whole at open when at least half of its bytes
 // are uncompressed sections, and maps it otherwise: only a mapped file can see it shrink. Cut
 // inside the compressed section, which a mapped file's load reads with pread (so no kernel
 // without MADV_POPULATE_READ meets SIGBUS here).
 TEST(ArchiveLoad, MidSizedFileIsReadWholeOnlyWhenMostlyUncompressed) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSized");
-  std::mt19937 rng(5);
-  std::vector<uint8_t> noise(600u << 10);  // incompressible: stored as large as it is raw
-  for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
-  const std::vector<Raw> mostly_none = {{Codec::kNone, float_bytes(800u << 10, 1)},
-                                        {Codec::kZstd, noise}};
-  const std::vector<Raw> mostly_zstd = {{Codec::kNone, float_bytes(400u << 10, 2)},
-                                        {Codec::kZstd, noise}};
+  const auto [mostly_none, mostly_zstd] = mid_sized_sections();
   for (const auto& [name, sections] :
        {std::pair{"mostly-none", mostly_none}, std::pair{"mostly-zstd", mostly_zstd}}) {
     SCOPED_TRACE(name);
@@ -188,14 +194,10 @@ TEST(ArchiveLoad, MidSizedFileIsReadWholeOnlyWhenMostlyUncompressed) {
 // same bytes get from memory (load_error compares the two).
 TEST(ArchiveLoad, MidSizedFileWithADamagedTableIsRefusedWhicheverWayItIsRead) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSizedDamage");
-  std::mt19937 rng(9);
-  std::vector<uint8_t> noise(600u << 10);
-  for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
   const std::string path = dir + "/t.pbrta";
-  const std::string mostly_none = write_sections(
-      dir + "/none.pbrta", {{Codec::kNone, float_bytes(800u << 10, 1)}, {Codec::kZstd, noise}});
-  const std::string mostly_zstd = write_sections(
-      dir + "/zstd.pbrta", {{Codec::kNone, float_bytes(400u << 10, 2)}, {Codec::kZstd, noise}});
+  const auto [none_sections, zstd_sections] = mid_sized_sections();
+  const std::string mostly_none = write_sections(dir + "/none.pbrta", none_sections);
+  const std::string mostly_zstd = write_sections(dir + "/zstd.pbrta", zstd_sections);
   auto with_codec = [](std::string b, uint32_t i, Codec codec) {
     SectionEntry e = entry_of(b, i);
     e.codec = static_cast<uint32_t>(codec);
