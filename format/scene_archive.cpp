@@ -228,7 +228,16 @@ constexpr uint64_t kBoundIndexBytes = 4096;
 
 bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
   path_ = path;
-  if (!reader_.open(path, error)) return false;
+  return reader_.open(path, error) && load_opened(threads, error);
+}
+
+bool SceneArchive::load_memory(std::string_view bytes, std::string_view name, int threads,
+                               std::string* error) {
+  path_ = std::string(name);
+  return reader_.open_memory(bytes, name, error) && load_opened(threads, error);
+}
+
+bool SceneArchive::load_opened(int threads, std::string* error) {
   // The mesh records first, alone: they say which triangle indices the geometry must keep within
   // which vertex counts, checked as the geometry decodes. Then every other section in one
   // parallel pass (records and bulk data together: a barrier between them left a thread idle
@@ -495,12 +504,12 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
         bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
         if (!tex_kind) {
           c.fail(vat() + "a texture on a parameter that takes none");
-          break;
+          return false;
         }
         if (v.texture >= textures.size) {
           c.fail(vat() + "texture " + std::to_string(v.texture) + " out of range (" +
                  std::to_string(textures.size) + " textures)");
-          break;
+          return false;
         }
       }
       if (ps.kind == Kind::kString)

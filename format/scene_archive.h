@@ -39,6 +39,10 @@ struct Span {
 class SceneArchive {
  public:
   [[nodiscard]] bool load(const std::string& path, int threads, std::string* error);
+  // The same checks on an archive already in memory (tests, fuzzing), named `name` in errors.
+  // The bytes must outlive this object: a 16-byte aligned image is used in place.
+  [[nodiscard]] bool load_memory(std::string_view bytes, std::string_view name, int threads,
+                                 std::string* error);
 
   const ArchiveReader& reader() const { return reader_; }
   const Header& header() const { return reader_.header(); }
@@ -99,6 +103,8 @@ class SceneArchive {
   std::string_view provenance_string(uint32_t i) const;
 
  private:
+  // load()'s work once the reader has opened the archive.
+  bool load_opened(int threads, std::string* error);
   // The triangle indices load() has the reader check as the geometry decodes: bound b covers
   // mesh[b]'s indices (ascending mesh order), and first[b] is what load_sections found.
   struct IndexChecks {

@@ -2,7 +2,7 @@
 // enough that they run in blocks on several threads: whatever the thread count, the error names
 // the first bad record in order (the one a serial check finds), and a damaged record in an early
 // block wins over one in a later block. Entities (damage in the record itself and in one of its
-// values), texture bindings, materials, shapes and mesh layouts.
+// values, a texture index among them), texture bindings, materials, shapes and mesh layouts.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -160,6 +160,34 @@ TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
               std::string::npos)
         << error;
   }
+}
+
+// A texture index past the textures, then (earlier, so it wins) a texture on a parameter that
+// takes none. Both must stop the load: the entity check once went on to the next entity after
+// such a failure, and the binding check behind it then read past the textures.
+TEST_F(EntityCheck, TextureOutOfRangeOrOnAPlainParameterIsRefused) {
+  const uint32_t early = archive_.shapes[1000].entity, late = archive_.shapes[39000].entity;
+  const pbrta::ValueRecord* alpha = archive_.value(late, "alpha");
+  const pbrta::ValueRecord* indices = archive_.value(early, "indices");
+  ASSERT_NE(alpha, nullptr);
+  ASSERT_NE(indices, nullptr);
+  ASSERT_EQ(indices->texture, pbrta::kNoIndex);
+  std::string b = good_;
+  edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, uint32_t(alpha - archive_.values.data),
+                           [](pbrta::ValueRecord* v) { v->texture = 99999; });
+  std::string error = error_of(b, values_);
+  EXPECT_NE(error.find("entity " + std::to_string(late) +
+                       ": trianglemesh \"alpha\": texture 99999 out of range (2 textures)"),
+            std::string::npos)
+      << error;
+  edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues,
+                           uint32_t(indices - archive_.values.data),
+                           [](pbrta::ValueRecord* v) { v->texture = 0; });
+  error = error_of(b, values_);
+  EXPECT_NE(error.find("entity " + std::to_string(early) +
+                       ": trianglemesh \"indices\": a texture on a parameter that takes none"),
+            std::string::npos)
+      << error;
 }
 
 TEST_F(EntityCheck, FirstBadMaterialInOrder) {
