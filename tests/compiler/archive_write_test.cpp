@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -191,6 +192,48 @@ TEST(ArchiveWrite, DamagedSceneArchivesFailCleanly) {
       std::string error;
       EXPECT_FALSE(a.load(file, 1, &error)) << "cut at " << cut;
       EXPECT_EQ(error.compare(0, file.size(), file), 0) << error;
+    }
+  }
+}
+
+// Seeds for the scene archive fuzzer (tests/fuzz/scene_archive_fuzz.cpp; CTest's
+// fuzz.scene_archive runs this test first as a fixture): small shared scenes that between them
+// hold every record kind, uncompressed (so a mutation lands in a record, not in zstd's bytes),
+// compressed, and with a Draco mesh. Each fits the fuzzer's 64 KiB inputs whole.
+TEST(ArchiveWrite, WritesSceneFuzzSeeds) {
+  const std::string dir = std::string(PBRTC_BINARY_DIR) + "/fuzz-seeds/scene";
+  std::filesystem::create_directories(dir);
+  const std::string scenes = testing_support::shared_dir() + "/scenes/";
+  const char* const kScenes[] = {
+      "rs-cornell-box/cornell_box.pbrt",
+      "hm-shapes/pbrt-v3-rs/scenes/shapes/all-shapes.pbrt",
+      "hm-shapes/pbrt-v3-rs/scenes/shapes/triangles-alpha-mask.pbrt",
+      "hm-instances/pbrt-v3-rs/scenes/objects/instances.pbrt",
+      "hm-textures/pbrt-v3-rs/scenes/textures/2d-checkerboard.pbrt",
+      "hm-cameras/pbrt-v3-rs/scenes/cameras/environment.pbrt",
+      "hm-cameras/pbrt-v3-rs/scenes/cameras/realistic.pbrt",
+      "hm-lights/pbrt-v3-rs/scenes/lights/spot.pbrt",
+      "rs-procedural-textures/marble.pbrt",
+      "rs-veach-mis/veach-mis/mis.pbrt",
+      "rs-nurbs/nurbs_3x3.pbrt",
+  };
+  int n = 0;
+  for (const char* name : kScenes) {
+    CompiledScene c;
+    compile_scene(scenes + name, &c);
+    ASSERT_TRUE(c.ok) << name;
+    for (int variant = 0; variant < 3; ++variant) {
+      ArchiveOptions opt;
+      opt.compress = variant > 0;
+      opt.draco_bits = variant == 2 ? 14 : 0;
+      opt.threads = 1;
+      const std::string out = dir + "/seed" + std::to_string(n++) + ".pbrta";
+      std::string error;
+      ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(c.path), out, opt, nullptr, &error))
+          << error;
+      EXPECT_LE(testing_support::read_file(out).size(), 65536u) << name;
+      pbrta::SceneArchive a;
+      EXPECT_TRUE(a.load(out, 1, &error)) << error;  // a seed the fuzzer can mutate from
     }
   }
 }

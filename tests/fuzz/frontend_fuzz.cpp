@@ -12,7 +12,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   pbrtc::SourceFiles files;
   pbrtc::Diagnostics diag(&files, nullptr);
   pbrtc::SceneDesc scene;
-  pbrtc::build_scene_from_string("fuzz.pbrt", std::string(reinterpret_cast<const char*>(data), size),
+  pbrtc::build_scene_from_string("fuzz.pbrt",
+                                 std::string(reinterpret_cast<const char*>(data), size),
                                  "/nonexistent-fuzz-dir", &files, &diag, &scene);
   return 0;
 }

@@ -1,0 +1,61 @@
+// tests/fuzz/archive_reseal.h — make a mutated archive's checksums right again.
+//
+// A fuzzer's mutation almost always breaks a checksum, and the reader stops there. reseal()
+// recomputes, in place, every checksum the container reader verifies (each section's over its
+// stored bytes, the table's, the header's) and the recorded file size, wherever the header and
+// table let it find them, so that mutations reach the layout checks, the decoders and the record
+// validation behind them. A codec-4 section's checksum covers only its frame index, whose entries
+// hold each frame's checksum: those are recomputed first, for every entry whose frame lies inside
+// the stored bytes.
+#pragma once
+
+#include <xxhash.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "format/archive.h"
+#include "format/zstd_frames.h"
+
+namespace fuzz_support {
+
+inline void reseal(std::vector<uint8_t>* b) {
+  if (b->size() < sizeof(pbrta::Header)) return;
+  pbrta::Header h;
+  std::memcpy(&h, b->data(), sizeof(h));
+  const uint64_t table_bytes = uint64_t{h.section_count} * sizeof(pbrta::SectionEntry);
+  if (table_bytes <= b->size() - sizeof(h)) {
+    for (uint32_t i = 0; i < h.section_count; ++i) {
+      uint8_t* at = b->data() + sizeof(h) + i * sizeof(pbrta::SectionEntry);
+      pbrta::SectionEntry e;
+      std::memcpy(&e, at, sizeof(e));
+      if (e.offset > b->size() || e.stored_size > b->size() - e.offset) continue;
+      uint8_t* stored = b->data() + e.offset;
+      uint64_t covered = e.stored_size;
+      if (e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)) {
+        const uint64_t index_bytes = pbrta::frame_count(e.raw_size) * 16;
+        if (index_bytes > e.stored_size) continue;
+        uint64_t frame_at = index_bytes;
+        for (uint64_t k = 0; k < index_bytes; k += 16) {
+          uint32_t frame_size = 0;
+          std::memcpy(&frame_size, stored + k, 4);
+          if (frame_size > e.stored_size - frame_at) break;
+          const uint64_t sum = XXH3_64bits(stored + frame_at, frame_size);
+          std::memcpy(stored + k + 8, &sum, 8);
+          frame_at += frame_size;
+        }
+        covered = index_bytes;
+      }
+      e.checksum = XXH3_64bits(stored, covered);
+      std::memcpy(at, &e, sizeof(e));
+    }
+    h.table_checksum = XXH3_64bits(b->data() + sizeof(h), table_bytes);
+  }
+  h.file_size = b->size();
+  h.header_checksum = XXH3_64bits(&h, offsetof(pbrta::Header, header_checksum));
+  std::memcpy(b->data(), &h, sizeof(h));
+}
+
+}  // namespace fuzz_support
