@@ -35,16 +35,16 @@ inline void reseal(std::vector<uint8_t>* b) {
       uint8_t* stored = b->data() + e.offset;
       uint64_t covered = e.stored_size;
       if (e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)) {
-        const uint64_t index_bytes = pbrta::frame_count(e.raw_size) * 16;
+        const uint64_t index_bytes = pbrta::frame_count(e.raw_size) * sizeof(pbrta::FrameEntry);
         if (index_bytes > e.stored_size) continue;
         uint64_t frame_at = index_bytes;
-        for (uint64_t k = 0; k < index_bytes; k += 16) {
-          uint32_t frame_size = 0;
-          std::memcpy(&frame_size, stored + k, 4);
-          if (frame_size > e.stored_size - frame_at) break;
-          const uint64_t sum = XXH3_64bits(stored + frame_at, frame_size);
-          std::memcpy(stored + k + 8, &sum, 8);
-          frame_at += frame_size;
+        for (uint64_t k = 0; k < index_bytes; k += sizeof(pbrta::FrameEntry)) {
+          pbrta::FrameEntry f;
+          std::memcpy(&f, stored + k, sizeof f);
+          if (f.stored_size > e.stored_size - frame_at) break;
+          f.checksum = XXH3_64bits(stored + frame_at, f.stored_size);
+          std::memcpy(stored + k, &f, sizeof f);
+          frame_at += f.stored_size;
         }
         covered = index_bytes;
       }

@@ -50,8 +50,7 @@ void check_entities(const SceneArchive& a) {
     require(uint64_t(r.first_value) + r.num_values <= a.values.size);
     for (uint32_t p = 0; p < known; ++p) {
       const ParamSpec& ps = t.params[p];
-      const ValueRecord* v = a.value(e, ps.name);
-      if (v == nullptr) continue;  // an alias-only spelling: the first match is another param
+      const ValueRecord* v = &a.values[r.first_value + p];
       const uint64_t words = uint64_t(v->count) * uint64_t(kind_width(ps.kind));
       require(uint64_t(v->offset) + words <= a.words.size);
       for (uint64_t k = 0; k < words; ++k) sink = a.words[uint32_t(v->offset + k)];
