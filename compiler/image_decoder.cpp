@@ -1,6 +1,7 @@
 #include "compiler/image_decoder.h"
 
-#include <OpenImageIO/imageio.h>
+#include "compiler/image_reader.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -16,20 +17,6 @@ namespace {
 // pbrt-v3's constants as its Float (float) holds them.
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvLog2 = 1.442695040888963387004650940071f;
-
-// Images above these sizes (after resampling to powers of two) are refused rather than
-// allocated: 32768 texels a side, 2^28 texels (3 GiB of RGB floats for level 0).
-constexpr uint32_t kMaxSide = 32768;
-constexpr uint64_t kMaxTexels = uint64_t(1) << 28;
-
-std::string lower_extension(const std::string& path) {
-  size_t slash = path.find_last_of('/');
-  size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string ext = path.substr(dot);
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 // pbrt-v3's InverseGammaCorrect: the sRGB curve undone, in float.
 float inverse_gamma(float v) {
@@ -70,12 +57,6 @@ int wrap_index(int i, int n, ImageWrap wrap) {
       break;
   }
   return i >= 0 && i < n ? i : -1;
-}
-
-uint32_t round_up_pow2(uint32_t v) {
-  uint32_t p = 1;
-  while (p < v) p <<= 1;
-  return p;
 }
 
 bool is_pow2(uint32_t v) {
@@ -138,122 +119,16 @@ LevelView level_view(const DecodedImage& im, int level) {
           std::max(1, int(im.height >> level)), int(im.channels), im.wrap};
 }
 
-// Copies channels src[0..2] of count pixels of nch channels at in to RGB at out. out may be in
-// itself when nch >= 3: each pixel is read whole before it is written, and its RGB slot never
-// reaches a later pixel's texels.
-void pack_rgb(const float* in, int nch, const int src[3], size_t count, float* out) {
-  for (size_t i = 0; i < count; ++i) {
-    const float* p = in + i * size_t(nch);
-    const float r = p[src[0]], g = p[src[1]], b = p[src[2]];
-    out[3 * i] = r;
-    out[3 * i + 1] = g;
-    out[3 * i + 2] = b;
-  }
-}
-
-// Reads the file as pbrt-v3's ReadImage does: RGB floats, rows top to bottom. *float_grey is set
-// for a one-channel PFM, whose floats a float texture takes as they are.
-bool read_rgb(const std::string& path, std::vector<float>* rgb, uint32_t* width, uint32_t* height,
-              bool* float_grey, std::string* error) {
-  const std::string ext = lower_extension(path);
-  const bool exr = ext == ".exr", eight_bit = ext == ".png" || ext == ".tga";
-  if (!exr && !eight_bit && ext != ".pfm" && ext != ".hdr") {
+// Reads the file as pbrt-v3's ReadImage does, through the image module (image_reader.h). The
+// extension is checked here, so an unsupported file is refused without loading the module.
+bool read_rgb(const std::string& path, RgbImage* image, std::string* error) {
+  const std::string ext = image_file_extension(path);
+  if (ext != ".exr" && ext != ".png" && ext != ".tga" && ext != ".pfm" && ext != ".hdr") {
     *error = "unsupported image format \"" + ext +
              "\" (pbrt-v3 reads .exr, .png, .tga and .pfm; pbrtc also .hdr)";
     return false;
   }
-  // pbrt-v3's PNG and TGA readers drop alpha without premultiplying by it; OpenImageIO would
-  // premultiply unless told not to.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path, &config);
-  if (!in) {
-    *error = OIIO::geterror();
-    if (error->empty()) *error = "not a readable image";
-    while (!error->empty() && error->back() == '\n') error->pop_back();
-    return false;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
-    *error = "not a 2D image";
-    return false;
-  }
-  if (uint32_t(spec.width) > kMaxSide || uint32_t(spec.height) > kMaxSide ||
-      uint64_t(round_up_pow2(uint32_t(spec.width))) * round_up_pow2(uint32_t(spec.height)) >
-          kMaxTexels) {
-    *error = "the image is " + std::to_string(spec.width) + " x " + std::to_string(spec.height) +
-             "; pbrtc takes up to 32768 texels a side and 2^28 texels after resampling to "
-             "powers of two";
-    return false;
-  }
-  const int nch = spec.nchannels;
-  // Which file channels make R, G and B: named R, G, B (EXR may order them otherwise), else a
-  // luminance channel Y replicated (as Imf::RgbaInputFile and a grey PNG give), else the first
-  // three, else the first one replicated.
-  int src[3] = {0, 0, 0};
-  {
-    int r = spec.channelindex("R"), g = spec.channelindex("G"), b = spec.channelindex("B");
-    int y = spec.channelindex("Y");
-    if (r >= 0 && g >= 0 && b >= 0) {
-      src[0] = r, src[1] = g, src[2] = b;
-    } else if (y >= 0) {
-      src[0] = src[1] = src[2] = y;
-    } else if (nch >= 3) {
-      src[0] = 0, src[1] = 1, src[2] = 2;
-    }
-  }
-  const size_t n = size_t(spec.width) * size_t(spec.height);
-  std::vector<float> all(exr ? 0 : n * size_t(nch));  // EXR halves are widened in chunks
-  bool ok;
-  if (exr) {
-    // pbrt-v3 reads EXR through Imf::RgbaInputFile, which hands out half floats. They are
-    // widened a few thousand pixels at a time straight into RGB: no float copy of every channel
-    // of the whole image (an environment map's decode peaked at 28 bytes a texel, now 20).
-    std::vector<uint16_t> half(n * size_t(nch));
-    ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::HALF, half.data());
-    rgb->assign(ok ? n * 3 : 0, 0.f);
-    constexpr size_t kChunk = 4096;
-    std::vector<float> wide(kChunk * size_t(nch));
-    for (size_t at = 0; ok && at < n; at += kChunk) {
-      const size_t m = std::min(kChunk, n - at);
-      ok = OIIO::convert_pixel_values(OIIO::TypeDesc::HALF, &half[at * size_t(nch)],
-                                      OIIO::TypeDesc::FLOAT, wide.data(), int(m * size_t(nch)));
-      if (ok) pack_rgb(wide.data(), nch, src, m, rgb->data() + at * 3);
-    }
-  } else if (eight_bit) {
-    // lodepng's 24-bit decode keeps the high byte of 16-bit PNG samples.
-    if (spec.format == OIIO::TypeDesc::UINT16) {
-      std::vector<uint16_t> raw(all.size());
-      ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT16, raw.data());
-      for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i] >> 8) / 255.f;
-    } else {
-      std::vector<uint8_t> raw(all.size());
-      ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, raw.data());
-      for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i]) / 255.f;
-    }
-  } else {
-    ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data());
-  }
-  if (!ok) {
-    *error = in->geterror();
-    if (error->empty()) *error = "cannot decode the pixels";
-    while (!error->empty() && error->back() == '\n') error->pop_back();
-    return false;
-  }
-  *width = uint32_t(spec.width);
-  *height = uint32_t(spec.height);
-  *float_grey = ext == ".pfm" && nch == 1;
-  if (exr) return true;
-  if (nch < 3) {
-    rgb->resize(n * 3);
-    pack_rgb(all.data(), nch, src, n, rgb->data());
-    return true;
-  }
-  // In place: one image-sized buffer fewer at the peak.
-  pack_rgb(all.data(), nch, src, n, all.data());
-  all.resize(n * 3);
-  rgb->swap(all);
-  return true;
+  return read_image_rgb(path, image, error);
 }
 
 void flip_rows(std::vector<float>* texels, uint32_t width, uint32_t height, uint32_t channels) {
@@ -316,7 +191,7 @@ ImageOptions ImageOptions::for_texture(const std::string& path, bool float_textu
                                        bool gamma) {
   ImageOptions o;
   o.channels = float_texture ? 1 : 3;
-  const std::string ext = lower_extension(path);
+  const std::string ext = image_file_extension(path);
   o.gamma = gamma_given ? gamma : (ext == ".png" || ext == ".tga");
   o.scale = scale;
   o.wrap = parse_image_wrap(wrap);
@@ -400,10 +275,11 @@ std::vector<std::vector<float>> build_mip_pyramid(std::vector<float> texels, uin
 
 bool decode_image(const std::string& path, const ImageOptions& options, DecodedImage* out,
                   std::string* error) {
-  std::vector<float> rgb;
-  uint32_t w = 0, h = 0;
-  bool float_grey = false;
-  if (!read_rgb(path, &rgb, &w, &h, &float_grey, error)) return false;
+  RgbImage image;
+  if (!read_rgb(path, &image, error)) return false;
+  const uint32_t w = image.width, h = image.height;
+  const bool float_grey = image.float_grey;
+  std::vector<float> rgb = std::move(image.rgb);
   if (options.flip) flip_rows(&rgb, w, h, 3);
 
   // pbrt-v3's ImageTexture::convertIn (identity for lights: scale 1, no gamma).

@@ -6,7 +6,7 @@
 // with Lanczos weights (negative results clamped to 0), then each level is the 2x2 box average
 // of the one before, boundary texels looked up with the wrap mode. pbrtc does all of that here,
 // with pbrt-v3's float arithmetic in pbrt-v3's order, so the runtime only looks texels up and a
-// texture filters to the same values. Files are read with OpenImageIO, which only pbrtc links.
+// texture filters to the same values. Files are read through compiler/image_reader.h.
 //
 // What pbrt-v3 does per use (textures/imagemap.cpp, lights/*.cpp, core/imageio.cpp):
 //   - ReadImage gives RGB: 8-bit PNG/TGA values v / 255 (alpha dropped, grey replicated), EXR

@@ -404,6 +404,61 @@ TEST(PbrtCommand, ErrorsNameTheLineAndExitNonZero) {
   EXPECT_NE(usage.err.find("usage: pbrt"), std::string::npos);
 }
 
+// The test scene without its image texture.
+std::string scene_without_images() {
+  std::string text = kScene;
+  const size_t from = text.find("  Texture \"checks\""), to = text.find("  Shape \"plymesh\"");
+  text.replace(from, to - from, "  Material \"matte\"\n");
+  return text;
+}
+
+// OpenImageIO and the ~260 libraries it brings cost ~0.5 s of dynamic linking per process
+// start, so pbrtc and pbrt load them (through libpbrtc_images.so) only for a scene that names
+// an image. LD_DEBUG=files makes the dynamic linker list every object it loads, dlopen()ed ones
+// too, so both halves of that are seen, not assumed.
+TEST(PbrtCommand, ImageLibrariesLoadOnlyForScenesThatNameAnImage) {
+  std::string dir = make_scene("image_module");
+  write_file(dir + "/plain.pbrt", scene_without_images());
+  const std::string trace = "LD_DEBUG=files ";
+  Outcome plain = run_in(dir, trace + kBin + "/pbrtc -q plain.pbrt -o plain.pbrta", "plain");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_NE(plain.err.find("file=libtbb"), std::string::npos) << "no loader trace: " << plain.err;
+  EXPECT_EQ(plain.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(plain.err.find("libpbrtc_images"), std::string::npos);
+  Outcome render =
+      run_in(dir, trace + pbrt() + " --quiet plain.pbrt --outfile plain.exr", "render");
+  ASSERT_EQ(render.status, 0) << render.err;
+  EXPECT_EQ(render.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(render.err.find("libpbrtc_images"), std::string::npos);
+
+  Outcome textured = run_in(dir, trace + kBin + "/pbrtc -q scene.pbrt -o scene.pbrta", "textured");
+  ASSERT_EQ(textured.status, 0) << textured.err;
+  EXPECT_NE(textured.err.find("libpbrtc_images.so [0];  dynamically loaded"), std::string::npos)
+      << textured.err;
+  EXPECT_NE(textured.err.find("libOpenImageIO"), std::string::npos);
+}
+
+// Without its image module pbrtc still compiles scenes that name no image; one that does fails
+// at the image's line, saying what was tried and how to point pbrtc at the module.
+TEST(PbrtCommand, AMissingImageModuleFailsOnlyScenesWithImages) {
+  std::string dir = make_scene("no_image_module");
+  write_file(dir + "/plain.pbrt", scene_without_images());
+  const std::string missing = "PBRTC_IMAGE_MODULE='" + dir + "/gone/libpbrtc_images.so' ";
+  Outcome plain = run_in(dir, missing + kBin + "/pbrtc -q plain.pbrt -o plain.pbrta", "plain");
+  EXPECT_EQ(plain.status, 0) << plain.err;
+  EXPECT_TRUE(fs::exists(dir + "/plain.pbrta"));
+  Outcome textured = run_in(dir, missing + kBin + "/pbrtc -q scene.pbrt -o scene.pbrta", "tex");
+  EXPECT_EQ(textured.status, 1);
+  EXPECT_NE(textured.err.find("scene.pbrt:11:"), std::string::npos) << textured.err;
+  EXPECT_NE(textured.err.find("tex.pfm"), std::string::npos) << textured.err;
+  EXPECT_NE(textured.err.find("cannot load pbrtc's image reader module (" + dir +
+                              "/gone/libpbrtc_images.so: cannot open shared object file"),
+            std::string::npos)
+      << textured.err;
+  EXPECT_NE(textured.err.find("set PBRTC_IMAGE_MODULE"), std::string::npos) << textured.err;
+  EXPECT_FALSE(fs::exists(dir + "/scene.pbrta"));
+}
+
 TEST(PbrtCommand, HelpListsEveryOption) {
   std::string dir = scratch_dir("pbrt_help");
   Outcome r = run_in(dir, kBin + "/pbrt --help");
