@@ -8,11 +8,11 @@
 #include <cstring>
 #include <string>
 
-#include "archive_reseal.h"
 #include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "format/archive.h"
 #include "format/scene_archive.h"
+#include "reseal_and_load.h"
 #include "test_support.h"
 
 namespace pbrtc {
@@ -84,17 +84,17 @@ class EntityCheck : public ::testing::Test {
                          const std::string& early_error) {
     std::string b = good_;
     edit<T>(&b, kind, late, damage_late);
-    std::string error = error_of(b, section(kind));
+    std::string error = error_of(b);
     EXPECT_NE(error.find(late_error), std::string::npos) << error;
     edit<T>(&b, kind, early, damage_early);
-    error = error_of(b, section(kind));
+    error = error_of(b);
     EXPECT_NE(error.find(early_error), std::string::npos) << error;
   }
   // The same error on 1 and 2 threads (after resealing the edited sections).
-  std::string error_of(std::string bytes, uint32_t section) {
+  std::string error_of(const std::string& bytes) {
     const std::string path = dir_ + "/bad.pbrta";
-    const std::string one = testing_support::reseal_and_load(bytes, section, path, 1);
-    const std::string two = testing_support::reseal_and_load(bytes, section, path, 2);
+    const std::string one = testing_support::reseal_and_load(bytes, path, 1);
+    const std::string two = testing_support::reseal_and_load(bytes, path, 2);
     EXPECT_EQ(one, two);
     return two;
   }
@@ -110,12 +110,12 @@ TEST_F(EntityCheck, FirstBadEntityInOrderOnEveryThreadCount) {
   const uint32_t early = n - 30001, late = n - 5;
   std::string b = good_;
   set_entity_byte(&b, late, offsetof(pbrta::EntityRecord, category), 200);
-  const std::string late_only = error_of(b, entities_);
+  const std::string late_only = error_of(b);
   EXPECT_NE(late_only.find("entity " + std::to_string(late) + ": category 200 unknown"),
             std::string::npos)
       << late_only;
   set_entity_byte(&b, early, offsetof(pbrta::EntityRecord, reserved0), 1);
-  const std::string both = error_of(b, entities_);
+  const std::string both = error_of(b);
   EXPECT_NE(both.find("entity " + std::to_string(early) + ": reserved field is not zero"),
             std::string::npos)
       << both;
@@ -131,7 +131,7 @@ TEST_F(EntityCheck, BadValueNamesItsEntity) {
   const uint64_t at = offset_of(values_) + uint64_t(e.first_value) * sizeof(pbrta::ValueRecord) +
                       offsetof(pbrta::ValueRecord, flags);
   b[at + 3] = char(0x80);
-  const std::string error = error_of(b, values_);
+  const std::string error = error_of(b);
   EXPECT_NE(error.find("entity " + std::to_string(i) + ": " + std::string(archive_.type_name(i))),
             std::string::npos)
       << error;
@@ -154,7 +154,7 @@ TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
     ASSERT_NE(kd->texture, pbrta::kNoIndex);
     edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
                              [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
-    const std::string error = error_of(b, values_);
+    const std::string error = error_of(b);
     EXPECT_NE(error.find("entity " + std::to_string(e) + " \"Kd\": texture " +
                          std::to_string(float_tex) + " is not a"),
               std::string::npos)
@@ -175,7 +175,7 @@ TEST_F(EntityCheck, TextureOutOfRangeOrOnAPlainParameterIsRefused) {
   std::string b = good_;
   edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, uint32_t(alpha - archive_.values.data),
                            [](pbrta::ValueRecord* v) { v->texture = 99999; });
-  std::string error = error_of(b, values_);
+  std::string error = error_of(b);
   EXPECT_NE(error.find("entity " + std::to_string(late) +
                        ": trianglemesh \"alpha\": texture 99999 out of range (2 textures)"),
             std::string::npos)
@@ -183,7 +183,7 @@ TEST_F(EntityCheck, TextureOutOfRangeOrOnAPlainParameterIsRefused) {
   edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues,
                            uint32_t(indices - archive_.values.data),
                            [](pbrta::ValueRecord* v) { v->texture = 0; });
-  error = error_of(b, values_);
+  error = error_of(b);
   EXPECT_NE(error.find("entity " + std::to_string(early) +
                        ": trianglemesh \"indices\": a texture on a parameter that takes none"),
             std::string::npos)

@@ -7,12 +7,12 @@
 #include <cstring>
 #include <string>
 
-#include "archive_reseal.h"
 #include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "format/archive.h"
 #include "format/archive_names.h"
 #include "format/scene_archive.h"
+#include "reseal_and_load.h"
 #include "test_support.h"
 
 namespace pbrtc {
@@ -89,14 +89,14 @@ WorldEnd
                                std::to_string(s) + "): ";
     std::string b = good_;
     edit(&b, 1);
-    EXPECT_EQ(error_of(b, s), prefix + error_1);
+    EXPECT_EQ(error_of(b), prefix + error_1);
     edit(&b, 0);
-    EXPECT_EQ(error_of(b, s), prefix + error_0);
+    EXPECT_EQ(error_of(b), prefix + error_0);
   }
-  std::string error_of(const std::string& bytes, uint32_t section) {
+  std::string error_of(const std::string& bytes) {
     const std::string path = dir_ + "/bad.pbrta";
-    const std::string one = testing_support::reseal_and_load(bytes, section, path, 1);
-    EXPECT_EQ(one, testing_support::reseal_and_load(bytes, section, path, 2));
+    const std::string one = testing_support::reseal_and_load(bytes, path, 1);
+    EXPECT_EQ(one, testing_support::reseal_and_load(bytes, path, 2));
     return one;
   }
   // "<what> out of range (<count> <array>)", as the index checks word it.

@@ -19,7 +19,6 @@
 #include <string>
 #include <vector>
 
-#include "archive_reseal.h"
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
 #include "compiler/diagnostics.h"
@@ -27,6 +26,7 @@
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "format/scene_archive.h"
+#include "reseal_and_load.h"
 #include "test_support.h"
 
 namespace pbrtc {
@@ -568,7 +568,7 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
   auto edit = [&](uint32_t image, size_t field, uint32_t value) {
     std::string bytes = good;
     std::memcpy(&bytes[images_at + image * sizeof(pbrta::ImageRecord) + field], &value, 4);
-    return testing_support::reseal_and_load(bytes, images_entry, dir + "/bad.pbrta");
+    return testing_support::reseal_and_load(bytes, dir + "/bad.pbrta");
   };
   const size_t source_field = offsetof(pbrta::ImageRecord, source_image);
   const std::string prefix =

@@ -16,7 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "archive_reseal.h"
 #include "compiled_scene.h"
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
@@ -24,6 +23,7 @@
 #include "compiler/scene_builder.h"
 #include "format/scene_archive.h"
 #include "format/texel_format.h"
+#include "reseal_and_load.h"
 #include "test_support.h"
 
 namespace pbrtc {
@@ -235,7 +235,7 @@ TEST(TexturePrecision, ReaderChecksFormats) {
     std::memcpy(&bytes[images_at + image * sizeof(pbrta::ImageRecord) +
                        offsetof(pbrta::ImageRecord, format)],
                 &value, 4);
-    return testing_support::reseal_and_load(bytes, images_entry, dir + "/bad.pbrta");
+    return testing_support::reseal_and_load(bytes, dir + "/bad.pbrta");
   };
   const std::string prefix =
       dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) + "): image ";

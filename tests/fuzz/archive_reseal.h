@@ -6,7 +6,8 @@
 // table let it find them, so that mutations reach the layout checks, the decoders and the record
 // validation behind them. A codec-4 section's checksum covers only its frame index, whose entries
 // hold each frame's checksum: those are recomputed first, for every entry whose frame lies inside
-// the stored bytes.
+// the stored bytes. The compiler tests of record validation reseal their edits with it too
+// (tests/compiler/reseal_and_load.h).
 #pragma once
 
 #include <xxhash.h>
