@@ -77,7 +77,7 @@ Ke 5 4 3
 Tr 0.5
 )";
 
-// A 2x2 RGB PFM (little-endian: negative scale), which pbrtc decodes without OpenImageIO.
+// A 2x2 RGB PFM (little-endian: negative scale): the simplest image file to write by hand.
 void write_pfm(const std::string& path) {
   std::string data = "PF\n2 2\n-1.0\n";
   const float texels[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1};
