@@ -26,7 +26,11 @@ std::string program_dir() {
 }
 
 std::vector<std::string> module_candidates() {
-  if (const char* env = std::getenv("PBRTC_IMAGE_MODULE"); env && *env) return {env};
+  if (const char* env = std::getenv("PBRTC_IMAGE_MODULE"); env && *env) {
+    // A bare file name would make dlopen search the library path; the user means this folder.
+    const std::string path = env;
+    return {path.find('/') == std::string::npos ? "./" + path : path};
+  }
   std::vector<std::string> places;
   if (std::string dir = program_dir(); !dir.empty())
     places.push_back(dir + PBRTC_IMAGE_MODULE_NAME);
@@ -57,8 +61,11 @@ Module load_module() {
       why = path + ": no " + kReadImageRgbSymbol + " in it (a module from another pbrtc?)";
       dlclose(handle);
     } else {
+      // dlerror names the module only when the module itself is missing; a library it needs
+      // that is missing is named alone.
       const char* reason = dlerror();
       why = reason ? reason : "cannot be loaded";
+      if (why.compare(0, path.size(), path) != 0) why = path + ": " + why;
     }
     tried += (tried.empty() ? "" : "; ") + why;
   }
@@ -68,6 +75,12 @@ Module load_module() {
 }
 
 }  // namespace
+
+std::string image_module_file() {
+  for (const std::string& path : module_candidates())
+    if (access(path.c_str(), R_OK) == 0) return path;
+  return "";
+}
 
 bool read_image_rgb(const std::string& path, RgbImage* out, std::string* error) {
   // A function-local static: loaded once, on the first image, even when several threads

@@ -56,6 +56,11 @@ inline uint32_t round_up_pow2(uint32_t v) {
 // Reads path (.png, .tga, .pfm, .hdr or .exr; the caller has checked the extension).
 bool read_image_rgb(const std::string& path, RgbImage* out, std::string* error);
 
+// The module file read_image_rgb loads (the first of the places above that exists), or "" if
+// there is none; this call does not load it. Caches of compiled output key on it: a rebuilt or
+// different module may decode images differently.
+std::string image_module_file();
+
 // The module's one entry point, looked up by this name. pbrtc and the module are built from
 // this tree by the same compiler, so C++ types may cross; the name's version changes with the
 // signature, so a stale module is refused rather than called wrongly.

@@ -25,7 +25,7 @@ void pack_rgb(const float* in, int nch, const int src[3], size_t count, float* o
   }
 }
 
-// The entry point's work; the extension is one image_reader.h lets through.
+// The entry point's work; image_decoder.cpp has checked the extension.
 bool read(const std::string& path, RgbImage* image, std::string* error) {
   const std::string ext = image_file_extension(path);
   const bool exr = ext == ".exr", eight_bit = ext == ".png" || ext == ".tga";

@@ -428,6 +428,7 @@ TEST(PbrtCommand, ImageLibrariesLoadOnlyForScenesThatNameAnImage) {
   Outcome render =
       run_in(dir, trace + pbrt() + " --quiet plain.pbrt --outfile plain.exr", "render");
   ASSERT_EQ(render.status, 0) << render.err;
+  EXPECT_NE(render.err.find("file=libtbb"), std::string::npos) << "no loader trace: " << render.err;
   EXPECT_EQ(render.err.find("libOpenImageIO"), std::string::npos);
   EXPECT_EQ(render.err.find("libpbrtc_images"), std::string::npos);
 
@@ -436,6 +437,26 @@ TEST(PbrtCommand, ImageLibrariesLoadOnlyForScenesThatNameAnImage) {
   EXPECT_NE(textured.err.find("libpbrtc_images.so [0];  dynamically loaded"), std::string::npos)
       << textured.err;
   EXPECT_NE(textured.err.find("libOpenImageIO"), std::string::npos);
+}
+
+// Images are decoded by the module, not the pbrt executable, so a different module (rebuilt, or
+// named by PBRTC_IMAGE_MODULE) must not reuse archives the old one decoded images for.
+TEST(PbrtCommand, ADifferentImageModuleRecompiles) {
+  std::string dir = make_scene("other_image_module");
+  Outcome first = run_in(dir, pbrt() + " --quiet --stats scene.pbrt --outfile a.exr", "first");
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_NE(first.err.find("cache: miss"), std::string::npos) << first.err;
+  fs::copy_file(kBin + "/libpbrtc_images.so", dir + "/copy.so");
+  const std::string other = "PBRTC_IMAGE_MODULE='" + dir + "/copy.so' ";
+  Outcome second =
+      run_in(dir, other + pbrt() + " --quiet --stats scene.pbrt --outfile b.exr", "second");
+  ASSERT_EQ(second.status, 0) << second.err;
+  EXPECT_NE(second.err.find("cache: miss"), std::string::npos) << second.err;
+  Outcome third =
+      run_in(dir, other + pbrt() + " --quiet --stats scene.pbrt --outfile c.exr", "third");
+  ASSERT_EQ(third.status, 0) << third.err;
+  EXPECT_NE(third.err.find("cache: hit"), std::string::npos) << third.err;
+  EXPECT_TRUE(same_pixels(dir + "/a.exr", dir + "/c.exr"));
 }
 
 // Without its image module pbrtc still compiles scenes that name no image; one that does fails

@@ -7,18 +7,25 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "compiler/image_reader.h"
 #include "runtime/core/clock.h"
 
 namespace pbrt_tool {
 
 namespace {
 
-// This executable's size and modification time: a rebuilt compiler never reuses archives
-// an older one wrote, whatever its version string says.
+// This executable's size and modification time, and those of the image module it would load:
+// a rebuilt compiler never reuses archives an older one wrote, whatever its version string says.
 std::string executable_identity() {
-  FileStamp st;
-  if (!stat_file("/proc/self/exe", &st)) return "unknown";
-  return std::to_string(st.size) + ":" + std::to_string(st.mtime_ns);
+  std::string id;
+  for (const std::string& file : {std::string("/proc/self/exe"), pbrtc::image_module_file()}) {
+    FileStamp st;
+    id += file + "=" +
+          (stat_file(file, &st) ? std::to_string(st.size) + ":" + std::to_string(st.mtime_ns)
+                                : "unknown") +
+          " ";
+  }
+  return id;
 }
 
 std::vector<ManifestInput> stamp_inputs(const std::vector<std::string>& paths, bool* ok) {
