@@ -24,14 +24,14 @@ const char* kEffectNames[] = {"media",           "motion blur", "textures",   "a
                               "infinite lights", "subsurface",  "instancing", "alpha masks"};
 }  // namespace
 
-void print_archive_info(std::ostream& out, const std::string& path,
-                        const pbrta::SceneArchive& a) {
+void print_archive_info(std::ostream& out, const std::string& path, const pbrta::SceneArchive& a) {
   const pbrta::Header& h = a.header();
-  out << path << ": pbrtc scene archive " << h.major << "." << h.minor << ", "
-      << human(h.file_size) << "\n";
+  out << path << ": pbrtc scene archive " << h.major << "." << h.minor << ", " << human(h.file_size)
+      << "\n";
   std::string fx;
   for (int i = 0; i < 8; ++i)
-    if (h.effects & (uint64_t(1) << i)) fx += (fx.empty() ? "" : ", ") + std::string(kEffectNames[i]);
+    if (h.effects & (uint64_t(1) << i))
+      fx += (fx.empty() ? "" : ", ") + std::string(kEffectNames[i]);
   out << "  effects: " << (fx.empty() ? "none" : fx) << "\n";
   const pbrta::SceneRecord& s = a.scene();
   out << "  camera " << a.type_name(s.camera) << ", film " << a.get_int(s.film, "xresolution")
@@ -48,7 +48,7 @@ void print_archive_info(std::ostream& out, const std::string& path,
       << s.num_transforms << ", strings " << s.num_strings << "\n";
   out << "  sections:\n";
   char line[160];
-  std::snprintf(line, sizeof line, "    %3s  %-14s %-14s %8s %12s %12s %7s\n", "#", "kind", "codec",
+  std::snprintf(line, sizeof line, "    %3s  %-14s %-20s %8s %12s %12s %7s\n", "#", "kind", "codec",
                 "count", "raw", "stored", "ratio");
   out << line;
   uint64_t raw = 0, stored = 0;
@@ -57,14 +57,14 @@ void print_archive_info(std::ostream& out, const std::string& path,
     const pbrta::SectionEntry& e = r.entry(i);
     raw += e.raw_size;
     stored += e.stored_size;
-    std::snprintf(line, sizeof line, "    %3u  %-14s %-14s %8u %12s %12s %6.1f%%\n", i,
+    std::snprintf(line, sizeof line, "    %3u  %-14s %-20s %8u %12s %12s %6.1f%%\n", i,
                   std::string(pbrta::section_kind_name(pbrta::SectionKind(e.kind))).c_str(),
                   std::string(pbrta::codec_name(pbrta::Codec(e.codec))).c_str(), e.count,
                   human(e.raw_size).c_str(), human(e.stored_size).c_str(),
                   e.raw_size ? 100.0 * double(e.stored_size) / double(e.raw_size) : 100.0);
     out << line;
   }
-  std::snprintf(line, sizeof line, "    %3s  %-14s %-14s %8s %12s %12s %6.1f%%\n", "", "total", "",
+  std::snprintf(line, sizeof line, "    %3s  %-14s %-20s %8s %12s %12s %6.1f%%\n", "", "total", "",
                 "", human(raw).c_str(), human(stored).c_str(),
                 raw ? 100.0 * double(stored) / double(raw) : 100.0);
   out << line;
@@ -99,12 +99,15 @@ void print_schema_markdown(std::ostream& out) {
           int n = ps.arity == 1 ? pbrta::kind_width(ps.kind) : ps.arity;
           for (int k = 0; k < n && k < 4; ++k) {
             char buf[32];
-            std::snprintf(buf, sizeof buf, "%g", double(ps.def.v[ps.arity == 1 && pbrta::kind_width(ps.kind) == 1 ? 0 : k]));
+            std::snprintf(
+                buf, sizeof buf, "%g",
+                double(ps.def.v[ps.arity == 1 && pbrta::kind_width(ps.kind) == 1 ? 0 : k]));
             def += (k ? " " : "") + std::string(buf);
           }
         }
         std::string flags;
-        if (ps.flags & pbrta::kParamComputedDefault) flags += "computed: " + std::string(ps.note) + "; ";
+        if (ps.flags & pbrta::kParamComputedDefault)
+          flags += "computed: " + std::string(ps.note) + "; ";
         if (ps.flags & pbrta::kParamFilename) flags += "file name; ";
         if (ps.flags & pbrta::kParamBulk) flags += "bulk; ";
         if (ps.flags & pbrta::kParamDerived) flags += "derived (filled by the compiler); ";
