@@ -5,7 +5,6 @@
 // a PLY mesh and an imagemap texture, so editing each kind of input can be checked.
 // Each test has its own XDG_CACHE_HOME, so caches never leak between tests.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <chrono>
 #include <cstdio>
@@ -16,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "command_runner.h"
 #include "compiler/archive_dump.h"
 #include "format/mesh_arrays.h"
 #include "format/ply_writer.h"
@@ -25,32 +25,12 @@
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::kBin;
+using testing_support::Outcome;
 using testing_support::read_file;
+using testing_support::run_in;
 using testing_support::scratch_dir;
 using testing_support::write_file;
-
-const std::string kBin = PBRTC_BINARY_DIR;
-
-struct Outcome {
-  int status = -1;
-  std::string err, out;
-  double seconds = 0;
-};
-
-// Runs `command` (a shell command line) in dir with XDG_CACHE_HOME=dir/cache.
-Outcome run_in(const std::string& dir, const std::string& command, const std::string& tag = "run") {
-  std::string out = dir + "/" + tag + ".stdout", err = dir + "/" + tag + ".stderr";
-  std::string line = "cd '" + dir + "' && XDG_CACHE_HOME='" + dir + "/cache' " + command + " > '" +
-                     out + "' 2> '" + err + "'";
-  auto t0 = std::chrono::steady_clock::now();
-  int raw = std::system(line.c_str());
-  Outcome r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.err = read_file(err);
-  r.out = read_file(out);
-  return r;
-}
 
 std::string pbrt() {
   return kBin + "/pbrt --nthreads 1";

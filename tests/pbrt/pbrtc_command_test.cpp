@@ -1,0 +1,194 @@
+// tests/pbrt/pbrtc_command_test.cpp — the pbrtc command, run as users run it.
+//
+// The built pbrtc (and pbrtrun, for damaged archives) on a small scene written into a scratch
+// directory: the default archive name, --verify and --info exit codes and messages, a damaged
+// or truncated archive named with its section and refused by both programs without a crash or
+// an output file, a failed compile that leaves the previous archive in place, --dump that
+// compiles back, and the usage errors (exit 2).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "command_runner.h"
+#include "format/archive_names.h"
+#include "format/archive_reader.h"
+#include "test_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using testing_support::kBin;
+using testing_support::Outcome;
+using testing_support::read_file;
+using testing_support::run_in;
+using testing_support::scratch_dir;
+using testing_support::write_file;
+
+const char* kScene = R"(LookAt 0 0 -4  0 0 0  0 1 0
+Camera "perspective" "float fov" 45
+Film "image" "integer xresolution" 16 "integer yresolution" 16 "string filename" "box.exr"
+Sampler "halton" "integer pixelsamples" 2
+WorldBegin
+LightSource "point" "point from" [0 2 -3] "rgb I" [8 8 8]
+Material "matte" "rgb Kd" [0.5 0.4 0.3]
+Shape "trianglemesh" "point P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0]
+  "integer indices" [0 1 2  0 2 3]
+Shape "sphere" "float radius" 0.5
+WorldEnd
+)";
+
+std::string make_scene(const std::string& name) {
+  std::string dir = scratch_dir("pbrtc_" + name);
+  write_file(dir + "/box.pbrt", kScene);
+  return dir;
+}
+
+std::string pbrtc() {
+  return kBin + "/pbrtc --nthreads 1";
+}
+
+// The stored bytes of the archive's largest section: where a flipped byte is surely read.
+struct Span {
+  uint64_t offset = 0, size = 0;
+  std::string label;
+};
+Span largest_section(const std::string& path) {
+  pbrta::ArchiveReader r;
+  std::string error;
+  EXPECT_TRUE(r.open(path, &error)) << error;
+  Span s;
+  for (uint32_t i = 0; i < r.section_count(); ++i)
+    if (r.entry(i).stored_size > s.size) {
+      s.offset = r.entry(i).offset;
+      s.size = r.entry(i).stored_size;
+      s.label = "section '" +
+                std::string(pbrta::section_kind_name(pbrta::SectionKind(r.entry(i).kind))) +
+                "' (#" + std::to_string(i) + "): ";
+    }
+  return s;
+}
+
+TEST(PbrtcCommand, CompilesToTheScenesNameAndVerifies) {
+  std::string dir = make_scene("compile");
+  Outcome c = run_in(dir, pbrtc() + " box.pbrt", "compile");
+  ASSERT_EQ(c.status, 0) << c.err;
+  ASSERT_TRUE(fs::exists(dir + "/box.pbrta"));
+  EXPECT_NE(c.err.find("-> box.pbrta"), std::string::npos) << c.err;
+  Outcome v = run_in(dir, pbrtc() + " --verify box.pbrta", "verify");
+  EXPECT_EQ(v.status, 0) << v.err;
+  EXPECT_EQ(v.out.rfind("box.pbrta: ok (", 0), 0u) << v.out;
+  Outcome i = run_in(dir, pbrtc() + " --info box.pbrta", "info");
+  EXPECT_EQ(i.status, 0) << i.err;
+  EXPECT_NE(i.out.find("shapes 2 (meshes 1, triangles 2)"), std::string::npos) << i.out;
+  // Quiet compiles print nothing, and no temporary file is left beside the archive.
+  Outcome q = run_in(dir, pbrtc() + " -q box.pbrt -o q.pbrta", "quiet");
+  EXPECT_EQ(q.status, 0);
+  EXPECT_EQ(q.err, "");
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir))
+    files += e.path().extension() == ".pbrta" || e.path().filename().string()[0] == '.';
+  EXPECT_EQ(files, 2);  // box.pbrta and q.pbrta
+}
+
+TEST(PbrtcCommand, ADamagedArchiveIsRefusedWithItsSection) {
+  std::string dir = make_scene("damaged");
+  ASSERT_EQ(run_in(dir, pbrtc() + " -q --codec none box.pbrt -o good.pbrta").status, 0);
+  std::string bytes = read_file(dir + "/good.pbrta");
+  const Span s = largest_section(dir + "/good.pbrta");
+  ASSERT_GT(s.size, 0u);
+  bytes[s.offset + s.size / 2] ^= 0x5a;
+  write_file(dir + "/bad.pbrta", bytes);
+
+  Outcome v = run_in(dir, pbrtc() + " --verify bad.pbrta", "verify");
+  EXPECT_EQ(v.status, 1);
+  EXPECT_NE(v.err.find("bad.pbrta: " + s.label + "checksum mismatch"), std::string::npos) << v.err;
+  EXPECT_EQ(v.out.find("ok"), std::string::npos) << v.out;
+  // A good and a bad archive: the good one is reported, the exit code says one failed.
+  Outcome both = run_in(dir, pbrtc() + " --verify good.pbrta bad.pbrta", "both");
+  EXPECT_EQ(both.status, 1);
+  EXPECT_NE(both.out.find("good.pbrta: ok"), std::string::npos) << both.out;
+
+  // pbrtrun loads through the same code: the same message, and no image written.
+  Outcome r = run_in(dir, kBin + "/pbrtrun -q --nthreads 1 bad.pbrta -o out.exr", "render");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find(s.label + "checksum mismatch"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/out.exr"));
+}
+
+TEST(PbrtcCommand, ATruncatedArchiveIsRefused) {
+  std::string dir = make_scene("truncated");
+  ASSERT_EQ(run_in(dir, pbrtc() + " -q box.pbrt -o good.pbrta").status, 0);
+  const std::string bytes = read_file(dir + "/good.pbrta");
+  for (size_t keep : {size_t(0), size_t(7), bytes.size() / 2, bytes.size() - 1}) {
+    SCOPED_TRACE("kept " + std::to_string(keep) + " bytes");
+    write_file(dir + "/cut.pbrta", bytes.substr(0, keep));
+    Outcome v = run_in(dir, pbrtc() + " --verify cut.pbrta", "verify");
+    EXPECT_EQ(v.status, 1);
+    EXPECT_EQ(v.err.rfind("pbrtc: error: cut.pbrta: ", 0), 0u) << v.err;
+    Outcome r = run_in(dir, kBin + "/pbrtrun -q cut.pbrta -o out.exr", "render");
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("cut.pbrta"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/out.exr"));
+  }
+}
+
+TEST(PbrtcCommand, AFailedCompileLeavesTheOldArchive) {
+  std::string dir = make_scene("failed");
+  ASSERT_EQ(run_in(dir, pbrtc() + " -q box.pbrt").status, 0);
+  const std::string before = read_file(dir + "/box.pbrta");
+  std::string broken = kScene;
+  broken.replace(broken.find("\"float radius\" 0.5"), 18, "\"float radius\" \"big\"");
+  write_file(dir + "/box.pbrt", broken);
+  Outcome c = run_in(dir, pbrtc() + " box.pbrt", "compile");
+  EXPECT_EQ(c.status, 1);
+  EXPECT_NE(c.err.find("box.pbrt:10:"), std::string::npos) << c.err;
+  EXPECT_NE(c.err.find(": error: "), std::string::npos) << c.err;
+  EXPECT_NE(c.err.find("no archive written"), std::string::npos) << c.err;
+  EXPECT_TRUE(read_file(dir + "/box.pbrta") == before);
+}
+
+TEST(PbrtcCommand, ADumpCompilesBackToTheSameArchive) {
+  std::string dir = make_scene("dump");
+  ASSERT_EQ(run_in(dir, pbrtc() + " -q box.pbrt -o a.pbrta").status, 0);
+  Outcome d = run_in(dir, pbrtc() + " --dump a.pbrta out", "dump");
+  ASSERT_EQ(d.status, 0) << d.err;
+  ASSERT_TRUE(fs::exists(dir + "/out/a.pbrt"));
+  ASSERT_EQ(run_in(dir, pbrtc() + " -q out/a.pbrt -o b.pbrta", "recompile").status, 0);
+  // Everything but provenance (file names and lines) is the same: same size, same --info table
+  // apart from the provenance row and the totals it moves.
+  Outcome ia = run_in(dir, pbrtc() + " --info a.pbrta", "info_a");
+  Outcome ib = run_in(dir, pbrtc() + " --info b.pbrta", "info_b");
+  ASSERT_EQ(ia.status, 0);
+  ASSERT_EQ(ib.status, 0);
+  auto rows = [](const std::string& info) {
+    std::string kept;
+    size_t at = info.find("  sections:");
+    for (size_t end; at < info.size(); at = end + 1) {
+      end = info.find('\n', at);
+      if (end == std::string::npos) end = info.size();
+      std::string row = info.substr(at, end - at);
+      if (row.find("provenance") == std::string::npos && row.find("total") == std::string::npos)
+        kept += row + "\n";
+    }
+    return kept;
+  };
+  EXPECT_EQ(rows(ia.out), rows(ib.out));
+  EXPECT_NE(rows(ia.out).find("meshes"), std::string::npos);
+}
+
+TEST(PbrtcCommand, UsageErrorsExitTwo) {
+  std::string dir = make_scene("usage");
+  Outcome a = run_in(dir, pbrtc() + " --dump box.pbrta", "dump");
+  EXPECT_EQ(a.status, 2);
+  EXPECT_NE(a.err.find("--dump takes an archive and an output directory"), std::string::npos);
+  Outcome b = run_in(dir, pbrtc() + " --codec none --draco-bits 12 box.pbrt", "draco");
+  EXPECT_EQ(b.status, 2);
+  EXPECT_NE(b.err.find("cannot go with --codec none"), std::string::npos) << b.err;
+  Outcome c = run_in(dir, pbrtc() + " --codec lz4 box.pbrt", "codec");
+  EXPECT_NE(c.status, 0);
+  EXPECT_NE(c.err.find("--codec"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(dir + "/box.pbrta"));
+}
+
+}  // namespace
