@@ -12,9 +12,14 @@
 // not counting the archive's destruction. Best of N runs (default 5) for every time; the zstd
 // loads and the baselines they are compared with are timed in the same rounds.
 //
+// Beside the uncompressed load, two references (see kBaselineLegend): floor0, the time merely
+// to get the file's bytes and checksum them, which bounds parse/0 for any loader that verifies
+// them; and the parse and the load each timed once in a new process, as one run pays them.
+//
 // Issue 4's zstd target compares the zstd load with "the sum of single-threaded ZSTD_decompress
 // times for the same sections divided by 2" (T = 2). Which output buffer that baseline decodes
 // into matters as much as anything the loader does, so both are reported (see kBaselineLegend).
+#include <fcntl.h>
 #include <sys/mman.h>
 #include <time.h>
 #include <zstd.h>
@@ -34,6 +39,7 @@
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "format/archive_reader.h"
+#include "format/checksum.h"
 #include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 #include "format/zstd_frames.h"
@@ -82,7 +88,18 @@ constexpr const char* kBaselineLegend =
     "           (Fresh 4 KiB-page memory, what plain malloc returns for big blocks, is several\n"
     "           times slower still in a VM.)\n"
     "  xwarm, xfresh: load z / warm/T and load z / fresh/T; issue 4's target is <= 1.5.\n"
-    "  cpu z: the zstd load's process CPU time (all threads), best of N.\n";
+    "  cpu z: the zstd load's process CPU time (all threads), best of N.\n"
+    "uncompressed: load 0 is the --codec none load (T threads); parse/0 = parse s / load 0, whose\n"
+    "target is >= 20.\n"
+    "  floor0: one thread getting the --codec none file's bytes and checksumming them, nothing\n"
+    "          else: open, fstat, pread into fresh huge pages (or new[] for files up to 64 KiB,\n"
+    "          as the loader does) or mmap with MAP_POPULATE (whichever is fastest),\n"
+    "          checksum64 of every byte, free, close. Best of N.\n"
+    "  parse/f: parse s / floor0, the most parse/0 a checked one-thread load can reach.\n"
+    "first in a new process (1: parse, load 0, parse/0): the same parse and --codec none load,\n"
+    "  each the only one in a process of its own, best of N processes: what one run of pbrtc or\n"
+    "  pbrtrun pays. Its heap is new, where repeated parses in one process reuse the pages\n"
+    "  their allocator recycles (the loader maps new huge pages for every load either way).\n";
 
 // The single-threaded ZSTD_decompress baselines of one archive (see kBaselineLegend), sampled
 // one round at a time so that rounds can be interleaved with the loads they are compared with:
@@ -162,6 +179,52 @@ class ZstdBaseline {
   ZSTD_DCtx* ctx_ = ZSTD_createDCtx();
 };
 
+// floor0 (see kBaselineLegend): the best of n times to get path's bytes into memory, either
+// way the loader may, and checksum them; -1 if the file cannot be read.
+double time_floor(const std::string& path, int n) {
+  enum Way { kHeap, kHugePages, kMap };
+  auto once = [&](Way way) {
+    const auto t = Clock::now();
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    struct stat st;
+    if (fd < 0 || ::fstat(fd, &st) != 0 || st.st_size <= 0) {
+      if (fd >= 0) ::close(fd);
+      return -1.0;
+    }
+    const size_t size = size_t(st.st_size);
+    const size_t huge = size_t{2} << 20, mapped = (size + huge - 1) / huge * huge;
+    std::unique_ptr<uint8_t[]> heap;
+    void* p = MAP_FAILED;
+    if (way == kHeap) {
+      heap.reset(new uint8_t[size]);
+      p = heap.get();
+    } else if (way == kHugePages) {
+      p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+      if (p != MAP_FAILED) madvise(p, mapped, MADV_HUGEPAGE);
+    } else {
+      p = mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+    }
+    bool ok = p != MAP_FAILED;
+    if (ok && way != kMap) ok = ::pread(fd, p, size, 0) == ssize_t(size);
+    volatile uint64_t sum = ok ? pbrta::checksum64(p, size) : 0;
+    (void)sum;
+    if (way != kHeap && p != MAP_FAILED) munmap(p, way == kMap ? size : mapped);
+    ::close(fd);
+    return ok ? since(t) : -1.0;
+  };
+  double best = 1e30;
+  for (int i = 0; i < n; ++i)
+    for (Way way : {kHeap, kHugePages, kMap}) {
+      // Only small files go to the heap, as in the loader: in a process that loads repeatedly,
+      // new[] of a large block reuses pages already faulted in, which a single load never has.
+      if (way == kHeap && file_size(path) > (uint64_t{64} << 10)) continue;
+      const double s = once(way);
+      if (s < 0) return -1;
+      best = std::min(best, s);
+    }
+  return best;
+}
+
 // Best of n SceneArchive::load times (wall and process CPU), destruction not timed.
 bool time_load(const std::string& path, int n, int threads, double* wall, double* cpu) {
   *wall = *cpu = 1e30;
@@ -196,10 +259,52 @@ bool time_rounds(const std::string& path, int n, int threads, ZstdBaseline* base
   return true;
 }
 
+// The first parse or load in a new process, which is what one run of pbrtc or pbrtrun pays:
+// its heap and code pages are all new, where the best of N in one process reuses the memory
+// earlier rounds faulted in (the parse's allocator recycles it; the loader's own huge-page
+// mappings are new every time). The child (this program with --once) times only the one
+// parse or load, not its own start. Best of n children; -1 on failure.
+double time_in_new_process(const char* what, const std::string& path, int threads, int n) {
+  double best = 1e30;
+  for (int i = 0; i < n; ++i) {
+    const std::string command = "'/proc/" + std::to_string(getpid()) + "/exe' --once " + what +
+                                " '" + path + "' " + std::to_string(threads);
+    FILE* child = popen(command.c_str(), "r");
+    double s = -1;
+    if (child == nullptr) return -1;
+    const bool got = std::fscanf(child, "%lf", &s) == 1;
+    if (pclose(child) != 0 || !got || s < 0) return -1;
+    best = std::min(best, s);
+  }
+  return best;
+}
+
+// --once parse|load PATH T: one build_scene or one SceneArchive::load, its seconds on stdout.
+int run_once(const std::string& what, const std::string& path, int threads) {
+  const auto t = Clock::now();
+  bool ok = false;
+  if (what == "parse") {
+    pbrtc::SourceFiles files;
+    pbrtc::Diagnostics diag(&files, nullptr);
+    pbrtc::SceneDesc s;
+    ok = pbrtc::build_scene(path, &files, &diag, &s);
+  } else if (what == "load") {
+    pbrta::SceneArchive a;
+    std::string error;
+    ok = a.load(path, threads, &error);
+  }
+  const double s = since(t);  // before the results are freed, as in the in-process timings
+  if (!ok) return 1;
+  std::printf("%.9f\n", s);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   pbrta::use_huge_page_heap(argv);
+  if (argc == 5 && !std::strcmp(argv[1], "--once"))
+    return run_once(argv[2], argv[3], std::atoi(argv[4]));
   int repeat = 5, threads = 2;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
@@ -223,12 +328,13 @@ int main(int argc, char** argv) {
     }
     ZstdBaseline baseline;
     if (!time_rounds(scenes[1], repeat, threads, &baseline, &wall, &cpu)) return 1;
+    const double floor0 = time_floor(scenes[1], repeat);
     const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     std::printf(
         "%s: load %.5f s (cpu %.5f s), %d threads, best of %d rounds; warm/T %.5f s (x%.2f), "
-        "fresh/T %.5f s (x%.2f)\n",
+        "fresh/T %.5f s (x%.2f); floor0 %.5f s\n",
         scenes[1].c_str(), wall, cpu, threads, repeat, base, base > 0 ? wall / base : 0, fresh,
-        fresh > 0 ? wall / fresh : 0);
+        fresh > 0 ? wall / fresh : 0, floor0);
     return 0;
   }
   if (scenes.empty()) {
@@ -236,9 +342,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("%s", kBaselineLegend);
-  std::printf("%-44s %9s %9s %9s %6s | %8s %8s %8s | %8s %8s %6s | %8s %8s %8s %8s %6s %6s\n",
-              "scene", "input MB", "zstd MB", "none MB", "z/none", "parse s", "compile", "(none)",
-              "load z", "load 0", "parse/0", "cpu z", "warm/T", "fresh/T", "T", "xwarm", "xfresh");
+  std::printf(
+      "%-44s %9s %9s %9s %6s | %8s %8s %8s | %8s %8s %6s %8s %7s | %8s %8s %7s | %8s %8s %8s %8s "
+      "%6s %6s\n",
+      "scene", "input MB", "zstd MB", "none MB", "z/none", "parse s", "compile", "(none)", "load z",
+      "load 0", "parse/0", "floor0", "parse/f", "1: parse", "load 0", "parse/0", "cpu z", "warm/T",
+      "fresh/T", "T", "xwarm", "xfresh");
   for (const std::string& scene : scenes) {
     // Per process: other runs of this benchmark may share /tmp.
     const std::string stem = "/tmp/archive_bench." + std::to_string(getpid());
@@ -283,15 +392,19 @@ int main(int argc, char** argv) {
     if (!time_rounds(az, repeat, threads, &baseline, &load_z, &cpu_z) ||
         !time_load(an, repeat, threads, &load_n, &cpu_n))
       return 1;
+    const double floor0 = time_floor(an, repeat);
+    const double parse1 = time_in_new_process("parse", scene, threads, repeat);
+    const double load1 = time_in_new_process("load", an, threads, repeat);
     const double base = baseline.warm() / threads, fresh = baseline.fresh() / threads;
     uint64_t zb = file_size(az), nb = file_size(an);
     std::string name = scene.size() > 44 ? "..." + scene.substr(scene.size() - 41) : scene;
     std::printf(
-        "%-44s %9.2f %9.2f %9.2f %5.0f%% | %8.4f %8.4f %8.4f | %8.4f %8.5f %6.0fx | %8.4f "
-        "%8.4f %8.4f %8d %6.2f %6.2f\n",
+        "%-44s %9.2f %9.2f %9.2f %5.0f%% | %8.4f %8.4f %8.4f | %8.4f %8.5f %6.0fx %8.5f %6.0fx | "
+        "%8.4f %8.5f %6.0fx | %8.4f %8.4f %8.4f %8d %6.2f %6.2f\n",
         name.c_str(), input / 1e6, zb / 1e6, nb / 1e6, 100.0 * double(zb) / double(nb), parse,
-        compile_z, compile_n, load_z, load_n, parse / load_n, cpu_z, base, fresh, threads,
-        base > 0 ? load_z / base : 0, fresh > 0 ? load_z / fresh : 0);
+        compile_z, compile_n, load_z, load_n, parse / load_n, floor0, parse / floor0, parse1, load1,
+        parse1 / load1, cpu_z, base, fresh, threads, base > 0 ? load_z / base : 0,
+        fresh > 0 ? load_z / fresh : 0);
     std::fflush(stdout);
     std::remove(az.c_str());
     std::remove(an.c_str());
