@@ -1,5 +1,6 @@
 #include "compiler/archive_info.h"
 
+#include <charconv>
 #include <cstdio>
 #include <ostream>
 #include <string>
@@ -18,6 +19,15 @@ std::string human(uint64_t bytes) {
   else
     std::snprintf(buf, sizeof buf, "%llu B", (unsigned long long)bytes);
   return buf;
+}
+
+// A default as the archive stores it: ints and bools as the integers they are, floats in the
+// fewest digits that read back as the same float (so 1/3 is 0.33333334, not 0.333333).
+std::string exact_default(pbrta::Kind kind, float v) {
+  if (kind == pbrta::Kind::kInt || kind == pbrta::Kind::kBool) return std::to_string(int32_t(v));
+  char buf[32];
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 const char* kEffectNames[] = {"media",           "motion blur", "textures",   "area lights",
@@ -98,11 +108,8 @@ void print_schema_markdown(std::ostream& out) {
         } else if (ps.arity != 0) {
           int n = ps.arity == 1 ? pbrta::kind_width(ps.kind) : ps.arity;
           for (int k = 0; k < n && k < 4; ++k) {
-            char buf[32];
-            std::snprintf(
-                buf, sizeof buf, "%g",
-                double(ps.def.v[ps.arity == 1 && pbrta::kind_width(ps.kind) == 1 ? 0 : k]));
-            def += (k ? " " : "") + std::string(buf);
+            const float v = ps.def.v[ps.arity == 1 && pbrta::kind_width(ps.kind) == 1 ? 0 : k];
+            def += (k ? " " : "") + exact_default(ps.kind, v);
           }
         }
         std::string flags;
