@@ -593,6 +593,20 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
   EXPECT_EQ(edit(1, offsetof(pbrta::ImageRecord, reserved) + 8, 1),
             dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) +
                 "): image 1: reserved field is not zero");
+  // What a texture or a light looks up is the whole pyramid: t1's 4 x 8 has 4 levels, and the
+  // light's map too; a level short (still inside the section) is refused.
+  const size_t levels_field = offsetof(pbrta::ImageRecord, levels);
+  ASSERT_EQ(archive.images[0].levels, 4u);
+  ASSERT_EQ(archive.images[2].levels, 4u);
+  const std::string images_prefix =
+      dir + "/bad.pbrta: section 'images' (#" + std::to_string(images_entry) + "): ";
+  EXPECT_EQ(edit(0, levels_field, 3),
+            images_prefix + "image 0: 3 levels, but as texture 0's pyramid it has 4");
+  EXPECT_EQ(edit(2, levels_field, 1),
+            images_prefix + "image 2: 1 levels, but as light 0's pyramid it has 4");
+  // A source image (one level) may not stand in for the pyramid either.
+  EXPECT_EQ(edit(0, levels_field, 1),
+            images_prefix + "image 0: 1 levels, but as texture 0's pyramid it has 4");
 }
 
 TEST(SceneImages, UnreadableImageIsAnErrorAtItsDirective) {

@@ -248,6 +248,22 @@ TEST(TexturePrecision, ReaderChecksFormats) {
   EXPECT_NE(grown.find("lies outside its section"), std::string::npos) << grown;
   EXPECT_EQ(edit_format(dist, 2), prefix + std::to_string(map) + ": distribution image " +
                                       std::to_string(dist) + " is unorm8, not f32");
+
+  // A distribution is one level: in an f32 archive, the map named as its own distribution (f32,
+  // in range, but a whole pyramid) is refused.
+  const std::string path32 = dir + "/f32.pbrta";
+  ASSERT_TRUE(write(c, path32, pbrta::PixelFormat::kFloat32, false, &error)) << error;
+  pbrta::SceneArchive a32;
+  ASSERT_TRUE(a32.load(path32, 1, &error)) << error;
+  ASSERT_GT(a32.images[map].levels, 1u);
+  ASSERT_EQ(testing_support::section_entry(a32, pbrta::SectionKind::kImages), images_entry);
+  std::string bytes = testing_support::read_file(path32);
+  std::memcpy(&bytes[a32.reader().entry(images_entry).offset + map * sizeof(pbrta::ImageRecord) +
+                     offsetof(pbrta::ImageRecord, distribution)],
+              &map, 4);
+  EXPECT_EQ(testing_support::reseal_and_load(bytes, dir + "/bad.pbrta"),
+            prefix + std::to_string(map) + ": " + std::to_string(a32.images[map].levels) +
+                " levels, but as image " + std::to_string(map) + "'s distribution it has 1");
 }
 
 // A dump of an unorm8 archive writes the decoded values; they compile back (f32) to exactly
