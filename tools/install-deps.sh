@@ -21,8 +21,8 @@ packages=(
   libopenimageio-dev
   # the renderer: ray/scene intersection, EXR output, PNG previews
   libembree-dev libopenexr-dev libimath-dev libpng-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; python3 runs the archive reader written from the spec alone
+  libgtest-dev libgmock-dev libbenchmark-dev python3
 )
 
 missing=()
