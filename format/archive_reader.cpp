@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <optional>
 #include <system_error>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -1011,23 +1012,42 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       if (local[j].exceeded)
         scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
   };
+  // Draco sections go last, and only when every other section decoded: Draco's own work on a
+  // forged stream is not bounded (format/draco_codec.h: seconds from a few KB), so a file with
+  // any other fault fails without running it.
+  const size_t draco_from =
+      size_t(std::stable_partition(schedule.begin(), schedule.end(),
+                                   [&](uint32_t k) {
+                                     return entries_[tasks[k].section].codec !=
+                                            static_cast<uint32_t>(Codec::kDraco);
+                                   }) -
+             schedule.begin());
   // A small load (the records of a scene) runs on this thread: waking the workers costs more.
   uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
   for (uint32_t i : order) work_bytes += entries_[i].stored_size + entries_[i].raw_size;
-  if (threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2) {
-    for (uint32_t k : schedule) run(k);
-    thread_decoder().trim();
-  } else {
+  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2;
+  std::optional<tbb::task_arena> arena;
+  if (!serial) arena.emplace(threads > 0 ? threads : tbb::task_arena::automatic);
+  auto run_all = [&](size_t begin, size_t end) {
+    if (serial) {
+      for (size_t k = begin; k < end; ++k) run(schedule[k]);
+      thread_decoder().trim();
+      return;
+    }
     // Each thread takes the next task in schedule order until none is left.
-    std::atomic<size_t> next{0};
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-    arena.execute([&] {
-      tbb::parallel_for(0, arena.max_concurrency(), [&](int) {
-        for (size_t k = next++; k < schedule.size(); k = next++) run(schedule[k]);
+    std::atomic<size_t> next{begin};
+    arena->execute([&] {
+      tbb::parallel_for(0, arena->max_concurrency(), [&](int) {
+        for (size_t k = next++; k < end; k = next++) run(schedule[k]);
         thread_decoder().trim();
       });
     });
-  }
+  };
+  run_all(0, draco_from);
+  bool failed = false;
+  for (uint32_t i : order) failed |= !errors[i].empty();
+  for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
+  if (!failed && draco_from < schedule.size()) run_all(draco_from, schedule.size());
   // The lowest-numbered failing section's first failure (tasks are in section, frame order).
   for (uint32_t k = 0; k < tasks.size(); ++k) {
     const uint32_t i = tasks[k].section;
