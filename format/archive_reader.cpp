@@ -1027,7 +1027,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order) work_bytes += entries_[i].stored_size + entries_[i].raw_size;
   const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2;
   std::optional<tbb::task_arena> arena;
-  if (!serial) arena.emplace(threads > 0 ? threads : tbb::task_arena::automatic);
+  // int(): a value, not a reference to the constant (which has no definition to link to).
+  if (!serial) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
   auto run_all = [&](size_t begin, size_t end) {
     if (serial) {
       for (size_t k = begin; k < end; ++k) run(schedule[k]);
