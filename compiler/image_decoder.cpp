@@ -1,6 +1,7 @@
 #include "compiler/image_decoder.h"
 
 #include "compiler/image_reader.h"
+#include "format/archive.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -245,8 +246,7 @@ std::vector<std::vector<float>> build_mip_pyramid(std::vector<float> texels, uin
   *pow2_width = uint32_t(w);
   *pow2_height = uint32_t(h);
 
-  int num_levels = 1;
-  for (int m = std::max(w, h); m > 1; m >>= 1) ++num_levels;
+  const int num_levels = int(pbrta::full_pyramid_levels(uint32_t(w), uint32_t(h)));
   std::vector<std::vector<float>> levels(static_cast<size_t>(num_levels));
   levels[0] = std::move(texels);
   for (int i = 1; i < num_levels; ++i) {

@@ -297,4 +297,12 @@ struct ImageRecord {
 };
 static_assert(sizeof(ImageRecord) == 64, "ImageRecord is 64 bytes");
 
+// The levels of pbrt-v3's MIPMap over a level 0 of width x height: 1 + floor(log2 of the larger
+// side). pbrtc builds that many, and the reader checks that textures and light maps have them.
+inline constexpr uint32_t full_pyramid_levels(uint32_t width, uint32_t height) {
+  uint32_t levels = 1;
+  for (uint32_t side = width > height ? width : height; side > 1; side >>= 1) ++levels;
+  return levels;
+}
+
 }  // namespace pbrta

@@ -798,26 +798,22 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   // What a texture or a light looks up is a whole pyramid, as pbrt-v3's MIPMap builds it: the
   // renderer picks levels by pbrt-v3's arithmetic, which a shorter one would silently change.
   // A sampling distribution is one level.
-  auto expect_levels = [&](uint32_t image, uint32_t want, const char* as, uint32_t owner,
+  auto expect_levels = [&](uint32_t image, bool whole_pyramid, const char* as, uint32_t owner,
                            const char* role) {
-    if (image == kNoIndex || images[image].levels == want) return true;
-    return c.fail("image " + std::to_string(image) + ": " + std::to_string(images[image].levels) +
+    if (image == kNoIndex) return true;
+    const ImageRecord& im = images[image];
+    const uint32_t want = whole_pyramid ? full_pyramid_levels(im.width, im.height) : 1;
+    if (im.levels == want) return true;
+    return c.fail("image " + std::to_string(image) + ": " + std::to_string(im.levels) +
                   " levels, but as " + as + " " + std::to_string(owner) + "'s " + role +
                   " it has " + std::to_string(want));
   };
-  auto pyramid = [&](uint32_t image) {
-    if (image == kNoIndex) return 0u;
-    uint32_t levels = 1;
-    for (uint32_t side = std::max(images[image].width, images[image].height); side > 1; side >>= 1)
-      ++levels;
-    return levels;
-  };
   for (uint32_t i = 0; i < textures.size && !c.failed(); ++i)
-    expect_levels(textures[i].image, pyramid(textures[i].image), "texture", i, "pyramid");
+    expect_levels(textures[i].image, true, "texture", i, "pyramid");
   for (uint32_t i = 0; i < lights.size && !c.failed(); ++i)
-    expect_levels(lights[i].image, pyramid(lights[i].image), "light", i, "pyramid");
+    expect_levels(lights[i].image, true, "light", i, "pyramid");
   for (uint32_t i = 0; i < images.size && !c.failed(); ++i)
-    expect_levels(images[i].distribution, 1, "image", i, "distribution");
+    expect_levels(images[i].distribution, false, "image", i, "distribution");
   if (c.failed()) {
     *error = c.message();
     return false;
