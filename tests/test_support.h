@@ -26,4 +26,7 @@ std::string write_file(const std::string& path, const std::string& text);
 // Reads a whole file; empty string if it cannot be read.
 std::string read_file(const std::string& path);
 
+// text cut at its newlines (a program's output, say), without them.
+std::vector<std::string> lines_of(const std::string& text);
+
 }  // namespace testing_support

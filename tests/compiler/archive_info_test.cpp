@@ -19,13 +19,6 @@
 namespace pbrtc {
 namespace {
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
 // The column just past the first whole-word `word` at or after `from` (npos if none).
 size_t end_of_word(const std::string& line, const std::string& word, size_t from) {
   for (size_t at = line.find(word, from); at != std::string::npos; at = line.find(word, at + 1)) {
@@ -53,7 +46,7 @@ TEST(ArchiveInfo, ReportsTheSectionTableInAlignedColumns) {
 
   std::ostringstream out;
   print_archive_info(out, path, a);
-  const std::vector<std::string> lines = lines_of(out.str());
+  const std::vector<std::string> lines = testing_support::lines_of(out.str());
   ASSERT_GE(lines.size(), 6u) << out.str();
   const std::string version = path + ": pbrtc scene archive " + std::to_string(a.header().major) +
                               "." + std::to_string(a.header().minor) + ", ";

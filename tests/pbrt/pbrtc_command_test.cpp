@@ -163,12 +163,11 @@ TEST(PbrtcCommand, ADumpCompilesBackToTheSameArchive) {
   ASSERT_EQ(ib.status, 0);
   auto rows = [](const std::string& info) {
     std::string kept;
-    size_t at = info.find("  sections:");
-    for (size_t end; at < info.size(); at = end + 1) {
-      end = info.find('\n', at);
-      if (end == std::string::npos) end = info.size();
-      std::string row = info.substr(at, end - at);
-      if (row.find("provenance") == std::string::npos && row.find("total") == std::string::npos)
+    bool table = false;
+    for (const std::string& row : testing_support::lines_of(info)) {
+      table |= row == "  sections:";
+      if (table && row.find("provenance") == std::string::npos &&
+          row.find("total") == std::string::npos)
         kept += row + "\n";
     }
     return kept;
