@@ -15,6 +15,7 @@
 #include <new>
 #include <optional>
 #include <system_error>
+#include <thread>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -27,6 +28,7 @@
 #include "format/byte_shuffle.h"
 #include "format/checksum.h"
 #include "format/draco_codec.h"
+#include "format/isolated_jobs.h"
 #include "format/zstd_frames.h"
 
 namespace pbrta {
@@ -1048,7 +1050,46 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   bool failed = false;
   for (uint32_t i : order) failed |= !errors[i].empty();
   for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
-  if (!failed && draco_from < schedule.size()) run_all(draco_from, schedule.size());
+  if (!failed && draco_from < schedule.size()) {
+    if (isolation_enabled()) {
+      // In child processes with a budget (format/isolated_jobs.h), each decoding into shared
+      // memory that is then copied into place: Draco never runs in this process.
+      std::vector<IsolatedJob> jobs;
+      std::vector<uint8_t*> dst;
+      std::vector<uint32_t> job_task;
+      for (size_t k = draco_from; k < schedule.size(); ++k) {
+        const uint32_t i = tasks[schedule[k]].section;
+        jobs.push_back(
+            IsolatedJob{entries_[i].raw_size + kSectionPadding, entries_[i].stored_size});
+        dst.push_back(decoded + slot[i]);
+        job_task.push_back(schedule[k]);
+      }
+      std::vector<std::string> job_errors;
+      const int processes = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+      run_isolated(
+          jobs, dst, processes, IsolationBudget{},
+          [&](size_t j, uint8_t* out, std::string* why) {
+            return load_one(tasks[job_task[j]].section, out, &thread_decoder(), why);
+          },
+          &job_errors);
+      for (size_t j = 0; j < jobs.size(); ++j) {
+        const uint32_t i = tasks[job_task[j]].section;
+        if (!job_errors[j].empty()) {
+          // load_one's own messages name the section already; the budget's do not.
+          const std::string named = section_error(i, "");
+          task_errors[job_task[j]] = job_errors[j].rfind(named, 0) == 0
+                                         ? job_errors[j]
+                                         : section_error(i, "draco: " + job_errors[j]);
+          continue;
+        }
+        sections_[i].data = decoded + slot[i];
+        sections_[i].in_place = false;
+        for (uint32_t b : bounds_of[i]) scan(b, sections_[i].data, bounds[b].begin, bounds[b].end);
+      }
+    } else {
+      run_all(draco_from, schedule.size());
+    }
+  }
   // The lowest-numbered failing section's first failure (tasks are in section, frame order).
   for (uint32_t k = 0; k < tasks.size(); ++k) {
     const uint32_t i = tasks[k].section;

@@ -28,8 +28,11 @@
 // Draco's to check, and one flipped bit there has been seen to cost Draco 5 s and 220 MB on a
 // 1.2 KB stream before it failed (fuzzing found a 5.5 KB archive costing 10 s: a texture
 // coordinate predictor's orientation count, read from the stream, that Draco decodes bit by
-// bit). The archive reader only hands Draco bytes whose checksum matched, and only once every
-// other section has decoded, so only a deliberately forged file gets that far.
+// bit, and in this process accepts the stream after 6 s). The archive reader only hands Draco
+// bytes whose checksum matched, only once every other section has decoded, and only in child
+// processes with a budget of time and memory (format/isolated_jobs.h), so a forged file costs at
+// most that budget and a crash in Draco is the child's. Callers that decode a .drc file given
+// by the user (plymesh, pbrt-mesh) call Draco in their own process.
 #pragma once
 
 #include <cstddef>

@@ -118,8 +118,8 @@ TEST_P(DracoRoundTrip, KeepsTrianglesWithinTheBound) {
   const std::vector<uint8_t> stream = encode(in, bits, sequential);
   ASSERT_FALSE(stream.empty());
   // Smaller than the raw arrays, even sequential, where face indices split every vertex in 4.
-  const size_t raw = 4 * (m.P.size() + m.N.size() + m.uv.size() + m.indices.size() +
-                          m.faces.size());
+  const size_t raw =
+      4 * (m.P.size() + m.N.size() + m.uv.size() + m.indices.size() + m.faces.size());
   EXPECT_LT(stream.size(), sequential ? raw : raw / 4);
 
   DecodedMesh d;
@@ -251,8 +251,8 @@ TEST(DracoCodec, GarbageFailsCleanly) {
   EXPECT_FALSE(draco_decode(nullptr, 0, &d, &error));
   EXPECT_EQ(error, "draco: not a Draco stream");
   const std::string junk = "this is not a mesh at all, just text";
-  EXPECT_FALSE(draco_decode(reinterpret_cast<const uint8_t*>(junk.data()), junk.size(), &d,
-                            &error));
+  EXPECT_FALSE(
+      draco_decode(reinterpret_cast<const uint8_t*>(junk.data()), junk.size(), &d, &error));
   EXPECT_EQ(error, "draco: not a Draco stream");
   std::mt19937 rng(7);
   for (int trial = 0; trial < 200; ++trial) {
@@ -315,8 +315,8 @@ TEST(DracoCodec, HostileHeadersAreRefusedBeforeDracoAllocates) {
   EXPECT_EQ(decode({'D', 'R', 'A', 'C', 'O', 2, 2, 1, 0, 0, 0, 0x80, 0x80, 0x80, 0x80, 0x02, 3}),
             "draco: 536870912 triangles, more than the limit of 268435456");
   // Edgebreaker: a few faces but 2^31 vertices.
-  EXPECT_EQ(decode({'D', 'R', 'A', 'C', 'O', 2, 2, 1, 1, 0, 0, 0, 0x80, 0x80, 0x80, 0x80, 0x08,
-                    4, 0, 4, 0}),
+  EXPECT_EQ(decode({'D', 'R',  'A',  'C',  'O',  2,    2, 1, 1, 0, 0,
+                    0,   0x80, 0x80, 0x80, 0x80, 0x08, 4, 0, 4, 0}),
             "draco: 2147483648 points, more than the limit of 1073741824");
   EXPECT_EQ(decode({'D', 'R', 'A', 'C', 'O', 2, 2, 1, 1, 0, 0, 0, 4, 0}),
             "draco: the mesh has no triangles");
@@ -445,16 +445,18 @@ TEST(DracoSection, ReaderRejectsWithMessages) {
   SectionEntry e = entry_of(b, 0);
   e.count = 2;
   put_entry(&b, 0, e);
-  EXPECT_EQ(load_error(b), "d.pbrta: section 'geometry' (#0): codec 'draco' is only for a "
-                           "geometry section of one mesh (this one is kind 17 with count 2)");
+  EXPECT_EQ(load_error(b),
+            "d.pbrta: section 'geometry' (#0): codec 'draco' is only for a "
+            "geometry section of one mesh (this one is kind 17 with count 2)");
   b = good;
   e = entry_of(b, 0);
   e.raw_size += 16;
   put_entry(&b, 0, e);
-  EXPECT_EQ(load_error(b), "d.pbrta: section 'geometry' (#0): draco: the mesh (240 vertices, "
-                           "480 triangles) lays out to " +
-                               std::to_string(raw.size()) + " bytes but the table says " +
-                               std::to_string(raw.size() + 16));
+  EXPECT_EQ(load_error(b),
+            "d.pbrta: section 'geometry' (#0): draco: the mesh (240 vertices, "
+            "480 triangles) lays out to " +
+                std::to_string(raw.size()) + " bytes but the table says " +
+                std::to_string(raw.size() + 16));
   // Bytes whose checksum matches but which are no Draco stream (a hostile file).
   b = good;
   e = entry_of(b, 0);
@@ -485,14 +487,53 @@ TEST(DracoSection, ReaderRejectsWithMessages) {
   }
 }
 
+// A forged stream that every check made before Draco runs passes, yet that would keep Draco
+// busy for seconds: the texture-coordinate predictor's count of orientation bits, an int32 read
+// raw from the stream (one per vertex but the first two), made 2^31 - 16. Draco decodes that
+// many bits whatever the stream holds. The reader runs Draco in a child process with a budget
+// (format/isolated_jobs.h), so the load fails within it, with a message, and this process never
+// ran the loop.
+TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
+  const TestMesh m = torus(8, 8);
+  const std::vector<uint8_t> stream = encode(m.view(false, true, false), 14, false);
+  DecodedMesh d;
+  std::string error;
+  ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
+  MeshRecord rec;
+  std::vector<uint8_t> raw;
+  draco_geometry_section(d, &rec, &raw);
+  const std::string good = archive_with(raw, stream, "DracoSectionForged");
+  EXPECT_EQ(load_error(good), "");
+  // The count is near the end: only the uv attribute's data and the wrap transform follow it.
+  const int32_t count = int32_t(d.num_vertices()) - 2;
+  std::vector<size_t> at;
+  for (size_t k = stream.size() - 64; k + 4 <= stream.size(); ++k) {
+    int32_t v;
+    std::memcpy(&v, &stream[k], 4);
+    if (v == count) at.push_back(k);
+  }
+  ASSERT_EQ(at.size(), 1u) << "the orientation count " << count
+                           << " is not where this Draco version writes it";
+  std::string b = good;
+  SectionEntry e = entry_of(b, 0);
+  const int32_t forged = 0x7ffffff0;  // 2^31 - 16
+  std::memcpy(&b[e.offset + at[0]], &forged, 4);
+  e.checksum = XXH3_64bits(b.data() + e.offset, e.stored_size);
+  put_entry(&b, 0, e);
+  EXPECT_EQ(load_error(b),
+            "d.pbrta: section 'geometry' (#0): draco: decoding ran past its budget "
+            "of 1 s of CPU time (a forged or damaged stream)");
+}
+
 TEST(DracoSection, WriterNeedsAnEncodedGeometrySectionOfOneMesh) {
   ArchiveWriter w;
   w.add_section(SectionKind::kGeometry, std::vector<uint8_t>(64, 0), 1, Codec::kDraco);
   std::string error;
   const std::string path = testing_support::scratch_dir("DracoSectionWriter") + "/w.pbrta";
   EXPECT_FALSE(w.write(path, 0, 3, 1, &error));
-  EXPECT_EQ(error, "cannot write '" + path + "': section 'geometry' (#0): codec 'draco' needs a "
-                   "geometry section of one mesh, encoded by the caller");
+  EXPECT_EQ(error, "cannot write '" + path +
+                       "': section 'geometry' (#0): codec 'draco' needs a "
+                       "geometry section of one mesh, encoded by the caller");
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include "archive_reseal.h"
 #include "format/archive.h"
 #include "format/archive_reader.h"
+#include "format/isolated_jobs.h"
 
 namespace {
 
@@ -33,6 +34,13 @@ void try_read(std::string_view bytes) {
 }
 
 }  // namespace
+
+// Draco runs in this process, not in a budgeted child (format/isolated_jobs.h): libFuzzer's
+// coverage counters and crash reports live here, and its -timeout stands in for the budget.
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  pbrta::set_isolation_enabled(false);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try_read(std::string_view(reinterpret_cast<const char*>(data), size));

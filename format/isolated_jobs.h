@@ -1,0 +1,66 @@
+// format/isolated_jobs.h — runs untrusted decoding in child processes, within a budget of time
+// and memory.
+//
+// Why: Draco's decoder can be driven to seconds of work and hundreds of MB by a few forged bytes
+// deep in its stream, where no check made before Draco runs can see them (format/draco_codec.h),
+// and a bug in it would crash whoever called it. No timer can stop a function mid-call, but the
+// kernel can stop a process: each child decodes its share of the jobs into memory shared with
+// the caller and is killed when it runs past its budget. The caller's process never runs the
+// untrusted code, so it can neither hang nor crash on it.
+//
+// Budget: a child gets base_seconds plus seconds_per_byte for each input byte of its jobs, in CPU
+// time (SIGPROF), and four times that plus 10 s in wall time (SIGALRM, in case it blocks); the
+// defaults allow about 20 times what Draco needs on this project's machine. Its address space may
+// grow by base_memory plus memory_per_byte per input byte (RLIMIT_AS, so an allocation past it
+// fails as out of memory; not set under AddressSanitizer, whose shadow memory that would break).
+// A budget that grows with the input makes the cost of a hostile file proportional to its size,
+// like any decoder's, however many streams it holds: the jobs of one child share one budget.
+//
+// Cost: one fork per child. Jobs are spread over at most `processes` children by input bytes
+// (largest first, each to the least loaded child), and run in ascending order within a child.
+//
+// set_isolation_enabled(false) makes run_isolated call the jobs on this thread instead, with no
+// budget: for fuzzers, whose coverage counters and crash reports must stay in their own process.
+// fork failing (EAGAIN, ENOMEM) falls back to the same.
+//
+// Thread safety: run_isolated may be called from any one thread at a time; the child runs only
+// the calling thread, so a job must not use locks or threads another thread may hold (the glibc
+// allocator is safe: fork resets it in the child).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pbrta {
+
+struct IsolatedJob {
+  uint64_t out_size = 0;     // bytes the job writes at its output
+  uint64_t input_bytes = 0;  // what its budget grows with
+};
+
+struct IsolationBudget {
+  double base_seconds = 1.0;
+  double seconds_per_byte = 5e-6;
+  uint64_t base_memory = uint64_t{1} << 30;
+  uint64_t memory_per_byte = 512;
+};
+
+// Job k: writes jobs[k].out_size bytes at out; returns false with one message in *error.
+using IsolatedWork = std::function<bool(size_t k, uint8_t* out, std::string* error)>;
+
+// Runs every job and copies each successful job's output to dst[k]. (*errors)[k] is left empty
+// for a job that succeeded; otherwise it holds the job's own message, or what stopped its child:
+// "decoding ran past its budget of 1.2 s of CPU time", "the decoder crashed (signal 11)",
+// "not decoded: an earlier stream in the same process failed to finish".
+void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_t*>& dst,
+                  int processes, const IsolationBudget& budget, const IsolatedWork& work,
+                  std::vector<std::string>* errors);
+
+// Process-wide switch (default true); see above.
+void set_isolation_enabled(bool enabled);
+bool isolation_enabled();
+
+}  // namespace pbrta

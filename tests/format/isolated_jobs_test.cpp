@@ -1,0 +1,170 @@
+// tests/format/isolated_jobs_test.cpp — format/isolated_jobs.h: jobs run in child processes and
+// their outputs come back; a job that spins, crashes or over-allocates costs its budget and a
+// message, never the caller; the jobs of a stopped child are accounted for; switched off, the
+// jobs run in this process.
+#include "format/isolated_jobs.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pbrta {
+namespace {
+
+// Job k writes out_size bytes of k + 1, and the pid it ran in after them.
+struct Outputs {
+  std::vector<std::vector<uint8_t>> buffers;
+  std::vector<uint8_t*> dst;
+  explicit Outputs(const std::vector<IsolatedJob>& jobs) {
+    for (const IsolatedJob& j : jobs) buffers.emplace_back(j.out_size, 0);
+    for (std::vector<uint8_t>& b : buffers) dst.push_back(b.data());
+  }
+};
+
+bool fill(size_t k, uint8_t* out, uint64_t size) {
+  const pid_t pid = getpid();
+  std::memset(out, int(k + 1), size - sizeof pid);
+  std::memcpy(out + size - sizeof pid, &pid, sizeof pid);
+  return true;
+}
+
+pid_t pid_in(const std::vector<uint8_t>& b) {
+  pid_t pid;
+  std::memcpy(&pid, b.data() + b.size() - sizeof pid, sizeof pid);
+  return pid;
+}
+
+TEST(IsolatedJobs, OutputsComeBackFromOtherProcesses) {
+  ASSERT_TRUE(isolation_enabled());
+  std::vector<IsolatedJob> jobs;
+  for (uint64_t k = 0; k < 7; ++k) jobs.push_back(IsolatedJob{100 + 1000 * k, 10 * k});
+  Outputs o(jobs);
+  std::vector<std::string> errors;
+  run_isolated(
+      jobs, o.dst, 2, IsolationBudget{},
+      [&](size_t k, uint8_t* out, std::string* error) {
+        if (k == 3) {
+          *error = "job 3 refuses";
+          return false;
+        }
+        return fill(k, out, jobs[k].out_size);
+      },
+      &errors);
+  ASSERT_EQ(errors.size(), jobs.size());
+  std::vector<pid_t> pids;
+  for (size_t k = 0; k < jobs.size(); ++k) {
+    SCOPED_TRACE(k);
+    if (k == 3) {
+      EXPECT_EQ(errors[k], "job 3 refuses");
+      EXPECT_EQ(o.buffers[k], std::vector<uint8_t>(jobs[k].out_size, 0));  // not copied
+      continue;
+    }
+    EXPECT_EQ(errors[k], "");
+    EXPECT_EQ(o.buffers[k][0], k + 1);
+    EXPECT_EQ(o.buffers[k][jobs[k].out_size - 1 - sizeof(pid_t)], k + 1);
+    EXPECT_NE(pid_in(o.buffers[k]), getpid());
+    pids.push_back(pid_in(o.buffers[k]));
+  }
+  // Two processes, the largest inputs first, each to the less loaded (the first on a tie):
+  // 6 (60), 5 (50), 4 (90 with 5), 3 (90 with 6), 2 (110 with 6 and 3), then 1 and 0 with 5.
+  EXPECT_EQ(pid_in(o.buffers[6]), pid_in(o.buffers[2]));
+  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[4]));
+  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[1]));
+  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[0]));
+  EXPECT_NE(pid_in(o.buffers[6]), pid_in(o.buffers[5]));
+}
+
+TEST(IsolatedJobs, ARunawayJobCostsItsBudgetAndTheRestOfItsProcess) {
+  std::vector<IsolatedJob> jobs(4, IsolatedJob{64, 1000});
+  Outputs o(jobs);
+  IsolationBudget budget;
+  budget.base_seconds = 0.2;
+  budget.seconds_per_byte = 1e-4;  // 0.2 s + 0.2 s for the 2000 bytes of each child's jobs
+  std::vector<std::string> errors;
+  run_isolated(
+      jobs, o.dst, 2, budget,
+      [&](size_t k, uint8_t* out, std::string*) {
+        if (k == 0)
+          for (volatile uint64_t spin = 0;; spin = spin + 1) {
+          }
+        return fill(k, out, 64);
+      },
+      &errors);
+  // Equal inputs: jobs 0 and 2 in one child, 1 and 3 in the other.
+  EXPECT_EQ(errors[0],
+            "decoding ran past its budget of 0.4 s of CPU time (a forged or damaged stream)");
+  EXPECT_EQ(errors[2], "not decoded: an earlier stream in the same process failed to finish");
+  EXPECT_EQ(errors[1], "");
+  EXPECT_EQ(errors[3], "");
+  EXPECT_EQ(o.buffers[3][0], 4);
+}
+
+TEST(IsolatedJobs, ACrashIsTheChildsAlone) {
+  std::vector<IsolatedJob> jobs(2, IsolatedJob{64, 10});
+  Outputs o(jobs);
+  std::vector<std::string> errors;
+  run_isolated(
+      jobs, o.dst, 1, IsolationBudget{},
+      [&](size_t k, uint8_t* out, std::string*) {
+        if (k == 1) raise(SIGSEGV);
+        return fill(k, out, 64);
+      },
+      &errors);
+  EXPECT_EQ(errors[0], "");
+  EXPECT_EQ(o.buffers[0][0], 1);
+  EXPECT_EQ(errors[1].rfind("the decoder crashed (signal " + std::to_string(SIGSEGV), 0), 0u)
+      << errors[1];
+}
+
+#if !defined(__SANITIZE_ADDRESS__)
+TEST(IsolatedJobs, MemoryPastTheBudgetIsOutOfMemory) {
+  std::vector<IsolatedJob> jobs(2, IsolatedJob{64, 1000});
+  Outputs o(jobs);
+  IsolationBudget budget;
+  budget.base_memory = uint64_t{64} << 20;
+  budget.memory_per_byte = 1024;  // 64 MiB + 2 MiB for the child's two jobs
+  std::vector<std::string> errors;
+  run_isolated(
+      jobs, o.dst, 1, budget,
+      [&](size_t k, uint8_t* out, std::string*) {
+        if (k == 0) {
+          std::vector<uint8_t> big(size_t{256} << 20, 1);  // throws std::bad_alloc
+          out[0] = big[12345];
+        }
+        return fill(k, out, 64);
+      },
+      &errors);
+  EXPECT_EQ(errors[0], "out of memory");
+  EXPECT_EQ(errors[1], "");  // the child went on with its next job
+}
+#endif
+
+TEST(IsolatedJobs, SwitchedOffTheJobsRunHere) {
+  set_isolation_enabled(false);
+  std::vector<IsolatedJob> jobs(3, IsolatedJob{64, 10});
+  Outputs o(jobs);
+  std::vector<std::string> errors;
+  run_isolated(
+      jobs, o.dst, 2, IsolationBudget{},
+      [&](size_t k, uint8_t* out, std::string* error) {
+        if (k == 2) throw std::runtime_error("thrown by job 2");
+        (void)error;
+        return fill(k, out, 64);
+      },
+      &errors);
+  set_isolation_enabled(true);
+  EXPECT_EQ(errors[0], "");
+  EXPECT_EQ(pid_in(o.buffers[0]), getpid());
+  EXPECT_EQ(pid_in(o.buffers[1]), getpid());
+  EXPECT_EQ(errors[2], "thrown by job 2");
+}
+
+}  // namespace
+}  // namespace pbrta
