@@ -74,6 +74,7 @@ timeval to_timeval(double seconds) {
   return t;
 }
 
+#if !defined(PBRTA_ASAN)
 // The address space this process has mapped now, from /proc (0 when unknown).
 uint64_t mapped_bytes() {
   FILE* f = std::fopen("/proc/self/statm", "r");
@@ -83,6 +84,7 @@ uint64_t mapped_bytes() {
   std::fclose(f);
   return ok ? pages * static_cast<uint64_t>(sysconf(_SC_PAGESIZE)) : 0;
 }
+#endif
 
 [[noreturn]] void child_main(const std::vector<size_t>& group, JobSlot* slots, uint8_t* outputs,
                              const std::vector<uint64_t>& offset, double cpu_seconds,
