@@ -44,13 +44,13 @@ bool read_bytes(const std::string& path, std::vector<uint8_t>* out, std::string*
 }
 
 // A Draco-compressed mesh in place of a PLY file: decoded by the wrapper the archive uses, with
-// the limits its size implies (format/draco_codec.h).
+// the limits its size implies, in a budgeted child process (format/draco_codec.h).
 bool load_drc(const std::string& path, Loc filename_loc, Diagnostics* diag, TriangleMesh* mesh) {
   std::vector<uint8_t> bytes;
   std::string error;
   pbrta::DecodedMesh decoded;
   if (!read_bytes(path, &bytes, &error) ||
-      !pbrta::draco_decode(bytes.data(), bytes.size(), &decoded, &error)) {
+      !pbrta::draco_decode_isolated(bytes.data(), bytes.size(), &decoded, &error)) {
     diag->error(filename_loc, "cannot read Draco file \"" + path + "\": " + error);
     return false;
   }

@@ -31,8 +31,8 @@
 // bit, and in this process accepts the stream after 6 s). The archive reader only hands Draco
 // bytes whose checksum matched, only once every other section has decoded, and only in child
 // processes with a budget of time and memory (format/isolated_jobs.h), so a forged file costs at
-// most that budget and a crash in Draco is the child's. Callers that decode a .drc file given
-// by the user (plymesh, pbrt-mesh) call Draco in their own process.
+// most that budget and a crash in Draco is the child's; .drc files a user names (plymesh,
+// pbrt-mesh) go through draco_decode_isolated, the same way.
 #pragma once
 
 #include <cstddef>
@@ -68,8 +68,8 @@ struct DracoOptions {
 // A decoded mesh, in the layout MeshArrays views.
 struct DecodedMesh {
   std::vector<float> positions;
-  std::vector<float> normals;         // empty or 3 per vertex
-  std::vector<float> uv;              // empty or 2 per vertex
+  std::vector<float> normals;  // empty or 3 per vertex
+  std::vector<float> uv;       // empty or 2 per vertex
   std::vector<uint32_t> indices;
   std::vector<int32_t> face_indices;  // empty or 1 per triangle
 
@@ -108,6 +108,13 @@ DracoLimits draco_limits_for(uint64_t stream_bytes);
 [[nodiscard]] bool draco_decode(const uint8_t* data, size_t size, const DracoLimits& limits,
                                 DecodedMesh* out, std::string* error);
 
+// draco_decode (first form) in a child process with a budget of time and memory
+// (format/isolated_jobs.h), for a .drc file a user names: a forged stream then costs at most
+// the budget (about 1 s plus 5 us per byte), and a crash in Draco fails the call instead of
+// the caller. Costs a fork (about a millisecond) over draco_decode.
+[[nodiscard]] bool draco_decode_isolated(const uint8_t* data, size_t size, DecodedMesh* out,
+                                         std::string* error);
+
 // The most one coordinate of a vertex moves when positions are quantized to `bits`: half a
 // quantization step, the bounding box's largest extent / (2^bits - 1) / 2 (0 for no vertices).
 // The position quantization bits a stream was encoded with (0 when positions are not
@@ -128,9 +135,8 @@ double draco_position_slack(const float* positions, size_t num_vertices);
 // Otherwise each decoded vertex is looked up in a spatial hash of the originals with cells of
 // twice `bound` (draco_position_bound: where its source must lie), and by brute force if no
 // original is that close. nearest, when given, receives the matched original of each vertex.
-double draco_max_displacement(const MeshArrays& original, const MeshArrays& decoded,
-                              double bound, bool same_order,
-                              std::vector<uint32_t>* nearest = nullptr);
+double draco_max_displacement(const MeshArrays& original, const MeshArrays& decoded, double bound,
+                              bool same_order, std::vector<uint32_t>* nearest = nullptr);
 
 // The layout of a geometry section holding one mesh (ARCHIVE.md section 8): from r's
 // num_vertices, num_triangles and flags, sets r's array offsets (positions at 0, then normals,

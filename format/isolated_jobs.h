@@ -59,6 +59,19 @@ void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_
                   int processes, const IsolationBudget& budget, const IsolatedWork& work,
                   std::vector<std::string>* errors);
 
+// Job k: fills *out with its output, of a size only it knows; false with one message in *error.
+using IsolatedBlobWork =
+    std::function<bool(size_t k, std::vector<uint8_t>* out, std::string* error)>;
+
+// The same for outputs whose size is not known beforehand: one job per entry of input_bytes
+// (what its budget grows with); each child appends its jobs' outputs to a memory file (memfd) of
+// its own, within its memory budget, and (*outputs)[k] receives job k's bytes. The caller checks
+// them as it would any untrusted input: a child may have been subverted by what it decoded.
+void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
+                        const IsolationBudget& budget, const IsolatedBlobWork& work,
+                        std::vector<std::vector<uint8_t>>* outputs,
+                        std::vector<std::string>* errors);
+
 // Process-wide switch (default true); see above.
 void set_isolation_enabled(bool enabled);
 bool isolation_enabled();

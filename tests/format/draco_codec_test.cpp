@@ -487,15 +487,35 @@ TEST(DracoSection, ReaderRejectsWithMessages) {
   }
 }
 
-// A forged stream that every check made before Draco runs passes, yet that would keep Draco
-// busy for seconds: the texture-coordinate predictor's count of orientation bits, an int32 read
-// raw from the stream (one per vertex but the first two), made 2^31 - 16. Draco decodes that
-// many bits whatever the stream holds. The reader runs Draco in a child process with a budget
-// (format/isolated_jobs.h), so the load fails within it, with a message, and this process never
-// ran the loop.
-TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
+// A forged stream that every check made before Draco runs passes, yet that keeps Draco busy
+// for seconds: the texture-coordinate predictor's count of orientation bits, an int32 read raw
+// from the stream (one per vertex but the first two), made 2^31 - 16. Draco decodes that many
+// bits whatever the stream holds (in this process it accepts the stream after 6 s). Returns the
+// uv-only torus's stream and sets *forged to the forged copy.
+std::vector<uint8_t> forged_orientation_count(std::vector<uint8_t>* forged) {
   const TestMesh m = torus(8, 8);
   const std::vector<uint8_t> stream = encode(m.view(false, true, false), 14, false);
+  // The count is near the end: only the uv attribute's data and the wrap transform follow it.
+  const int32_t count = int32_t(m.P.size() / 3) - 2;
+  std::vector<size_t> at;
+  for (size_t k = stream.size() - 64; k + 4 <= stream.size(); ++k) {
+    int32_t v;
+    std::memcpy(&v, &stream[k], 4);
+    if (v == count) at.push_back(k);
+  }
+  EXPECT_EQ(at.size(), 1u) << "the orientation count " << count
+                           << " is not where this Draco version writes it";
+  *forged = stream;
+  const int32_t big = 0x7ffffff0;
+  if (!at.empty()) std::memcpy(forged->data() + at[0], &big, 4);
+  return stream;
+}
+
+// The reader runs Draco in a child process with a budget (format/isolated_jobs.h), so the load
+// fails within it, with a message, and this process never runs the loop.
+TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
+  std::vector<uint8_t> forged;
+  const std::vector<uint8_t> stream = forged_orientation_count(&forged);
   DecodedMesh d;
   std::string error;
   ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
@@ -504,25 +524,46 @@ TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
   draco_geometry_section(d, &rec, &raw);
   const std::string good = archive_with(raw, stream, "DracoSectionForged");
   EXPECT_EQ(load_error(good), "");
-  // The count is near the end: only the uv attribute's data and the wrap transform follow it.
-  const int32_t count = int32_t(d.num_vertices()) - 2;
-  std::vector<size_t> at;
-  for (size_t k = stream.size() - 64; k + 4 <= stream.size(); ++k) {
-    int32_t v;
-    std::memcpy(&v, &stream[k], 4);
-    if (v == count) at.push_back(k);
-  }
-  ASSERT_EQ(at.size(), 1u) << "the orientation count " << count
-                           << " is not where this Draco version writes it";
   std::string b = good;
   SectionEntry e = entry_of(b, 0);
-  const int32_t forged = 0x7ffffff0;  // 2^31 - 16
-  std::memcpy(&b[e.offset + at[0]], &forged, 4);
+  std::memcpy(&b[e.offset], forged.data(), forged.size());
   e.checksum = XXH3_64bits(b.data() + e.offset, e.stored_size);
   put_entry(&b, 0, e);
   EXPECT_EQ(load_error(b),
             "d.pbrta: section 'geometry' (#0): draco: decoding ran past its budget "
             "of 1 s of CPU time (a forged or damaged stream)");
+}
+
+// A .drc file a user names goes through the same budget (plymesh, pbrt-mesh): the isolated
+// decode gives what draco_decode gives, its messages, and stops the forged stream.
+TEST(DracoCodec, IsolatedDecodeMatchesAndIsBounded) {
+  const TestMesh m = torus(20, 12);
+  for (bool sequential : {false, true}) {
+    const std::vector<uint8_t> stream = encode(m.view(), 14, sequential);
+    DecodedMesh here, there;
+    std::string error;
+    ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &here, &error)) << error;
+    ASSERT_TRUE(draco_decode_isolated(stream.data(), stream.size(), &there, &error)) << error;
+    EXPECT_EQ(there.positions, here.positions);
+    EXPECT_EQ(there.normals, here.normals);
+    EXPECT_EQ(there.uv, here.uv);
+    EXPECT_EQ(there.indices, here.indices);
+    EXPECT_EQ(there.face_indices, here.face_indices);
+  }
+  const std::vector<uint8_t> garbage(300, 7);
+  DecodedMesh d;
+  std::string here_error, there_error;
+  EXPECT_FALSE(draco_decode(garbage.data(), garbage.size(), &d, &here_error));
+  EXPECT_FALSE(draco_decode_isolated(garbage.data(), garbage.size(), &d, &there_error));
+  EXPECT_EQ(there_error, here_error);
+  EXPECT_EQ(d.num_vertices(), 0u);
+
+  std::vector<uint8_t> forged;
+  forged_orientation_count(&forged);
+  std::string error;
+  EXPECT_FALSE(draco_decode_isolated(forged.data(), forged.size(), &d, &error));
+  EXPECT_EQ(error,
+            "draco: decoding ran past its budget of 1 s of CPU time (a forged or damaged stream)");
 }
 
 TEST(DracoSection, WriterNeedsAnEncodedGeometrySectionOfOneMesh) {

@@ -855,8 +855,8 @@ bool write_pbrt(const std::string& path, const Mesh& m, const WriteOptions& opti
 bool read_drc(const std::string& path, std::string_view bytes, Mesh* mesh, std::string* error) {
   pbrta::DecodedMesh d;
   std::string reason;
-  if (!pbrta::draco_decode(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), &d,
-                           &reason))
+  if (!pbrta::draco_decode_isolated(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(),
+                                    &d, &reason))
     return fail(error, path, reason);
   Mesh m;
   m.positions = std::move(d.positions);
