@@ -77,8 +77,9 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
   if (!I) {
     // pbrt-v3: a single triangle may leave out its indices.
     if (nv != 3) {
-      diag->error(shape_loc, "trianglemesh needs \"integer indices\" (only a mesh of exactly 3 "
-                             "vertices may leave them out)");
+      diag->error(shape_loc,
+                  "trianglemesh needs \"integer indices\" (only a mesh of exactly 3 "
+                  "vertices may leave them out)");
       return false;
     }
     mesh->indices = {0, 1, 2};
@@ -88,8 +89,8 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
       return false;
     }
     if (I->count % 3 != 0) {
-      diag->error(I->value_loc, "trianglemesh has " + std::to_string(I->count) +
-                                    " indices, not a multiple of 3");
+      diag->error(I->value_loc,
+                  "trianglemesh has " + std::to_string(I->count) + " indices, not a multiple of 3");
       return false;
     }
     // Validate first, then copy in one block: no zero-fill, no per-element stores.
@@ -97,8 +98,8 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
     for (uint32_t i = 0; i < I->count; ++i) {
       if (uint32_t(src[i]) >= nv) {  // negative values wrap to huge
         diag->error(I->value_loc, "trianglemesh index " + std::to_string(src[i]) + " (entry " +
-                                      std::to_string(i) + ") is out of range: " +
-                                      std::to_string(nv) + " vertices");
+                                      std::to_string(i) +
+                                      ") is out of range: " + std::to_string(nv) + " vertices");
         return false;
       }
     }

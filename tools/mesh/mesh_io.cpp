@@ -84,8 +84,8 @@ bool read_bytes(const std::string& path, std::string* bytes, std::string* error)
 // call, so concurrent writers in one process do not collide.
 bool write_atomically(const std::string& path, const std::string& bytes, std::string* error) {
   static std::atomic<uint64_t> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(getpid()) + "." +
-                          std::to_string(counter.fetch_add(1));
+  const std::string tmp =
+      path + ".tmp." + std::to_string(getpid()) + "." + std::to_string(counter.fetch_add(1));
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return fail(error, path, std::string("cannot create: ") + std::strerror(errno));
@@ -128,7 +128,8 @@ void append_int(std::string* out, int64_t v) {
 class Progress {
  public:
   Progress(const std::string& path, size_t total, bool quiet)
-      : path_(path), total_(total),
+      : path_(path),
+        total_(total),
         enabled_(!quiet && total >= (size_t{16} << 20) && isatty(STDERR_FILENO)) {}
   ~Progress() {
     if (shown_) std::fprintf(stderr, "\r\033[K");
@@ -263,8 +264,9 @@ bool read_obj(const std::string& path, std::string_view text, Mesh* mesh, std::s
   std::vector<std::string_view> tok;
   std::vector<ObjCorner> poly;
   LineScanner scan(text);
-  auto at = [&](const std::string& what) { return "line " + std::to_string(scan.line()) + ": " +
-                                                  what; };
+  auto at = [&](const std::string& what) {
+    return "line " + std::to_string(scan.line()) + ": " + what;
+  };
   // OBJ indices are 1-based, or negative: relative to the end of the list so far.
   auto resolve = [](int64_t i, size_t count, int64_t* out) {
     if (i > 0 && uint64_t(i) <= count) return *out = i - 1, true;
@@ -278,14 +280,13 @@ bool read_obj(const std::string& path, std::string_view text, Mesh* mesh, std::s
     if (kw == "v" || kw == "vn" || kw == "vt") {
       const size_t need = kw == "vt" ? 2 : 3;
       if (tok.size() < need + 1)
-        return fail(error, path, at(std::string(kw) + " needs " + std::to_string(need) +
-                                    " numbers"));
+        return fail(error, path,
+                    at(std::string(kw) + " needs " + std::to_string(need) + " numbers"));
       std::vector<float>& dst = kw == "v" ? v : kw == "vn" ? vn : vt;
       for (size_t k = 1; k <= need; ++k) {
         float f;
         if (!parse_float(tok[k], &f))
-          return fail(error, path, at("\"" + std::string(tok[k]) +
-                                      "\" is not a finite number"));
+          return fail(error, path, at("\"" + std::string(tok[k]) + "\" is not a finite number"));
         dst.push_back(f);
       }
     } else if (kw == "f") {
@@ -305,17 +306,17 @@ bool read_obj(const std::string& path, std::string_view text, Mesh* mesh, std::s
         ObjCorner c{-1, -1, -1};
         int64_t raw;
         if (!parse_int(parts[0], &raw) || !resolve(raw, v.size() / 3, &c.v))
-          return fail(error, path, at("vertex index \"" + std::string(parts[0]) +
-                                      "\" out of range (" + std::to_string(v.size() / 3) +
-                                      " vertices so far)"));
+          return fail(error, path,
+                      at("vertex index \"" + std::string(parts[0]) + "\" out of range (" +
+                         std::to_string(v.size() / 3) + " vertices so far)"));
         if (np > 1 && !parts[1].empty() &&
             (!parse_int(parts[1], &raw) || !resolve(raw, vt.size() / 2, &c.vt)))
-          return fail(error, path, at("texture index \"" + std::string(parts[1]) +
-                                      "\" out of range"));
+          return fail(error, path,
+                      at("texture index \"" + std::string(parts[1]) + "\" out of range"));
         if (np > 2 && !parts[2].empty() &&
             (!parse_int(parts[2], &raw) || !resolve(raw, vn.size() / 3, &c.vn)))
-          return fail(error, path, at("normal index \"" + std::string(parts[2]) +
-                                      "\" out of range"));
+          return fail(error, path,
+                      at("normal index \"" + std::string(parts[2]) + "\" out of range"));
         poly.push_back(c);
       }
       for (size_t k = 1; k + 1 < poly.size(); ++k) {
@@ -376,8 +377,8 @@ bool read_obj(const std::string& path, std::string_view text, Mesh* mesh, std::s
 }
 
 std::string obj_text(const Mesh& m) {
-  std::string out = "# written by pbrt-mesh: " + std::to_string(m.num_vertices()) +
-                    " vertices, " + std::to_string(m.num_triangles()) + " triangles\n";
+  std::string out = "# written by pbrt-mesh: " + std::to_string(m.num_vertices()) + " vertices, " +
+                    std::to_string(m.num_triangles()) + " triangles\n";
   out.reserve(m.positions.size() * 14 + m.indices.size() * 10);
   auto line = [&](const char* kw, const float* p, int n) {
     out += kw;
@@ -421,8 +422,9 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
   Progress progress(path, text.size(), quiet);
   LineScanner scan(text);
   std::vector<std::string_view> tok;
-  auto at = [&](const std::string& what) { return "line " + std::to_string(scan.line()) + ": " +
-                                                  what; };
+  auto at = [&](const std::string& what) {
+    return "line " + std::to_string(scan.line()) + ": " + what;
+  };
   // The next non-empty line.
   auto next_line = [&]() {
     while (scan.next(&tok))
@@ -456,9 +458,9 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
   const uint64_t remaining = text.size() - scan.offset();
   if (uint64_t(nv) > remaining / 6 || uint64_t(nf) > remaining / 8 ||
       uint64_t(nv) * 6 + uint64_t(nf) * 8 > remaining)
-    return fail(error, path, "header promises " + std::to_string(nv) + " vertices and " +
-                             std::to_string(nf) + " faces, but only " +
-                             std::to_string(remaining) + " bytes follow");
+    return fail(error, path,
+                "header promises " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                    " faces, but only " + std::to_string(remaining) + " bytes follow");
   Mesh m;
   m.positions.reserve(size_t(nv) * 3);
   if (has_n) m.normals.reserve(size_t(nv) * 3);
@@ -466,14 +468,16 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
   for (int64_t i = 0; i < nv; ++i) {
     progress.update(scan.offset());
     if (!next_line())
-      return fail(error, path, "file ends after " + std::to_string(i) + " of " +
-                               std::to_string(nv) + " vertices");
+      return fail(
+          error, path,
+          "file ends after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
     const size_t fixed = 3 + (has_n ? 3 : 0) + (has_st ? 2 : 0);
     // A colour is one colour-map index or 3 or 4 components.
     const size_t extra = tok.size() - std::min(tok.size(), fixed);
     if (tok.size() < fixed || (has_c ? !(extra == 1 || extra == 3 || extra == 4) : extra != 0))
-      return fail(error, path, at("vertex " + std::to_string(i) + " has " +
-                                  std::to_string(tok.size()) + " numbers"));
+      return fail(
+          error, path,
+          at("vertex " + std::to_string(i) + " has " + std::to_string(tok.size()) + " numbers"));
     float f[3];
     auto take = [&](size_t first, size_t n, std::vector<float>* dst) {
       for (size_t k = 0; k < n; ++k) {
@@ -486,15 +490,15 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
     const size_t st_at = after_n + (has_c ? extra : 0);
     if (!take(0, 3, &m.positions) || (has_n && !take(3, 3, &m.normals)) ||
         (has_st && !take(st_at, 2, &m.uvs)))
-      return fail(error, path, at("vertex " + std::to_string(i) +
-                                  ": a value is not a finite number"));
+      return fail(error, path,
+                  at("vertex " + std::to_string(i) + ": a value is not a finite number"));
   }
   m.indices.reserve(size_t(nf) * 3);
   for (int64_t i = 0; i < nf; ++i) {
     progress.update(scan.offset());
     if (!next_line())
-      return fail(error, path, "file ends after " + std::to_string(i) + " of " +
-                               std::to_string(nf) + " faces");
+      return fail(error, path,
+                  "file ends after " + std::to_string(i) + " of " + std::to_string(nf) + " faces");
     int64_t k = 0;
     if (!parse_int(tok[0], &k) || k < 3 || uint64_t(k) > tok.size() - 1)
       return fail(error, path, at("face " + std::to_string(i) + ": bad vertex count"));
@@ -502,9 +506,10 @@ bool read_off(const std::string& path, std::string_view text, Mesh* mesh, std::s
     for (int64_t j = 0; j < k; ++j) {
       int64_t idx;
       if (!parse_int(tok[size_t(j) + 1], &idx) || idx < 0 || idx >= nv)
-        return fail(error, path, at("face " + std::to_string(i) + ": vertex index \"" +
-                                    std::string(tok[size_t(j) + 1]) + "\" out of range (" +
-                                    std::to_string(nv) + " vertices)"));
+        return fail(
+            error, path,
+            at("face " + std::to_string(i) + ": vertex index \"" + std::string(tok[size_t(j) + 1]) +
+               "\" out of range (" + std::to_string(nv) + " vertices)"));
       if (j == 0) first = uint32_t(idx);
       if (j >= 2) m.indices.insert(m.indices.end(), {first, prev, uint32_t(idx)});
       prev = uint32_t(idx);
@@ -653,10 +658,10 @@ bool read_stl(const std::string& path, std::string_view bytes, Mesh* mesh, std::
     }
     if (in_loop) return fail(error, path, "file ends inside a facet");
   } else if (bytes.size() >= 84) {
-    return fail(error, path, "binary STL header says " + std::to_string(count) +
-                             " triangles (" + std::to_string(84 + 50 * uint64_t(count)) +
-                             " bytes) but the file has " + std::to_string(bytes.size()) +
-                             " bytes");
+    return fail(error, path,
+                "binary STL header says " + std::to_string(count) + " triangles (" +
+                    std::to_string(84 + 50 * uint64_t(count)) + " bytes) but the file has " +
+                    std::to_string(bytes.size()) + " bytes");
   } else {
     return fail(error, path, "not an STL file (too short for binary, no \"solid\")");
   }
@@ -750,8 +755,8 @@ bool read_pbrt(const std::string& path, std::string_view text, Mesh* mesh, std::
       if (d.severity == pbrtc::Severity::kError) {
         // The located message ("file:line:col: error: ..."), without the include chain our
         // world-block wrapper adds in front of it.
-        if (error) *error = d.loc.valid() ? files.format(d.loc) + ": " + d.message
-                                          : path + ": " + d.message;
+        if (error)
+          *error = d.loc.valid() ? files.format(d.loc) + ": " + d.message : path + ": " + d.message;
         return false;
       }
     return fail(error, path, "pbrtc could not build the scene");
@@ -777,8 +782,8 @@ bool read_pbrt(const std::string& path, std::string_view text, Mesh* mesh, std::
     m.positions.insert(m.positions.end(), t.P.begin(), t.P.end());
     if (all_n) m.normals.insert(m.normals.end(), t.N.begin(), t.N.end());
     if (all_uv) m.uvs.insert(m.uvs.end(), t.uv.begin(), t.uv.end());
-    if (all_fi) m.face_indices.insert(m.face_indices.end(), t.face_indices.begin(),
-                                      t.face_indices.end());
+    if (all_fi)
+      m.face_indices.insert(m.face_indices.end(), t.face_indices.begin(), t.face_indices.end());
     for (uint32_t i : t.indices) m.indices.push_back(uint32_t(base + i));
   }
   *mesh = std::move(m);
@@ -797,8 +802,8 @@ void append_array(std::string* out, const char* decl, const float* v, size_t n) 
 }
 
 std::string pbrt_inline_text(const Mesh& m) {
-  std::string out = "# written by pbrt-mesh: " + std::to_string(m.num_vertices()) +
-                    " vertices, " + std::to_string(m.num_triangles()) + " triangles\n" +
+  std::string out = "# written by pbrt-mesh: " + std::to_string(m.num_vertices()) + " vertices, " +
+                    std::to_string(m.num_triangles()) + " triangles\n" +
                     "Shape \"trianglemesh\"\n  \"integer indices\" [";
   for (size_t i = 0; i < m.indices.size(); ++i) {
     out += (i % 15 == 0) ? "\n    " : " ";
@@ -841,8 +846,8 @@ bool write_pbrt(const std::string& path, const Mesh& m, const WriteOptions& opti
   if (!write_ply_file(ply_path, m, options.ply_ascii, error)) return false;
   const std::string text = "# written by pbrt-mesh: " + std::to_string(m.num_vertices()) +
                            " vertices, " + std::to_string(m.num_triangles()) + " triangles\n" +
-                           "Shape \"plymesh\" \"string filename\" " +
-                           quoted_pbrt_string(name) + "\n";
+                           "Shape \"plymesh\" \"string filename\" " + quoted_pbrt_string(name) +
+                           "\n";
   if (!write_atomically(path, text, error)) {
     std::remove(ply_path.c_str());
     return false;
@@ -872,9 +877,9 @@ bool write_drc(const std::string& path, const Mesh& m, const WriteOptions& optio
                std::string* error) {
   if (options.draco_bits < pbrta::kDracoMinPositionBits ||
       options.draco_bits > pbrta::kDracoMaxPositionBits)
-    return fail(error, path, "Draco position bits must be " +
-                             std::to_string(pbrta::kDracoMinPositionBits) + " to " +
-                             std::to_string(pbrta::kDracoMaxPositionBits));
+    return fail(error, path,
+                "Draco position bits must be " + std::to_string(pbrta::kDracoMinPositionBits) +
+                    " to " + std::to_string(pbrta::kDracoMaxPositionBits));
   const pbrta::MeshArrays a = pbrta::arrays_of(m);
   pbrta::DracoOptions opt;
   opt.position_bits = options.draco_bits;
@@ -933,8 +938,9 @@ bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool qui
     }
     if (!ok) return false;
   } else {
-    return fail(error, path, ext.empty() ? "no file extension to tell the format by"
-                                         : "unknown mesh format \"." + ext + "\"");
+    return fail(error, path,
+                ext.empty() ? "no file extension to tell the format by"
+                            : "unknown mesh format \"." + ext + "\"");
   }
   std::string reason;
   if (!check_mesh(m, &reason)) return fail(error, path, reason);
@@ -958,8 +964,9 @@ bool write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& o
     return write_atomically(path, stl_bytes(mesh), error);
   }
   if (ext == "pbrt") return write_pbrt(path, mesh, options, error);
-  return fail(error, path, ext.empty() ? "no file extension to tell the format by"
-                                       : "unknown mesh format \"." + ext + "\"");
+  return fail(error, path,
+              ext.empty() ? "no file extension to tell the format by"
+                          : "unknown mesh format \"." + ext + "\"");
 }
 
 }  // namespace meshtools
