@@ -22,7 +22,9 @@ namespace {
 
 using pbrta::kNoIndex;
 
-uint32_t idx(int32_t i) { return i < 0 ? kNoIndex : uint32_t(i); }
+uint32_t idx(int32_t i) {
+  return i < 0 ? kNoIndex : uint32_t(i);
+}
 
 template <class T>
 void append(std::vector<uint8_t>* out, const T& v) {
@@ -247,8 +249,8 @@ class Builder {
           for (uint32_t j = 0; j < v.count; ++j) {
             const std::string& s = e.strings[v.offset + j];
             bool is_path = ts.params[i].flags & pbrta::kParamFilename;
-            bool resolved_name = e.category == pbrta::Category::kMaterial &&
-                                 ts.name == "mix" && ts.params[i].name.substr(0, 13) == "namedmaterial";
+            bool resolved_name = e.category == pbrta::Category::kMaterial && ts.name == "mix" &&
+                                 ts.params[i].name.substr(0, 13) == "namedmaterial";
             if (is_path && path.empty()) path = relative(s);
             words_.push_back(is_path || resolved_name ? 0 : string(s));
           }
@@ -392,7 +394,8 @@ class Builder {
       r.num_triangles = uint32_t(m.num_triangles());
       r.positions = put(m.P.data(), m.P.size() * 4);
       if (!m.N.empty()) r.flags |= pbrta::kMeshNormals, r.normals = put(m.N.data(), m.N.size() * 4);
-      if (!m.S.empty()) r.flags |= pbrta::kMeshTangents, r.tangents = put(m.S.data(), m.S.size() * 4);
+      if (!m.S.empty())
+        r.flags |= pbrta::kMeshTangents, r.tangents = put(m.S.data(), m.S.size() * 4);
       if (!m.uv.empty()) r.flags |= pbrta::kMeshUV, r.uv = put(m.uv.data(), m.uv.size() * 4);
       r.indices = put(m.indices.data(), m.indices.size() * 4);
       if (!m.face_indices.empty())
@@ -489,7 +492,6 @@ class Builder {
     }
     for (const std::string& str : pstrings_) prov.insert(prov.end(), str.begin(), str.end());
     w->add_section(K::kProvenance, std::move(prov), uint32_t(provenance_.size()), plain);
-
   }
 
   // Images: the records, then texels chunks holding whole images (every level of an image in

@@ -20,7 +20,7 @@ namespace pbrtc {
 struct ArchiveOptions {
   bool compress = true;  // false: --codec none (sections usable in place)
   int zstd_level = 6;
-  int threads = 0;       // 0: all cores
+  int threads = 0;  // 0: all cores
   // Geometry sections hold whole meshes up to this many raw bytes, so a
   // large scene decompresses in parallel.
   uint64_t geometry_chunk_bytes = uint64_t(16) << 20;

@@ -4,8 +4,7 @@
 
 namespace pbrtc {
 
-Diagnostics::Diagnostics(const SourceFiles* files, std::ostream* out)
-    : files_(files), out_(out) {}
+Diagnostics::Diagnostics(const SourceFiles* files, std::ostream* out) : files_(files), out_(out) {}
 
 void Diagnostics::error(Loc loc, const std::string& message) {
   report(Severity::kError, loc, message);

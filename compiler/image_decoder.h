@@ -48,7 +48,7 @@ struct ImageOptions {
   bool gamma = false;     // undo the sRGB curve (imagemap "gamma")
   float scale = 1;        // imagemap "scale", multiplied after the curve
   ImageWrap wrap = ImageWrap::kRepeat;
-  bool flip = false;      // imagemap: pbrt-v3 flips rows before building its MIPMap
+  bool flip = false;  // imagemap: pbrt-v3 flips rows before building its MIPMap
 
   // The options an imagemap texture's parameters ask for (channels 1 for a float texture).
   // gamma_given false: pbrt-v3's default, true for .png and .tga files.

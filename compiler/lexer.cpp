@@ -26,8 +26,12 @@ struct CharTable {
 };
 constexpr CharTable kChars;
 
-inline bool is_space(char ch) { return kChars.c[uint8_t(ch)] & kSpace; }
-inline bool is_delim(char ch) { return kChars.c[uint8_t(ch)] & (kDelim | kBad); }
+inline bool is_space(char ch) {
+  return kChars.c[uint8_t(ch)] & kSpace;
+}
+inline bool is_delim(char ch) {
+  return kChars.c[uint8_t(ch)] & (kDelim | kBad);
+}
 inline bool starts_number(char ch) {
   return (ch >= '0' && ch <= '9') || ch == '-' || ch == '+' || ch == '.';
 }
@@ -95,8 +99,12 @@ bool parse_number_token(std::string_view s, T* v) {
 }
 }  // namespace
 
-bool parse_float_token(std::string_view s, float* v) { return parse_number_token(s, v); }
-bool parse_double_token(std::string_view s, double* v) { return parse_number_token(s, v); }
+bool parse_float_token(std::string_view s, float* v) {
+  return parse_number_token(s, v);
+}
+bool parse_double_token(std::string_view s, double* v) {
+  return parse_number_token(s, v);
+}
 
 bool parse_int_token(std::string_view s, int32_t* v) {
   const char* b = s.data();
@@ -215,12 +223,24 @@ Token Lexer::lex() {
         if (c == '\\' && i + 1 < t.text.size()) {
           char e = t.text[++i];
           switch (e) {
-            case 'b': c = '\b'; break;
-            case 'f': c = '\f'; break;
-            case 'n': c = '\n'; break;
-            case 'r': c = '\r'; break;
-            case 't': c = '\t'; break;
-            default: c = e; break;  // \\ \" \' and anything else stand for themselves
+            case 'b':
+              c = '\b';
+              break;
+            case 'f':
+              c = '\f';
+              break;
+            case 'n':
+              c = '\n';
+              break;
+            case 'r':
+              c = '\r';
+              break;
+            case 't':
+              c = '\t';
+              break;
+            default:
+              c = e;
+              break;  // \\ \" \' and anything else stand for themselves
           }
         }
         unescaped_.push_back(c);
@@ -321,9 +341,8 @@ bool Lexer::read_numbers(std::vector<float>* out, Loc* first_bad) {
       }
       if (*p == '+') ++p;
       auto r = fast_float::from_chars(p, end, v);
-      if (__builtin_expect(r.ec != std::errc() || (r.ptr < end && !is_delim(*r.ptr)) ||
-                               !std::isfinite(v),
-                           0)) {
+      if (__builtin_expect(
+              r.ec != std::errc() || (r.ptr < end && !is_delim(*r.ptr)) || !std::isfinite(v), 0)) {
         p_ = start;
         while (p_ < end_ && !is_delim(*p_)) ++p_;
         Token t{TokenKind::kNumber, std::string_view(start, size_t(p_ - start)), loc_at(start)};
@@ -356,8 +375,8 @@ bool Lexer::bad_array_token(const Token& t, const char* expected, Loc* first_bad
   if (t.kind == TokenKind::kEnd && !broken_)
     diag_->error(t.loc, "unterminated '[' array at end of file");
   else if (t.kind != TokenKind::kEnd)
-    diag_->error(t.loc, std::string("expected ") + expected + " or ']', got '" +
-                            std::string(t.text) + "'");
+    diag_->error(
+        t.loc, std::string("expected ") + expected + " or ']', got '" + std::string(t.text) + "'");
   return false;
 }
 
@@ -374,7 +393,8 @@ bool Lexer::read_integers(std::vector<uint32_t>* out) {
         const char* q = p + neg;
         const char* digits = q;
         uint64_t acc = 0;
-        while (q < end && uint8_t(*q - '0') < 10 && q - digits < 10) acc = acc * 10 + uint8_t(*q++ - '0');
+        while (q < end && uint8_t(*q - '0') < 10 && q - digits < 10)
+          acc = acc * 10 + uint8_t(*q++ - '0');
         if (q == digits || (q < end && !is_space(*q) && *q != ']') ||
             acc > (neg ? uint64_t(1) << 31 : uint64_t(INT32_MAX)))
           break;

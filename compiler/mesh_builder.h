@@ -17,7 +17,6 @@ namespace pbrtc {
 
 bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* diag,
                         TriangleMesh* mesh);
-bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag,
-                  TriangleMesh* mesh);
+bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag, TriangleMesh* mesh);
 
 }  // namespace pbrtc

@@ -30,8 +30,12 @@ std::string param_desc(const ParsedParam& p) {
 }
 
 using Store = pbrta::KindStore;
-constexpr Store store_of(Kind k) { return pbrta::kind_store(k); }
-constexpr int width_of(Kind k) { return pbrta::kind_width(k); }
+constexpr Store store_of(Kind k) {
+  return pbrta::kind_store(k);
+}
+constexpr int width_of(Kind k) {
+  return pbrta::kind_width(k);
+}
 
 size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -56,41 +60,57 @@ bool looks_like_v4_named_spectrum(std::string_view s) {
 // Whether a parameter declared as t is what pbrt-v3 looks up for ps.
 bool type_fits(const ParamSpec& ps, ParamType t) {
   switch (ps.kind) {
-    case Kind::kInt: return t == ParamType::kInteger;
-    case Kind::kFloat: return t == ParamType::kFloat;
-    case Kind::kBool: return t == ParamType::kBool;
-    case Kind::kString: return t == ParamType::kString;
+    case Kind::kInt:
+      return t == ParamType::kInteger;
+    case Kind::kFloat:
+      return t == ParamType::kFloat;
+    case Kind::kBool:
+      return t == ParamType::kBool;
+    case Kind::kString:
+      return t == ParamType::kString;
     case Kind::kPoint2:
     case Kind::kVector2:
       // trianglemesh "float uv" / "float st": a flat list of pairs.
       return t == ParamType::kPoint2 || t == ParamType::kVector2 ||
              (ps.arity == 0 && t == ParamType::kFloat);
-    case Kind::kPoint3: return t == ParamType::kPoint3;
-    case Kind::kVector3: return t == ParamType::kVector3;
-    case Kind::kNormal3: return t == ParamType::kNormal3;
-    case Kind::kRgb: return param_type_is_spectrum(t);
-    case Kind::kFloatTex: return t == ParamType::kFloat || t == ParamType::kTexture;
-    case Kind::kSpectrumTex: return param_type_is_spectrum(t) || t == ParamType::kTexture;
-    default: return false;
+    case Kind::kPoint3:
+      return t == ParamType::kPoint3;
+    case Kind::kVector3:
+      return t == ParamType::kVector3;
+    case Kind::kNormal3:
+      return t == ParamType::kNormal3;
+    case Kind::kRgb:
+      return param_type_is_spectrum(t);
+    case Kind::kFloatTex:
+      return t == ParamType::kFloat || t == ParamType::kTexture;
+    case Kind::kSpectrumTex:
+      return param_type_is_spectrum(t) || t == ParamType::kTexture;
+    default:
+      return false;
   }
 }
 
 // How a scene file declares a parameter of kind k ("integer", not "int").
 std::string declared_as(Kind k) {
   switch (k) {
-    case Kind::kInt: return "integer";
-    case Kind::kFloatTex: return "float or texture";
-    case Kind::kSpectrumTex: return "rgb, spectrum or texture";
-    case Kind::kRgb: return "rgb or spectrum";
-    default: return std::string(pbrta::kind_name(k));
+    case Kind::kInt:
+      return "integer";
+    case Kind::kFloatTex:
+      return "float or texture";
+    case Kind::kSpectrumTex:
+      return "rgb, spectrum or texture";
+    case Kind::kRgb:
+      return "rgb or spectrum";
+    default:
+      return std::string(pbrta::kind_name(k));
   }
 }
 
 }  // namespace
 
 void ParamResolver::warn_wrong_type(const Entity& e, const ParamSpec& ps, const ParsedParam& p) {
-  diag_->warning(p.loc, "parameter " + param_desc(p) + " of " + describe_type(e) +
-                            " should be " + declared_as(ps.kind) +
+  diag_->warning(p.loc, "parameter " + param_desc(p) + " of " + describe_type(e) + " should be " +
+                            declared_as(ps.kind) +
                             "; it is ignored (pbrt-v3 does not use it either)");
 }
 
@@ -113,8 +133,8 @@ void ParamResolver::note_input(const std::string& path) {
 bool ParamResolver::begin(Category c, std::string_view type, Loc loc, Entity* e) {
   int t = pbrta::find_type(c, type);
   if (t < 0) {
-    std::string msg = "unknown " + std::string(pbrta::category_name(c)) + " type \"" +
-                      std::string(type) + "\"";
+    std::string msg =
+        "unknown " + std::string(pbrta::category_name(c)) + " type \"" + std::string(type) + "\"";
     // A near miss is almost always a typo: name it.
     const pbrta::CategorySpec& cs = pbrta::category_spec(c);
     std::string_view best;
@@ -191,7 +211,8 @@ bool ParamResolver::spectrum_to_rgb(const ParsedParam& p, const ParamList& param
         rgb->insert(rgb->end(), {c.r, c.g, c.b});
       }
       return true;
-    default: return false;
+    default:
+      return false;
   }
 }
 
@@ -300,11 +321,11 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
     elems = p.count;
   }
   if (ps.arity > 0 && elems != ps.arity) {
-    diag_->error(p.value_loc, "parameter " + param_desc(p) + " of " + describe_type(*e) +
-                                  " takes " +
-                                  (ps.arity == 1 ? std::string("one value")
-                                                 : std::to_string(ps.arity) + " values") +
-                                  ", got " + std::to_string(elems));
+    diag_->error(
+        p.value_loc,
+        "parameter " + param_desc(p) + " of " + describe_type(*e) + " takes " +
+            (ps.arity == 1 ? std::string("one value") : std::to_string(ps.arity) + " values") +
+            ", got " + std::to_string(elems));
     return false;
   }
   switch (store_of(k)) {
@@ -372,9 +393,8 @@ bool ParamResolver::check_required(const Entity& e, Loc loc, const ParamList* pa
       const ParsedParam* p = params ? params->find(ts.params[i].name) : nullptr;
       if (!p && params && !ts.params[i].alias.empty()) p = params->find(ts.params[i].alias);
       if (p && type_fits(ts.params[i], p->type)) continue;
-      diag_->error(loc, describe_type(e) + " needs parameter \"" +
-                            declared_as(ts.params[i].kind) + " " +
-                            std::string(ts.params[i].name) + "\"");
+      diag_->error(loc, describe_type(e) + " needs parameter \"" + declared_as(ts.params[i].kind) +
+                            " " + std::string(ts.params[i].name) + "\"");
     }
   }
   return ok;

@@ -12,14 +12,14 @@ struct TypeName {
   ParamType type;
 };
 constexpr TypeName kTypeNames[] = {
-    {"integer", ParamType::kInteger}, {"float", ParamType::kFloat},
-    {"point2", ParamType::kPoint2},   {"vector2", ParamType::kVector2},
-    {"point3", ParamType::kPoint3},   {"point", ParamType::kPoint3},
-    {"vector3", ParamType::kVector3}, {"vector", ParamType::kVector3},
-    {"normal", ParamType::kNormal3},  {"normal3", ParamType::kNormal3},
-    {"bool", ParamType::kBool},       {"string", ParamType::kString},
-    {"texture", ParamType::kTexture}, {"rgb", ParamType::kRgb},
-    {"color", ParamType::kRgb},       {"xyz", ParamType::kXyz},
+    {"integer", ParamType::kInteger},     {"float", ParamType::kFloat},
+    {"point2", ParamType::kPoint2},       {"vector2", ParamType::kVector2},
+    {"point3", ParamType::kPoint3},       {"point", ParamType::kPoint3},
+    {"vector3", ParamType::kVector3},     {"vector", ParamType::kVector3},
+    {"normal", ParamType::kNormal3},      {"normal3", ParamType::kNormal3},
+    {"bool", ParamType::kBool},           {"string", ParamType::kString},
+    {"texture", ParamType::kTexture},     {"rgb", ParamType::kRgb},
+    {"color", ParamType::kRgb},           {"xyz", ParamType::kXyz},
     {"blackbody", ParamType::kBlackbody}, {"spectrum", ParamType::kSpectrum},
 };
 }  // namespace
@@ -35,20 +35,34 @@ bool parse_param_type(std::string_view s, ParamType* t) {
 
 std::string_view param_type_name(ParamType t) {
   switch (t) {
-    case ParamType::kInteger: return "integer";
-    case ParamType::kFloat: return "float";
-    case ParamType::kPoint2: return "point2";
-    case ParamType::kVector2: return "vector2";
-    case ParamType::kPoint3: return "point3";
-    case ParamType::kVector3: return "vector3";
-    case ParamType::kNormal3: return "normal";
-    case ParamType::kBool: return "bool";
-    case ParamType::kString: return "string";
-    case ParamType::kTexture: return "texture";
-    case ParamType::kRgb: return "rgb";
-    case ParamType::kXyz: return "xyz";
-    case ParamType::kBlackbody: return "blackbody";
-    case ParamType::kSpectrum: return "spectrum";
+    case ParamType::kInteger:
+      return "integer";
+    case ParamType::kFloat:
+      return "float";
+    case ParamType::kPoint2:
+      return "point2";
+    case ParamType::kVector2:
+      return "vector2";
+    case ParamType::kPoint3:
+      return "point3";
+    case ParamType::kVector3:
+      return "vector3";
+    case ParamType::kNormal3:
+      return "normal";
+    case ParamType::kBool:
+      return "bool";
+    case ParamType::kString:
+      return "string";
+    case ParamType::kTexture:
+      return "texture";
+    case ParamType::kRgb:
+      return "rgb";
+    case ParamType::kXyz:
+      return "xyz";
+    case ParamType::kBlackbody:
+      return "blackbody";
+    case ParamType::kSpectrum:
+      return "spectrum";
   }
   return "?";
 }
@@ -58,13 +72,16 @@ int param_type_stride(ParamType t) {
     case ParamType::kPoint2:
     case ParamType::kVector2:
     case ParamType::kBlackbody:
-    case ParamType::kSpectrum: return 2;
+    case ParamType::kSpectrum:
+      return 2;
     case ParamType::kPoint3:
     case ParamType::kVector3:
     case ParamType::kNormal3:
     case ParamType::kRgb:
-    case ParamType::kXyz: return 3;
-    default: return 1;
+    case ParamType::kXyz:
+      return 3;
+    default:
+      return 1;
   }
 }
 
@@ -136,6 +153,5 @@ std::vector<uint32_t> ParamList::take_uints(const ParsedParam& p) const {
 std::vector<float> ParamList::take_floats(const ParsedParam& p) const {
   return take_pooled(&float_pool_[p.offset]);
 }
-
 
 }  // namespace pbrtc

@@ -52,10 +52,10 @@ struct ParsedParam {
   ParamType type;
   std::string_view type_name;  // as written ("color", "point")
   std::string_view name;
-  Loc loc;        // of the declaration string
-  Loc value_loc;  // of the first value
-  uint32_t offset = 0;  // strings: first index in strings; numbers and bools: pooled array
-  uint32_t count = 0;   // number of numbers or strings
+  Loc loc;                     // of the declaration string
+  Loc value_loc;               // of the first value
+  uint32_t offset = 0;         // strings: first index in strings; numbers and bools: pooled array
+  uint32_t count = 0;          // number of numbers or strings
   bool string_values = false;  // values are in strings (a "spectrum" may name a .spd file)
   mutable bool looked_up = false;
 };

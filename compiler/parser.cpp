@@ -32,14 +32,48 @@ std::string resolve_path(const std::string& base_dir, std::string_view path) {
 namespace {
 
 enum class Dir {
-  kAccelerator, kActiveTransform, kAreaLightSource, kAttributeBegin, kAttributeEnd, kCamera,
-  kConcatTransform, kCoordinateSystem, kCoordSysTransform, kFilm, kIdentity, kInclude,
-  kIntegrator, kLightSource, kLookAt, kMakeNamedMaterial, kMakeNamedMedium, kMaterial,
-  kMediumInterface, kNamedMaterial, kObjectBegin, kObjectEnd, kObjectInstance, kPixelFilter,
-  kReverseOrientation, kRotate, kSampler, kScale, kShape, kTexture, kTransform, kTransformBegin,
-  kTransformEnd, kTransformTimes, kTranslate, kWorldBegin, kWorldEnd,
+  kAccelerator,
+  kActiveTransform,
+  kAreaLightSource,
+  kAttributeBegin,
+  kAttributeEnd,
+  kCamera,
+  kConcatTransform,
+  kCoordinateSystem,
+  kCoordSysTransform,
+  kFilm,
+  kIdentity,
+  kInclude,
+  kIntegrator,
+  kLightSource,
+  kLookAt,
+  kMakeNamedMaterial,
+  kMakeNamedMedium,
+  kMaterial,
+  kMediumInterface,
+  kNamedMaterial,
+  kObjectBegin,
+  kObjectEnd,
+  kObjectInstance,
+  kPixelFilter,
+  kReverseOrientation,
+  kRotate,
+  kSampler,
+  kScale,
+  kShape,
+  kTexture,
+  kTransform,
+  kTransformBegin,
+  kTransformEnd,
+  kTransformTimes,
+  kTranslate,
+  kWorldBegin,
+  kWorldEnd,
   // pbrt-v4 only: recognised so the message can say so.
-  kV4Import, kV4Attribute, kV4ColorSpace, kV4Option,
+  kV4Import,
+  kV4Attribute,
+  kV4ColorSpace,
+  kV4Option,
 };
 
 struct DirName {
@@ -99,13 +133,18 @@ bool find_directive(std::string_view name, Dir* d) {
   return true;
 }
 
-std::string quote(std::string_view s) { return "'" + std::string(s) + "'"; }
+std::string quote(std::string_view s) {
+  return "'" + std::string(s) + "'";
+}
 
 std::string token_desc(const Token& t) {
   switch (t.kind) {
-    case TokenKind::kEnd: return "end of file";
-    case TokenKind::kString: return "\"" + std::string(t.text) + "\"";
-    default: return quote(t.text);
+    case TokenKind::kEnd:
+      return "end of file";
+    case TokenKind::kString:
+      return "\"" + std::string(t.text) + "\"";
+    default:
+      return quote(t.text);
   }
 }
 
@@ -113,7 +152,10 @@ class Parser {
  public:
   Parser(SourceFiles* files, Diagnostics* diag, ParserTarget* target, std::string base_dir,
          const ParseOptions& options)
-      : files_(files), diag_(diag), target_(target), base_dir_(std::move(base_dir)),
+      : files_(files),
+        diag_(diag),
+        target_(target),
+        base_dir_(std::move(base_dir)),
         options_(options) {}
 
   void run(uint32_t file, const std::string& canonical) {
@@ -186,8 +228,8 @@ class Parser {
     const Token& next_token = tpeek();
     if (next_token.kind == TokenKind::kWord || next_token.kind == TokenKind::kEnd) {
       // Most likely the next directive: leave it to be read as one.
-      error(next_token.loc, std::string(dir.text) + " needs a quoted " + what + ", got " +
-                                token_desc(next_token));
+      error(next_token.loc,
+            std::string(dir.text) + " needs a quoted " + what + ", got " + token_desc(next_token));
       return false;
     }
     Token t = tnext();
@@ -202,8 +244,7 @@ class Parser {
         }
         t = s.kind != TokenKind::kString ? s : close;
       }
-      error(t.loc, std::string(dir.text) + " needs a quoted " + what + ", got " +
-                              token_desc(t));
+      error(t.loc, std::string(dir.text) + " needs a quoted " + what + ", got " + token_desc(t));
       recover();
       return false;
     }
@@ -216,10 +257,10 @@ class Parser {
     for (size_t i = 0; i < N; ++i) {
       const Token& t = tpeek();
       if (t.kind != TokenKind::kNumber) {
-        error(t.loc, std::string(dir.text) + " needs " + std::to_string(N) + " numbers (" +
-                                shape + "), got " + std::to_string(i) +
-                                (t.kind == TokenKind::kEnd ? " before the end of file"
-                                                           : " before " + token_desc(t)));
+        error(t.loc, std::string(dir.text) + " needs " + std::to_string(N) + " numbers (" + shape +
+                         "), got " + std::to_string(i) +
+                         (t.kind == TokenKind::kEnd ? " before the end of file"
+                                                    : " before " + token_desc(t)));
         recover();
         return false;
       }
@@ -237,8 +278,8 @@ class Parser {
   bool expect_matrix(const Token& dir, std::array<double, 16>* out) {
     const Token& next_token = tpeek();
     if (next_token.kind != TokenKind::kLBracket) {
-      error(next_token.loc, std::string(dir.text) + " needs 16 numbers in [ ], got " +
-                                token_desc(next_token));
+      error(next_token.loc,
+            std::string(dir.text) + " needs 16 numbers in [ ], got " + token_desc(next_token));
       recover();  // leaves a following directive in place
       return false;
     }
@@ -249,8 +290,8 @@ class Parser {
       return false;
     }
     if (scratch_.size() != 16) {
-      error(open.loc, std::string(dir.text) + " needs 16 numbers, got " +
-                                 std::to_string(scratch_.size()));
+      error(open.loc,
+            std::string(dir.text) + " needs 16 numbers, got " + std::to_string(scratch_.size()));
       return false;
     }
     for (int i = 0; i < 16; ++i) (*out)[i] = scratch_[i];
@@ -275,8 +316,10 @@ class Parser {
       const Token& peeked = tpeek();
       if (peeked.kind == TokenKind::kWord || peeked.kind == TokenKind::kEnd) return true;
       if (peeked.kind != TokenKind::kString) {
-        error(peeked.loc, "expected a parameter declaration such as \"float radius\" or "
-                                 "the next directive, got " + token_desc(peeked));
+        error(peeked.loc,
+              "expected a parameter declaration such as \"float radius\" or "
+              "the next directive, got " +
+                  token_desc(peeked));
         tnext();
         recover();
         return false;
@@ -293,8 +336,8 @@ class Parser {
       size_t f = e == std::string_view::npos ? e : d.find_first_not_of(" \t", e);
       if (a == std::string_view::npos || c == std::string_view::npos ||
           f != std::string_view::npos) {
-        error(decl.loc, "malformed parameter declaration \"" + std::string(d) +
-                                   "\": expected \"type name\"");
+        error(decl.loc,
+              "malformed parameter declaration \"" + std::string(d) + "\": expected \"type name\"");
         skip_value();
         recover();
         return false;
@@ -303,7 +346,7 @@ class Parser {
       p.name = d.substr(c, e == std::string_view::npos ? std::string_view::npos : e - c);
       if (!parse_param_type(p.type_name, &p.type)) {
         error(decl.loc, "unknown parameter type '" + std::string(p.type_name) + "' in \"" +
-                                   std::string(d) + "\"");
+                            std::string(d) + "\"");
         skip_value();
         recover();
         return false;
@@ -344,16 +387,16 @@ class Parser {
       p->value_loc = first.loc;
     }
     // A spectrum may name a file instead of listing numbers.
-    bool strings = !numeric || (p->type == ParamType::kSpectrum && first.kind == TokenKind::kString);
+    bool strings =
+        !numeric || (p->type == ParamType::kSpectrum && first.kind == TokenKind::kString);
     if (first.kind == TokenKind::kWord && (first.text == "true" || first.text == "false")) {
-      error(first.loc, "bare " + std::string(first.text) +
-                                  " is pbrt-v4 syntax; pbrt-v3 writes \"" +
-                                  std::string(first.text) + "\" in quotes");
+      error(first.loc, "bare " + std::string(first.text) + " is pbrt-v4 syntax; pbrt-v3 writes \"" +
+                           std::string(first.text) + "\" in quotes");
       return false;
     }
     if (!bracket && first.kind != TokenKind::kNumber && first.kind != TokenKind::kString) {
-      error(first.loc, "parameter " + param_desc(*p) + " has no value (got " +
-                                  token_desc(first) + ")");
+      error(first.loc,
+            "parameter " + param_desc(*p) + " has no value (got " + token_desc(first) + ")");
       return false;
     }
     if (strings) {
@@ -371,14 +414,13 @@ class Parser {
         }
         if (t.kind != TokenKind::kString) {
           if (t.kind == TokenKind::kWord && (t.text == "true" || t.text == "false"))
-            error(t.loc, "bare " + std::string(t.text) +
-                                    " is pbrt-v4 syntax; pbrt-v3 writes \"" +
-                                    std::string(t.text) + "\" in quotes");
+            error(t.loc, "bare " + std::string(t.text) + " is pbrt-v4 syntax; pbrt-v3 writes \"" +
+                             std::string(t.text) + "\" in quotes");
           else if (bracket && t.kind == TokenKind::kEnd)
             error(t.loc, "unterminated '[' array at end of file");
           else
-            error(t.loc, "parameter " + param_desc(*p) + " takes quoted strings, got " +
-                                    token_desc(t));
+            error(t.loc,
+                  "parameter " + param_desc(*p) + " takes quoted strings, got " + token_desc(t));
           return false;
         }
         tnext();
@@ -387,7 +429,7 @@ class Parser {
             bools->push_back(t.text == "true");
           } else {
             error(t.loc, "value \"" + std::string(t.text) + "\" of bool parameter " +
-                                    param_desc(*p) + " must be \"true\" or \"false\"");
+                             param_desc(*p) + " must be \"true\" or \"false\"");
             return false;
           }
         } else {
@@ -407,8 +449,7 @@ class Parser {
       } else {
         Token t = tnext();
         if (t.kind != TokenKind::kNumber) {
-          error(t.loc, "parameter " + param_desc(*p) + " takes integers, got " +
-                                  token_desc(t));
+          error(t.loc, "parameter " + param_desc(*p) + " takes integers, got " + token_desc(t));
           return false;
         }
         int32_t v;
@@ -423,8 +464,7 @@ class Parser {
       } else {
         Token t = tnext();
         if (t.kind != TokenKind::kNumber) {
-          error(t.loc, "parameter " + param_desc(*p) + " takes numbers, got " +
-                                  token_desc(t));
+          error(t.loc, "parameter " + param_desc(*p) + " takes numbers, got " + token_desc(t));
           return false;
         }
         float v;
@@ -439,17 +479,17 @@ class Parser {
       return false;
     }
     if (p->count % stride != 0) {
-      std::string unit = p->type == ParamType::kSpectrum   ? "(wavelength, value) pairs"
+      std::string unit = p->type == ParamType::kSpectrum    ? "(wavelength, value) pairs"
                          : p->type == ParamType::kBlackbody ? "(temperature, scale) pairs"
-                         : param_type_is_spectrum(p->type)  ? "3 values per color"
-                                                            : std::to_string(stride) +
-                                                                  " values per element";
+                         : param_type_is_spectrum(p->type)
+                             ? "3 values per color"
+                             : std::to_string(stride) + " values per element";
       std::string hint = p->type == ParamType::kBlackbody && p->count == 1
                              ? " (a lone temperature is pbrt-v4 syntax)"
                              : "";
       error(p->value_loc, "parameter " + param_desc(*p) + " needs " + unit + ", got " +
-                              std::to_string(p->count) + " value" +
-                              (p->count == 1 ? "" : "s") + hint);
+                              std::to_string(p->count) + " value" + (p->count == 1 ? "" : "s") +
+                              hint);
       return false;
     }
     return true;
@@ -460,8 +500,8 @@ class Parser {
     if (!expect_string(dir, "file name", &name)) return;
     std::string path = resolve_path(base_dir_, name);
     if (int(lexers_.size()) >= options_.max_include_depth) {
-      error(dir.loc, "Include nested deeper than " +
-                                std::to_string(options_.max_include_depth) + " files");
+      error(dir.loc,
+            "Include nested deeper than " + std::to_string(options_.max_include_depth) + " files");
       return;
     }
     char real[PATH_MAX];
@@ -485,7 +525,7 @@ class Parser {
     if (t.kind != TokenKind::kWord) {
       if (t.kind == TokenKind::kString)
         error(t.loc, "parameter list " + token_desc(t) +
-                                " without a directive before it (or a directive is misspelled)");
+                         " without a directive before it (or a directive is misspelled)");
       else
         error(t.loc, "expected a directive, got " + token_desc(t));
       recover();
@@ -494,9 +534,8 @@ class Parser {
     Dir d;
     if (!find_directive(t.text, &d)) {
       if (t.text == "true" || t.text == "false")
-        error(t.loc, "bare " + std::string(t.text) +
-                                " is pbrt-v4 syntax; pbrt-v3 writes \"" + std::string(t.text) +
-                                "\" in quotes");
+        error(t.loc, "bare " + std::string(t.text) + " is pbrt-v4 syntax; pbrt-v3 writes \"" +
+                         std::string(t.text) + "\" in quotes");
       else
         error(t.loc, "unknown directive " + quote(t.text));
       recover();
@@ -508,28 +547,48 @@ class Parser {
       case Dir::kV4Attribute:
       case Dir::kV4ColorSpace:
       case Dir::kV4Option:
-        error(t.loc, quote(t.text) + " is a pbrt-v4 directive; pbrt-v3 has no " +
-                                std::string(t.text));
+        error(t.loc,
+              quote(t.text) + " is a pbrt-v4 directive; pbrt-v3 has no " + std::string(t.text));
         // Skip its arguments: strings, numbers and brackets up to the next word.
         recover();
         return;
-      case Dir::kInclude: include(t); return;
-      case Dir::kAttributeBegin: target_->AttributeBegin(t.loc); return;
-      case Dir::kAttributeEnd: target_->AttributeEnd(t.loc); return;
-      case Dir::kTransformBegin: target_->TransformBegin(t.loc); return;
-      case Dir::kTransformEnd: target_->TransformEnd(t.loc); return;
-      case Dir::kObjectEnd: target_->ObjectEnd(t.loc); return;
-      case Dir::kIdentity: target_->Identity(t.loc); return;
-      case Dir::kReverseOrientation: target_->ReverseOrientation(t.loc); return;
-      case Dir::kWorldBegin: target_->WorldBegin(t.loc); return;
-      case Dir::kWorldEnd: target_->WorldEnd(t.loc); return;
+      case Dir::kInclude:
+        include(t);
+        return;
+      case Dir::kAttributeBegin:
+        target_->AttributeBegin(t.loc);
+        return;
+      case Dir::kAttributeEnd:
+        target_->AttributeEnd(t.loc);
+        return;
+      case Dir::kTransformBegin:
+        target_->TransformBegin(t.loc);
+        return;
+      case Dir::kTransformEnd:
+        target_->TransformEnd(t.loc);
+        return;
+      case Dir::kObjectEnd:
+        target_->ObjectEnd(t.loc);
+        return;
+      case Dir::kIdentity:
+        target_->Identity(t.loc);
+        return;
+      case Dir::kReverseOrientation:
+        target_->ReverseOrientation(t.loc);
+        return;
+      case Dir::kWorldBegin:
+        target_->WorldBegin(t.loc);
+        return;
+      case Dir::kWorldEnd:
+        target_->WorldEnd(t.loc);
+        return;
       case Dir::kActiveTransform: {
         const Token& next_token = tpeek();
         Dir unused;
         if (next_token.kind == TokenKind::kEnd ||
             (next_token.kind == TokenKind::kWord && find_directive(next_token.text, &unused))) {
-          error(next_token.loc, "ActiveTransform needs StartTime, EndTime or All, got " +
-                                    token_desc(next_token));
+          error(next_token.loc,
+                "ActiveTransform needs StartTime, EndTime or All, got " + token_desc(next_token));
           return;
         }
         Token a = tnext();
@@ -540,8 +599,7 @@ class Parser {
         else if (a.kind == TokenKind::kWord && a.text == "All")
           target_->ActiveTransformDirective(t.loc, ActiveTransform::kAll);
         else {
-          error(a.loc, "ActiveTransform needs StartTime, EndTime or All, got " +
-                                  token_desc(a));
+          error(a.loc, "ActiveTransform needs StartTime, EndTime or All, got " + token_desc(a));
           recover();
         }
         return;
@@ -618,26 +676,52 @@ class Parser {
         target_->Texture(t.loc, s1, s2, s3, params_);
         return;
       }
-      default: break;
+      default:
+        break;
     }
     // Directives of the form: Name "string" params...
     const char* what = d == Dir::kMakeNamedMaterial || d == Dir::kMakeNamedMedium ? "name" : "type";
     if (!expect_string(t, what, &s1)) return;
     if (!parse_params(t)) return;
     switch (d) {
-      case Dir::kAccelerator: target_->Accelerator(t.loc, s1, params_); break;
-      case Dir::kAreaLightSource: target_->AreaLightSource(t.loc, s1, params_); break;
-      case Dir::kCamera: target_->Camera(t.loc, s1, params_); break;
-      case Dir::kFilm: target_->Film(t.loc, s1, params_); break;
-      case Dir::kIntegrator: target_->Integrator(t.loc, s1, params_); break;
-      case Dir::kLightSource: target_->LightSource(t.loc, s1, params_); break;
-      case Dir::kMakeNamedMaterial: target_->MakeNamedMaterial(t.loc, s1, params_); break;
-      case Dir::kMakeNamedMedium: target_->MakeNamedMedium(t.loc, s1, params_); break;
-      case Dir::kMaterial: target_->Material(t.loc, s1, params_); break;
-      case Dir::kPixelFilter: target_->PixelFilter(t.loc, s1, params_); break;
-      case Dir::kSampler: target_->Sampler(t.loc, s1, params_); break;
-      case Dir::kShape: target_->Shape(t.loc, s1, params_); break;
-      default: break;
+      case Dir::kAccelerator:
+        target_->Accelerator(t.loc, s1, params_);
+        break;
+      case Dir::kAreaLightSource:
+        target_->AreaLightSource(t.loc, s1, params_);
+        break;
+      case Dir::kCamera:
+        target_->Camera(t.loc, s1, params_);
+        break;
+      case Dir::kFilm:
+        target_->Film(t.loc, s1, params_);
+        break;
+      case Dir::kIntegrator:
+        target_->Integrator(t.loc, s1, params_);
+        break;
+      case Dir::kLightSource:
+        target_->LightSource(t.loc, s1, params_);
+        break;
+      case Dir::kMakeNamedMaterial:
+        target_->MakeNamedMaterial(t.loc, s1, params_);
+        break;
+      case Dir::kMakeNamedMedium:
+        target_->MakeNamedMedium(t.loc, s1, params_);
+        break;
+      case Dir::kMaterial:
+        target_->Material(t.loc, s1, params_);
+        break;
+      case Dir::kPixelFilter:
+        target_->PixelFilter(t.loc, s1, params_);
+        break;
+      case Dir::kSampler:
+        target_->Sampler(t.loc, s1, params_);
+        break;
+      case Dir::kShape:
+        target_->Shape(t.loc, s1, params_);
+        break;
+      default:
+        break;
     }
   }
 

@@ -24,8 +24,8 @@
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "compiler/summary.h"
-#include "format/scene_archive.h"
 #include "format/huge_page_heap.h"
+#include "format/scene_archive.h"
 
 namespace {
 
@@ -84,7 +84,8 @@ void print_draco_report(const std::string& path, int bits, const pbrtc::ArchiveS
 class Progress : public pbrtc::BuildProgress {
  public:
   explicit Progress(std::string path)
-      : path_(std::move(path)), enabled_(isatty(STDERR_FILENO) == 1),
+      : path_(std::move(path)),
+        enabled_(isatty(STDERR_FILENO) == 1),
         last_(std::chrono::steady_clock::now()) {}
   void shapes(const pbrtc::SceneDesc& scene) override {
     if (!enabled_ || !due()) return;
@@ -128,15 +129,18 @@ int main(int argc, char** argv) {
   bool check = false, info = false, verify = false, dump = false, print_schema = false;
   bool werror = false, quiet = false, draco_sequential = false;
   int max_errors = 20, zstd_level = 6, nthreads = 0, draco_bits = 0;
-  app.add_option("files", inputs, "pbrt-v3 scene files (\"-\" or none: standard input), or "
-                                  "archives with --info/--verify");
-  app.add_option("-o,--outfile", outfile, "archive to write (default: the scene's name with "
-                                          ".pbrta, in the current directory)");
+  app.add_option("files", inputs,
+                 "pbrt-v3 scene files (\"-\" or none: standard input), or "
+                 "archives with --info/--verify");
+  app.add_option("-o,--outfile", outfile,
+                 "archive to write (default: the scene's name with "
+                 ".pbrta, in the current directory)");
   app.add_flag("--check", check, "parse and validate only; print a summary of each scene");
   app.add_flag("--info", info, "describe archives: version, effects, sections, counts");
   app.add_flag("--verify", verify, "load archives exactly as pbrtrun does; exit 0 only if sound");
-  app.add_flag("--dump", dump, "write an archive back out as a pbrt-v3 scene: --dump A.pbrta "
-                               "OUTDIR (meshes as PLY, images as PFM beside it)");
+  app.add_flag("--dump", dump,
+               "write an archive back out as a pbrt-v3 scene: --dump A.pbrta "
+               "OUTDIR (meshes as PLY, images as PFM beside it)");
   app.add_flag("--print-schema", print_schema, "print the parameter schema as Markdown");
   app.add_option("--codec", codec, "section compression: zstd (default) or none (usable in place)")
       ->check(CLI::IsMember({"zstd", "none"}));

@@ -23,11 +23,21 @@ constexpr uint64_t kMaxRefinedTriangles = uint64_t(1) << 28;
 struct V3 {
   float x = 0, y = 0, z = 0;
 };
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator-(V3 a) { return {-a.x, -a.y, -a.z}; }
-V3 operator*(float s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
-V3& operator+=(V3& a, V3 b) { return a = a + b; }
+V3 operator+(V3 a, V3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+V3 operator-(V3 a, V3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+V3 operator-(V3 a) {
+  return {-a.x, -a.y, -a.z};
+}
+V3 operator*(float s, V3 a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
+V3& operator+=(V3& a, V3 b) {
+  return a = a + b;
+}
 
 // pbrt-v3's Cross works in double and rounds the result to float.
 V3 cross(V3 a, V3 b) {
@@ -35,7 +45,9 @@ V3 cross(V3 a, V3 b) {
   return {float(ay * bz - az * by), float(az * bx - ax * bz), float(ax * by - ay * bx)};
 }
 
-bool finite(V3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+bool finite(V3 a) {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
 
 // pbrt-v3's Pi is a float constant.
 constexpr float kPi = 3.14159265358979323846f;
@@ -53,9 +65,15 @@ const int32_t* ints_of(const Entity& e, std::string_view name, uint32_t* count) 
   return e.ints.data() + e.values[size_t(s)].offset;
 }
 
-std::string str(uint64_t n) { return std::to_string(n); }
-std::string str(int64_t n) { return std::to_string(n); }
-std::string str(int n) { return std::to_string(n); }
+std::string str(uint64_t n) {
+  return std::to_string(n);
+}
+std::string str(int64_t n) {
+  return std::to_string(n);
+}
+std::string str(int n) {
+  return std::to_string(n);
+}
 std::string str(float f) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", double(f));
@@ -67,8 +85,12 @@ std::string str(float f) {
 // knowing one triangle they touch, which fixes where a vertex's one-ring starts (and so the
 // order its neighbours are summed in and the angle its tangents are measured from).
 
-int next_corner(int i) { return (i + 1) % 3; }
-int prev_corner(int i) { return (i + 2) % 3; }
+int next_corner(int i) {
+  return (i + 1) % 3;
+}
+int prev_corner(int i) {
+  return (i + 2) % 3;
+}
 
 struct SdVertex {
   V3 p;
@@ -133,7 +155,9 @@ struct SdMesh {
 
 // pbrt-v3's vertex weight: 3/(8n), except 3/16 for valence 3. For the regular valence 6 this
 // is the 1/16 pbrt-v3 uses for regular vertices, so no separate case is needed.
-float loop_beta(int valence) { return valence == 3 ? 3.f / 16.f : 3.f / (8.f * float(valence)); }
+float loop_beta(int valence) {
+  return valence == 3 ? 3.f / 16.f : 3.f / (8.f * float(valence));
+}
 
 // The weight of each neighbour in the limit position of an interior vertex.
 float loop_gamma(int valence) {
@@ -232,8 +256,8 @@ bool build_base_mesh(const int32_t* indices, size_t num_indices, const float* P,
       }
       SdFace& other = m->faces[size_t(use.face)];
       if (other.v[use.edge] == a) {
-        *error = "loopsubdiv triangles " + str(use.face) + " and " + str(uint64_t(f)) +
-                 " run " + edge_name + " in the same direction: their orientations disagree";
+        *error = "loopsubdiv triangles " + str(use.face) + " and " + str(uint64_t(f)) + " run " +
+                 edge_name + " in the same direction: their orientations disagree";
         return false;
       }
       use.paired = true;
@@ -502,8 +526,7 @@ V3 nurbs_surface(const NurbsAxis& ua, const NurbsAxis& va, const std::vector<H4>
         work);
   }
   H4 p = nurbs_evaluate(
-      ua.order, ua.knots, ua.n, [&](int j) { return (*iso)[size_t(j - u_first)]; }, u, dpdu,
-      work);
+      ua.order, ua.knots, ua.n, [&](int j) { return (*iso)[size_t(j - u_first)]; }, u, dpdu, work);
   // dp/dv the other way round: the rows that matter at v, each at u; then that curve at v.
   int v_first = knot_span(va.knots, va.order, va.n, v) - va.order + 1;
   for (int i = 0; i < va.order; ++i) {
@@ -513,8 +536,7 @@ V3 nurbs_surface(const NurbsAxis& ua, const NurbsAxis& va, const std::vector<H4>
         work);
   }
   nurbs_evaluate(
-      va.order, va.knots, va.n, [&](int j) { return (*iso)[size_t(j - v_first)]; }, v, dpdv,
-      work);
+      va.order, va.knots, va.n, [&](int j) { return (*iso)[size_t(j - v_first)]; }, v, dpdv, work);
   return {p.x / p.w, p.y / p.w, p.z / p.w};
 }
 
@@ -532,14 +554,13 @@ bool nurbs_axis(const Entity& e, char axis, NurbsAxis* a, float* t0, float* t1,
     return false;
   }
   if (a->n < a->order) {
-    *error = "nurbs \"" + n_name + "\" is " + str(a->n) + "; it must be at least \"" +
-             order_name + "\" (" + str(a->order) + ")";
+    *error = "nurbs \"" + n_name + "\" is " + str(a->n) + "; it must be at least \"" + order_name +
+             "\" (" + str(a->order) + ")";
     return false;
   }
   if (int64_t(num_knots) != int64_t(a->n) + a->order) {
-    *error = "nurbs \"" + knots_name + "\" has " + str(uint64_t(num_knots)) +
-             " knots; it needs " + n_name + " + " + order_name + " = " +
-             str(int64_t(a->n) + a->order);
+    *error = "nurbs \"" + knots_name + "\" has " + str(uint64_t(num_knots)) + " knots; it needs " +
+             n_name + " + " + order_name + " = " + str(int64_t(a->n) + a->order);
     return false;
   }
   for (uint32_t i = 1; i < num_knots; ++i) {
@@ -557,8 +578,8 @@ bool nurbs_axis(const Entity& e, char axis, NurbsAxis* a, float* t0, float* t1,
   for (auto [name, t] : {std::pair{&n0, *t0}, std::pair{&n1, *t1}}) {
     if (!(t >= lo && t <= hi)) {
       *error = "nurbs \"" + *name + "\" is " + str(t) + ", outside the knot range [" + str(lo) +
-               ", " + str(hi) + "] (" + knots_name + "[" + order_name + " - 1], " +
-               knots_name + "[" + n_name + "])";
+               ", " + str(hi) + "] (" + knots_name + "[" + order_name + " - 1], " + knots_name +
+               "[" + n_name + "])";
       return false;
     }
   }
@@ -579,8 +600,8 @@ bool refine_nurbs(const Entity& shape, TriangleMesh* out, std::string* error) {
   uint32_t count = 0;
   if (const float* P = shape.get_floats("P", &count)) {
     if (count != want) {
-      *error = "nurbs \"point P\" has " + str(uint64_t(count)) + " control points; nu * nv = " +
-               str(want);
+      *error = "nurbs \"point P\" has " + str(uint64_t(count)) +
+               " control points; nu * nv = " + str(want);
       return false;
     }
     cp.resize(count);
@@ -621,8 +642,8 @@ bool refine_nurbs(const Entity& shape, TriangleMesh* out, std::string* error) {
     for (int u = 0; u < dice; ++u) {
       size_t i = size_t(v) * size_t(dice) + size_t(u);
       V3 dpdu, dpdv;
-      V3 p = nurbs_surface(ua, va, cp, ueval[size_t(u)], veval[size_t(v)], &dpdu, &dpdv, &iso,
-                           &work);
+      V3 p =
+          nurbs_surface(ua, va, cp, ueval[size_t(u)], veval[size_t(v)], &dpdu, &dpdv, &iso, &work);
       if (!finite(p)) {
         *error = "nurbs evaluates to a non-finite point at (u, v) = (" + str(ueval[size_t(u)]) +
                  ", " + str(veval[size_t(v)]) + ") (a zero weight, or repeated knots where " +
@@ -661,16 +682,16 @@ bool refine_heightfield(const Entity& shape, TriangleMesh* out, std::string* err
   int nx = shape.get_int("nu"), ny = shape.get_int("nv");
   if (nx < 2 || ny < 2) {
     // pbrt-v3 divides by nu - 1 and nv - 1.
-    *error = "heightfield needs at least 2 x 2 points; \"nu\" is " + str(nx) + " and \"nv\" " +
-             str(ny);
+    *error =
+        "heightfield needs at least 2 x 2 points; \"nu\" is " + str(nx) + " and \"nv\" " + str(ny);
     return false;
   }
   uint64_t nverts = uint64_t(nx) * uint64_t(ny);
   uint32_t count = 0;
   const float* z = shape.get_floats("Pz", &count);
   if (count != nverts) {
-    *error = "heightfield \"float Pz\" has " + str(uint64_t(count)) + " heights; nu * nv = " +
-             str(nverts);
+    *error = "heightfield \"float Pz\" has " + str(uint64_t(count)) +
+             " heights; nu * nv = " + str(nverts);
     return false;
   }
   out->P.resize(3 * nverts);

@@ -14,9 +14,9 @@
 
 #include "compiler/bsdf_file.h"
 #include "compiler/mesh_builder.h"
-#include "compiler/spectrum.h"
 #include "compiler/refine.h"
 #include "compiler/scene_images.h"
+#include "compiler/spectrum.h"
 
 namespace pbrtc {
 
@@ -34,7 +34,7 @@ NameMap& writable(SharedNames* m) {
 
 enum class BlockKind { kAttribute, kTransform, kObject };
 const char* block_begin_name(BlockKind k) {
-  return k == BlockKind::kAttribute ? "AttributeBegin"
+  return k == BlockKind::kAttribute   ? "AttributeBegin"
          : k == BlockKind::kTransform ? "TransformBegin"
                                       : "ObjectBegin";
 }
@@ -217,8 +217,7 @@ struct SceneBuilder::State {
     std::vector<AnimatedTransform>& all = scene->transforms;
     auto same = [&](int32_t i) {
       const AnimatedTransform& t = all[size_t(i)];
-      return t.start == start && t.end == end && t.start_time == times[0] &&
-             t.end_time == times[1];
+      return t.start == start && t.end == end && t.start_time == times[0] && t.end_time == times[1];
     };
     // Consecutive shapes very often share a transform.
     if (!all.empty() && same(int32_t(all.size() - 1))) return int32_t(all.size() - 1);
@@ -267,8 +266,7 @@ struct SceneBuilder::State {
   }
 
   // Materials.
-  int32_t add_material(Loc loc, std::string_view type, const ParamList& params,
-                       std::string name) {
+  int32_t add_material(Loc loc, std::string_view type, const ParamList& params, std::string name) {
     MaterialDesc m;
     m.name = std::move(name);
     std::string_view t = type.empty() ? std::string_view("none") : type;
@@ -352,8 +350,9 @@ void SceneBuilder::LookAt(Loc loc, const std::array<double, 9>& v) {
   if (!s_->anywhere(loc, "LookAt")) return;
   Matrix4 m;
   if (!look_at(&v[0], &v[3], &v[6], &m)) {
-    s_->diag->error(loc, "degenerate LookAt: the eye and look points coincide, or the up vector "
-                         "is parallel to the viewing direction");
+    s_->diag->error(loc,
+                    "degenerate LookAt: the eye and look points coincide, or the up vector "
+                    "is parallel to the viewing direction");
     return;
   }
   s_->apply(m);
@@ -406,7 +405,8 @@ void SceneBuilder::TransformTimes(Loc loc, double start, double end) {
 
 void SceneBuilder::AttributeBegin(Loc loc) {
   if (!s_->world_only(loc, "AttributeBegin")) return;
-  s_->stack.push_back({BlockKind::kAttribute, loc, s_->cur, {s_->active[0], s_->active[1]}, s_->gs});
+  s_->stack.push_back(
+      {BlockKind::kAttribute, loc, s_->cur, {s_->active[0], s_->active[1]}, s_->gs});
 }
 
 void SceneBuilder::TransformBegin(Loc loc) {
@@ -422,9 +422,8 @@ bool pop_block(std::vector<Block>* stack, BlockKind kind, const char* end_name, 
     return false;
   }
   if (stack->back().kind != kind) {
-    diag->error(loc, std::string(end_name) + " closes the " +
-                         block_begin_name(stack->back().kind) + " at " +
-                         files->format(stack->back().loc));
+    diag->error(loc, std::string(end_name) + " closes the " + block_begin_name(stack->back().kind) +
+                         " at " + files->format(stack->back().loc));
     return false;
   }
   *out = std::move(stack->back());
@@ -479,8 +478,7 @@ void SceneBuilder::ObjectBegin(Loc loc, std::string_view name) {
 void SceneBuilder::ObjectEnd(Loc loc) {
   if (!s_->world_only(loc, "ObjectEnd")) return;
   Block b;
-  if (!pop_block(&s_->stack, BlockKind::kObject, "ObjectEnd", loc, s_->diag, s_->files, &b))
-    return;
+  if (!pop_block(&s_->stack, BlockKind::kObject, "ObjectEnd", loc, s_->diag, s_->files, &b)) return;
   s_->cur = b.transforms;
   s_->active[0] = b.active[0];
   s_->active[1] = b.active[1];
@@ -491,8 +489,9 @@ void SceneBuilder::ObjectEnd(Loc loc) {
 void SceneBuilder::ObjectInstance(Loc loc, std::string_view name) {
   if (!s_->world_only(loc, "ObjectInstance")) return;
   if (s_->current_object != kNone) {
-    s_->diag->error(loc, "ObjectInstance inside an object definition (pbrt-v3 does not nest "
-                         "instances)");
+    s_->diag->error(loc,
+                    "ObjectInstance inside an object definition (pbrt-v3 does not nest "
+                    "instances)");
     return;
   }
   auto it = s_->objects.find(std::string(name));
@@ -604,8 +603,8 @@ void SceneBuilder::Film(Loc loc, std::string_view type, const ParamList& params)
     if (!std::equal(c, c + 4, crop)) {
       auto list = [](const float* v) {
         char buf[96];
-        std::snprintf(buf, sizeof buf, "[%g %g %g %g]", double(v[0]), double(v[1]),
-                      double(v[2]), double(v[3]));
+        std::snprintf(buf, sizeof buf, "[%g %g %g %g]", double(v[0]), double(v[1]), double(v[2]),
+                      double(v[3]));
         return std::string(buf);
       };
       s_->diag->warning(where, "film cropwindow " + list(crop) + " is read as " + list(c) +
@@ -628,8 +627,8 @@ void SceneBuilder::Sampler(Loc loc, std::string_view type, const ParamList& para
 }
 
 void SceneBuilder::Integrator(Loc loc, std::string_view type, const ParamList& params) {
-  s_->option_entity(loc, "Integrator", Category::kIntegrator, type, params,
-                    &s_->scene->integrator, &s_->integrator_given);
+  s_->option_entity(loc, "Integrator", Category::kIntegrator, type, params, &s_->scene->integrator,
+                    &s_->integrator_given);
 }
 
 void SceneBuilder::Accelerator(Loc loc, std::string_view type, const ParamList& params) {
@@ -641,8 +640,8 @@ void SceneBuilder::MakeNamedMedium(Loc loc, std::string_view name, const ParamLi
   if (!s_->anywhere(loc, "MakeNamedMedium")) return;
   const ParsedParam* tp = params.find("type");
   if (!tp || tp->type != ParamType::kString || tp->count != 1) {
-    s_->diag->error(loc, "MakeNamedMedium \"" + std::string(name) +
-                             "\" needs a \"string type\" parameter");
+    s_->diag->error(
+        loc, "MakeNamedMedium \"" + std::string(name) + "\" needs a \"string type\" parameter");
     return;
   }
   tp->looked_up = true;
@@ -653,8 +652,7 @@ void SceneBuilder::MakeNamedMedium(Loc loc, std::string_view name, const ParamLi
   s_->resolver.assign_all(&m.params, params, {}, false);
   s_->resolver.report_unused(params, &m.params);
   m.world_from_medium = s_->cur.t[0];
-  if (s_->named_media.count(m.name))
-    s_->diag->warning(loc, "medium \"" + m.name + "\" redefined");
+  if (s_->named_media.count(m.name)) s_->diag->warning(loc, "medium \"" + m.name + "\" redefined");
   s_->scene->media.push_back(std::move(m));
   s_->named_media[std::string(name)] = int32_t(s_->scene->media.size() - 1);
 }
@@ -688,8 +686,10 @@ void SceneBuilder::WorldEnd(Loc loc) {
   if (!s_->world_only(loc, "WorldEnd")) return;
   // pbrt-v3 warns and closes them: the scene is complete, so this is no error.
   for (const Block& b : s_->stack)
-    s_->diag->warning(b.loc, std::string(block_begin_name(b.kind)) + " is not closed before the "
-                             "WorldEnd at " + s_->files->format(loc));
+    s_->diag->warning(b.loc, std::string(block_begin_name(b.kind)) +
+                                 " is not closed before the "
+                                 "WorldEnd at " +
+                                 s_->files->format(loc));
   s_->stack.clear();
   s_->in_world = false;
   s_->world_ended = true;
@@ -777,8 +777,8 @@ void SceneBuilder::MakeNamedMaterial(Loc loc, std::string_view name, const Param
   if (!s_->world_only(loc, "MakeNamedMaterial")) return;
   const ParsedParam* tp = params.find("type");
   if (!tp || tp->type != ParamType::kString || tp->count != 1) {
-    s_->diag->error(loc, "MakeNamedMaterial \"" + std::string(name) +
-                             "\" needs a \"string type\" parameter");
+    s_->diag->error(
+        loc, "MakeNamedMaterial \"" + std::string(name) + "\" needs a \"string type\" parameter");
     for (const ParsedParam& p : params.params) p.looked_up = true;
     return;
   }
@@ -824,8 +824,8 @@ void SceneBuilder::Texture(Loc loc, std::string_view name, std::string_view klas
   t.world_from_texture = s_->cur.t[0];
   s_->scene->textures.push_back(std::move(t));
   int32_t idx = int32_t(s_->scene->textures.size() - 1);
-  SharedNames* map = c == Category::kFloatTexture ? &s_->gs.float_textures
-                                                  : &s_->gs.spectrum_textures;
+  SharedNames* map =
+      c == Category::kFloatTexture ? &s_->gs.float_textures : &s_->gs.spectrum_textures;
   NameMap& names = writable(map);
   if (names.count(std::string(name)))
     s_->diag->warning(loc, std::string(klass == "float" ? "float" : "spectrum") + " texture \"" +
@@ -921,7 +921,8 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
     const ParsedParam* fp = params.find("filename");
     s_->scene->meshes.emplace_back();
     sh.mesh = int32_t(s_->scene->meshes.size() - 1);
-    s_->pending_ply.push_back({sh.params.get_string("filename"), fp ? fp->value_loc : loc, sh.mesh});
+    s_->pending_ply.push_back(
+        {sh.params.get_string("filename"), fp ? fp->value_loc : loc, sh.mesh});
   } else if (is_refined_shape(tn)) {
     // pbrt-v3 refines these into triangles when it builds the scene; the archive holds the
     // triangles instead.
@@ -944,11 +945,13 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
   sh.object = s_->current_object;
   if (s_->gs.area_light != kNone) {
     if (s_->current_object != kNone) {
-      s_->diag->warning(loc, "area lights are not supported inside object instances (ignored, "
-                             "as pbrt-v3 does)");
+      s_->diag->warning(loc,
+                        "area lights are not supported inside object instances (ignored, "
+                        "as pbrt-v3 does)");
     } else if (s_->cur.t[0] != s_->cur.t[1]) {
-      s_->diag->warning(loc, "area lights are not supported on shapes with animated transforms "
-                             "(ignored, as pbrt-v3 does)");
+      s_->diag->warning(loc,
+                        "area lights are not supported on shapes with animated transforms "
+                        "(ignored, as pbrt-v3 does)");
     } else {
       sh.area_light = s_->gs.area_light;
     }
@@ -962,12 +965,13 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
 
 // ---- Entry points ----
 
-bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
-                 SceneDesc* scene, BuildProgress* progress) {
+bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag, SceneDesc* scene,
+                 BuildProgress* progress) {
   int before = diag->error_count();
   SceneBuilder builder(scene, diag, files, path == "-" ? "" : directory_of(path), progress);
   parse_file(path, files, diag, &builder);
-  for (size_t i = 0; i < files->size(); ++i) scene->input_files.push_back(files->display_path(uint32_t(i)));
+  for (size_t i = 0; i < files->size(); ++i)
+    scene->input_files.push_back(files->display_path(uint32_t(i)));
   // Images only once the scene is sound: decoding is the slow part of a compile.
   if (diag->error_count() == before) {
     if (progress) progress->phase("images", scene->textures.size() + scene->lights.size());

@@ -30,8 +30,8 @@ class SceneBuilder final : public ParserTarget {
  public:
   // base_dir: the top-level scene file's directory (relative paths resolve
   // against it). The builder fills *scene.
-  SceneBuilder(SceneDesc* scene, Diagnostics* diag, const SourceFiles* files,
-               std::string base_dir, BuildProgress* progress = nullptr);
+  SceneBuilder(SceneDesc* scene, Diagnostics* diag, const SourceFiles* files, std::string base_dir,
+               BuildProgress* progress = nullptr);
   ~SceneBuilder() override;
 
   void Accelerator(Loc, std::string_view type, const ParamList&) override;
@@ -89,8 +89,8 @@ struct BuildProgress {
 
 // Parses and builds one top-level scene file ("-" for standard input).
 // Returns false if any error was reported (the SceneDesc is then incomplete).
-bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
-                 SceneDesc* scene, BuildProgress* progress = nullptr);
+bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag, SceneDesc* scene,
+                 BuildProgress* progress = nullptr);
 // The same for scene text in memory; relative paths resolve against base_dir.
 bool build_scene_from_string(const std::string& display_path, std::string text,
                              const std::string& base_dir, SourceFiles* files, Diagnostics* diag,

@@ -10,7 +10,9 @@ const pbrta::TypeSpec& Entity::spec() const {
   return pbrta::category_spec(category).types[type];
 }
 
-std::string_view Entity::type_name() const { return type < 0 ? "" : spec().name; }
+std::string_view Entity::type_name() const {
+  return type < 0 ? "" : spec().name;
+}
 
 int Entity::slot(std::string_view param) const {
   if (type < 0) return -1;
@@ -34,7 +36,9 @@ int32_t Entity::get_int(std::string_view param) const {
   return ints[values[size_t(s)].offset];
 }
 
-bool Entity::get_bool(std::string_view param) const { return get_int(param) != 0; }
+bool Entity::get_bool(std::string_view param) const {
+  return get_int(param) != 0;
+}
 
 const std::string& Entity::get_string(std::string_view param) const {
   int s = slot(param);

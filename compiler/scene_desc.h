@@ -68,12 +68,12 @@ struct AnimatedTransform {
 };
 
 struct TriangleMesh {
-  std::vector<float> P;        // 3 floats per vertex, object space
-  std::vector<float> N;        // empty or 3 per vertex
-  std::vector<float> S;        // empty or 3 per vertex
-  std::vector<float> uv;       // empty or 2 per vertex
-  std::vector<uint32_t> indices;       // 3 per triangle
-  std::vector<int32_t> face_indices;   // empty or 1 per triangle
+  std::vector<float> P;               // 3 floats per vertex, object space
+  std::vector<float> N;               // empty or 3 per vertex
+  std::vector<float> S;               // empty or 3 per vertex
+  std::vector<float> uv;              // empty or 2 per vertex
+  std::vector<uint32_t> indices;      // 3 per triangle
+  std::vector<int32_t> face_indices;  // empty or 1 per triangle
   // Refined shapes (compiler/refine.h): loopsubdiv levels, nurbs grid size; 0 otherwise.
   uint32_t refine_level = 0;
   size_t num_vertices() const { return P.size() / 3; }
@@ -101,8 +101,8 @@ struct TextureDesc {
 };
 
 struct MaterialDesc {
-  std::string name;     // for named materials; empty otherwise
-  Entity params;        // kMaterial; type "none" for the interface material ""
+  std::string name;                 // for named materials; empty otherwise
+  Entity params;                    // kMaterial; type "none" for the interface material ""
   int32_t mix[2] = {kNone, kNone};  // mix: the two materials (namedmaterial1, namedmaterial2)
 };
 
@@ -123,20 +123,20 @@ struct LightDesc {
 // map with its MIP pyramid, an environment map's sampling distribution, or a resampled map's
 // texels as decoded (one level; what pbrtc --dump writes back out).
 struct ImageDesc {
-  std::string source;            // the file decoded, as resolved
+  std::string source;  // the file decoded, as resolved
   DecodedImage image;
   int32_t distribution = kNone;  // environment maps: the image of pbrt-v3's sampling distribution
   int32_t source_image = kNone;  // resampled maps: the image as decoded, before resampling
 };
 
 struct ShapeDesc {
-  Entity params;             // bulk mesh arrays are moved to meshes[mesh]
-  int32_t mesh = kNone;      // trianglemesh, plymesh, refined shapes: index into meshes
-  int32_t material = kNone;  // index into materials
+  Entity params;               // bulk mesh arrays are moved to meshes[mesh]
+  int32_t mesh = kNone;        // trianglemesh, plymesh, refined shapes: index into meshes
+  int32_t material = kNone;    // index into materials
   int32_t area_light = kNone;  // index into area_lights, or kNone
   int32_t inside_medium = kNone, outside_medium = kNone;
-  int32_t transform = 0;     // index into transforms (world from object)
-  int32_t object = kNone;    // the object definition it belongs to, or kNone for the world
+  int32_t transform = 0;   // index into transforms (world from object)
+  int32_t object = kNone;  // the object definition it belongs to, or kNone for the world
   bool reverse_orientation = false;
   bool transform_swaps_handedness = false;
 };
@@ -164,7 +164,7 @@ struct CameraDesc {
 struct Effects {
   bool media = false;
   bool motion_blur = false;
-  bool textures = false;        // any non-constant texture is used
+  bool textures = false;  // any non-constant texture is used
   bool area_lights = false;
   bool infinite_lights = false;
   bool subsurface = false;

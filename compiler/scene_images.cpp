@@ -35,8 +35,8 @@ void set_given(Entity* e, std::string_view param, float f, int32_t i) {
   const int slot = e->slot(param);
   if (slot < 0) return;
   Value& v = e->values[size_t(slot)];
-  const bool is_float = pbrta::kind_store(e->spec().params[size_t(slot)].kind) ==
-                        pbrta::KindStore::kFloat;
+  const bool is_float =
+      pbrta::kind_store(e->spec().params[size_t(slot)].kind) == pbrta::KindStore::kFloat;
   if (v.count == 0) {
     v.offset = uint32_t(is_float ? e->floats.size() : e->ints.size());
     if (is_float) {

@@ -76,12 +76,18 @@ uint32_t SourceFiles::add_memory(std::string display_path, std::string text, Loc
   return uint32_t(files_.size() - 1);
 }
 
-std::string_view SourceFiles::text(uint32_t file) const { return files_[file]->text; }
+std::string_view SourceFiles::text(uint32_t file) const {
+  return files_[file]->text;
+}
 const std::string& SourceFiles::display_path(uint32_t file) const {
   return files_[file]->display_path;
 }
-Loc SourceFiles::included_from(uint32_t file) const { return files_[file]->included_from; }
-size_t SourceFiles::size() const { return files_.size(); }
+Loc SourceFiles::included_from(uint32_t file) const {
+  return files_[file]->included_from;
+}
+size_t SourceFiles::size() const {
+  return files_.size();
+}
 
 LineCol SourceFiles::line_col(Loc loc) const {
   if (!loc.valid() || loc.file >= files_.size()) return {};

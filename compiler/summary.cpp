@@ -26,9 +26,9 @@ void print_summary(std::ostream& out, const std::string& path, const SceneDesc& 
   SceneCounts c = count_scene(scene);
   out << path << ": ok\n";
   out << "  shapes " << c.shapes << " (triangles " << c.triangles << "), lights " << c.lights
-      << " (area " << c.area_lights << "), materials " << c.materials << ", textures "
-      << c.textures << ", media " << c.media << ", objects " << c.objects << ", instances "
-      << c.instances << "\n";
+      << " (area " << c.area_lights << "), materials " << c.materials << ", textures " << c.textures
+      << ", media " << c.media << ", objects " << c.objects << ", instances " << c.instances
+      << "\n";
   out << "  effects: " << effects_list(scene.effects) << "\n";
   out << "  camera " << scene.camera.params.type_name() << ", film "
       << scene.film.get_int("xresolution") << "x" << scene.film.get_int("yresolution")

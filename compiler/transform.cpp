@@ -55,7 +55,9 @@ bool invert(const Matrix4& a, Matrix4* inv) {
   return true;
 }
 
-bool is_identity(const Matrix4& a) { return a == Matrix4(); }
+bool is_identity(const Matrix4& a) {
+  return a == Matrix4();
+}
 
 bool swaps_handedness(const Matrix4& a) {
   double det = a.at(0, 0) * (a.at(1, 1) * a.at(2, 2) - a.at(1, 2) * a.at(2, 1)) -

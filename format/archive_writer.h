@@ -2,11 +2,11 @@
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the caller
 // adds sections (kind, raw bytes, element count, codec) in table order; write() compresses them
-// in parallel over sections (and over frames within a codec-4 section), checksums them, lays out the file (64-byte header, the table, each
-// section 16-byte aligned and followed by at least 16 zero bytes) and writes it atomically. The
-// output depends only on the sections, the effects and the zstd level: every section is
-// compressed by its own single-threaded zstd context (each frame, for codec 4), so the thread
-// count never changes a byte.
+// in parallel over sections (and over frames within a codec-4 section), checksums them, lays out
+// the file (64-byte header, the table, each section 16-byte aligned and followed by at least 16
+// zero bytes) and writes it atomically. The output depends only on the sections, the effects and
+// the zstd level: every section is compressed by its own single-threaded zstd context (each frame,
+// for codec 4), so the thread count never changes a byte.
 //
 // A compressed section whose decoded size would exceed the reader's zip-bomb bounds
 // (format/archive_reader.h: kMaxZstdRatio times the stored size + 1 MiB per section) is stored

@@ -32,7 +32,9 @@ constexpr uint64_t kMaxDracoElements = uint64_t{1} << 30;
 // A stream is at most this long (DecoderBuffer sizes are int64, but nothing we write comes near).
 constexpr uint64_t kMaxStreamBytes = uint64_t{1} << 31;
 
-uint64_t align16(uint64_t x) { return (x + 15) & ~uint64_t{15}; }
+uint64_t align16(uint64_t x) {
+  return (x + 15) & ~uint64_t{15};
+}
 
 bool fail(std::string* error, std::string message) {
   *error = std::move(message);
@@ -80,8 +82,7 @@ class Cursor {
 // it: Draco sizes its corner table and attribute buffers from these counts alone, so a few
 // hostile bytes could otherwise ask for gigabytes. Only what this Draco version's mesh encoder
 // writes is accepted: bitstream 2.2, no metadata.
-bool check_header(const uint8_t* data, size_t size, const DracoLimits& limits,
-                  std::string* error) {
+bool check_header(const uint8_t* data, size_t size, const DracoLimits& limits, std::string* error) {
   auto bad = [&](const std::string& why) { return fail(error, "draco: " + why); };
   if (size < 5 || std::memcmp(data, "DRACO", 5) != 0) return bad("not a Draco stream");
   Cursor c(data + 5, size - 5);
@@ -91,9 +92,8 @@ bool check_header(const uint8_t* data, size_t size, const DracoLimits& limits,
   if (major != draco::kDracoMeshBitstreamVersionMajor ||
       minor != draco::kDracoMeshBitstreamVersionMinor)
     return bad("bitstream version " + std::to_string(major) + "." + std::to_string(minor) +
-               "; this reader takes " +
-               std::to_string(draco::kDracoMeshBitstreamVersionMajor) + "." +
-               std::to_string(draco::kDracoMeshBitstreamVersionMinor));
+               "; this reader takes " + std::to_string(draco::kDracoMeshBitstreamVersionMajor) +
+               "." + std::to_string(draco::kDracoMeshBitstreamVersionMinor));
   if (type != draco::TRIANGULAR_MESH) return bad("not a triangle mesh (a point cloud?)");
   if (flags != 0) return bad("metadata or unknown header flags (" + std::to_string(flags) + ")");
   const uint64_t max_faces = std::min(limits.max_triangles, kMaxDracoElements);
@@ -105,8 +105,8 @@ bool check_header(const uint8_t* data, size_t size, const DracoLimits& limits,
   } else if (method == draco::MESH_EDGEBREAKER_ENCODING) {
     uint32_t traversal = 0, attribute_data = 0;
     uint64_t vertices = 0, symbols = 0, splits = 0;
-    if (!c.u8(&traversal) || !c.varint(&vertices) || !c.varint(&faces) ||
-        !c.u8(&attribute_data) || !c.varint(&symbols) || !c.varint(&splits))
+    if (!c.u8(&traversal) || !c.varint(&vertices) || !c.varint(&faces) || !c.u8(&attribute_data) ||
+        !c.varint(&symbols) || !c.varint(&splits))
       return bad("truncated connectivity header");
     if (splits > faces) return bad("more split symbols than faces");
     points = vertices + splits;
@@ -162,8 +162,8 @@ bool validate_input(const MeshArrays& in, const DracoOptions& opt, std::string* 
   if (opt.normal_bits < 4 || opt.normal_bits > 30 || opt.uv_bits < 4 || opt.uv_bits > 30)
     return fail(error, "normal and uv quantization must be 4..30 bits");
   if (opt.compression_level < 0 || opt.compression_level > 10)
-    return fail(error, "compression level " + std::to_string(opt.compression_level) +
-                           " is outside 0..10");
+    return fail(error,
+                "compression level " + std::to_string(opt.compression_level) + " is outside 0..10");
   if (in.num_triangles == 0 || in.num_vertices == 0) return fail(error, "the mesh is empty");
   if (in.num_vertices > kMaxDracoElements || in.num_triangles > kMaxDracoElements)
     return fail(error, "the mesh is too large for Draco (more than 2^30 vertices or triangles)");
@@ -252,19 +252,19 @@ bool encode_impl(const MeshArrays& in, const DracoOptions& opt, std::vector<uint
     for (int k = 0; k < 3; ++k) face[k] = draco::PointIndex(corners[3 * f + k]);
     mesh.SetFace(draco::FaceIndex(uint32_t(f)), face);
   }
-  const int pos = add_vertex_attribute(&mesh, draco::GeometryAttribute::POSITION, 3,
-                                       in.positions, nv, point_vertex);
+  const int pos = add_vertex_attribute(&mesh, draco::GeometryAttribute::POSITION, 3, in.positions,
+                                       nv, point_vertex);
   const int nrm = in.normals ? add_vertex_attribute(&mesh, draco::GeometryAttribute::NORMAL, 3,
                                                     in.normals, nv, point_vertex)
                              : -1;
-  const int tex = in.uv ? add_vertex_attribute(&mesh, draco::GeometryAttribute::TEX_COORD, 2,
-                                               in.uv, nv, point_vertex)
+  const int tex = in.uv ? add_vertex_attribute(&mesh, draco::GeometryAttribute::TEX_COORD, 2, in.uv,
+                                               nv, point_vertex)
                         : -1;
   if (in.face_indices) {
     // One value per point: points of one vertex differ exactly in this value.
     draco::GeometryAttribute ga;
-    ga.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_INT32, false,
-            sizeof(int32_t), 0);
+    ga.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_INT32, false, sizeof(int32_t),
+            0);
     const int id = mesh.AddAttribute(ga, true, uint32_t(np));
     draco::PointAttribute* att = mesh.attribute(id);
     for (size_t p = 0; p < np; ++p) {
@@ -406,7 +406,9 @@ bool convert(const draco::Mesh& mesh, const DracoLimits& limits, DecodedMesh* ou
     if (!std::isfinite(vertices[i])) {
       const int c = int(i % stride);
       return fail(error, std::string("draco: ") +
-                             (c < 3 ? "position" : nrm && c < 6 ? "normal" : "uv") +
+                             (c < 3          ? "position"
+                              : nrm && c < 6 ? "normal"
+                                             : "uv") +
                              " of vertex " + std::to_string(i / stride) + " is not finite");
     }
 
@@ -486,8 +488,7 @@ DracoLimits draco_limits_for(uint64_t stream_bytes) {
 bool draco_decode(const uint8_t* data, size_t size, const DracoLimits& limits, DecodedMesh* out,
                   std::string* error) {
   *out = DecodedMesh{};
-  if (size > kMaxStreamBytes)
-    return fail(error, "draco: the stream is longer than 2^31 bytes");
+  if (size > kMaxStreamBytes) return fail(error, "draco: the stream is longer than 2^31 bytes");
   if (!check_header(data, size, limits, error)) return false;
   try {
     draco::DecoderBuffer buffer;
@@ -509,8 +510,7 @@ bool draco_decode(const uint8_t* data, size_t size, const DracoLimits& limits, D
 
 bool draco_position_bits(const uint8_t* data, size_t size, int* bits, std::string* error) {
   *bits = 0;
-  if (size > kMaxStreamBytes)
-    return fail(error, "draco: the stream is longer than 2^31 bytes");
+  if (size > kMaxStreamBytes) return fail(error, "draco: the stream is longer than 2^31 bytes");
   if (!check_header(data, size, draco_limits_for(size), error)) return false;
   try {
     draco::DecoderBuffer buffer;
@@ -549,8 +549,8 @@ double draco_position_bound(const float* positions, size_t num_vertices, int bit
   return double(range) / double((uint64_t{1} << bits) - 1) / 2;
 }
 
-double draco_max_displacement(const MeshArrays& original, const MeshArrays& decoded,
-                              double bound, bool same_order, std::vector<uint32_t>* nearest) {
+double draco_max_displacement(const MeshArrays& original, const MeshArrays& decoded, double bound,
+                              bool same_order, std::vector<uint32_t>* nearest) {
   const size_t no = original.num_vertices, nd = decoded.num_vertices;
   const float* po = original.positions;
   const float* pd = decoded.positions;

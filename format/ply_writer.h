@@ -13,7 +13,6 @@
 
 namespace pbrta {
 
-
 [[nodiscard]] bool write_ply(const std::string& path, const MeshArrays& mesh, std::string* error);
 
 }  // namespace pbrta

@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 #include "runtime/core/clock.h"
 #include "runtime/render/render_job.h"
-#include "format/huge_page_heap.h"
 
 namespace {
 

@@ -61,7 +61,9 @@ std::string first_error(const std::string& text, const std::string& base_dir = k
 }
 
 // A scene with a world block around `world`.
-std::string in_world(const std::string& world) { return "WorldBegin\n" + world + "WorldEnd\n"; }
+std::string in_world(const std::string& world) {
+  return "WorldBegin\n" + world + "WorldEnd\n";
+}
 
 // ---- Directives and types ----
 
@@ -320,8 +322,9 @@ TEST(FrontendErrors, MeshIndicesNotAMultipleOfThree) {
 }
 
 TEST(FrontendErrors, MeshIndicesMissingForMoreThanThreeVertices) {
-  EXPECT_EQ(first_error(in_world("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0]\n")),
-            "scene.pbrt:2:1: error: trianglemesh shape needs parameter \"integer indices\"");
+  EXPECT_EQ(
+      first_error(in_world("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 1 1 0 0 1 0]\n")),
+      "scene.pbrt:2:1: error: trianglemesh shape needs parameter \"integer indices\"");
 }
 
 TEST(FrontendErrors, MeshIndicesDeclaredFloatWarnsThenIsMissing) {
@@ -445,11 +448,10 @@ TEST(FrontendErrors, IncludeCycleShowsTheIncludeChain) {
   write_file(dir + "/b.pbrt", "# b\nShape \"sphere\"\nInclude \"a.pbrt\"\n");
   Compile c(Compile::FromFile{}, top);
   EXPECT_FALSE(c.ok);
-  EXPECT_EQ(c.errors(), std::vector<std::string>{
-                            "In file included from " + dir + "/a.pbrt:1,\n" +
-                            "                 from " + dir + "/top.pbrt:2:\n" + dir +
-                            "/b.pbrt:3:1: error: Include cycle: \"" + dir +
-                            "/a.pbrt\" is already being read"});
+  EXPECT_EQ(c.errors(), std::vector<std::string>{"In file included from " + dir + "/a.pbrt:1,\n" +
+                                                 "                 from " + dir + "/top.pbrt:2:\n" +
+                                                 dir + "/b.pbrt:3:1: error: Include cycle: \"" +
+                                                 dir + "/a.pbrt\" is already being read"});
   // The sphere before the cycle still counts.
   EXPECT_EQ(c.scene.shapes.size(), 1u);
 }
@@ -492,7 +494,8 @@ TEST(FrontendErrors, FFBytesAreNotSceneText) {
 }
 
 TEST(FrontendErrors, ControlByteInsideAString) {
-  EXPECT_EQ(first_error(in_world("Shape \"sph\x01" "ere\"\n")),
+  EXPECT_EQ(first_error(in_world("Shape \"sph\x01"
+                                 "ere\"\n")),
             "scene.pbrt:2:11: error: control byte 0x01 inside a string: is this a text file?");
 }
 
@@ -796,19 +799,21 @@ TEST(FrontendErrors, WrongDeclaredTypeForABulkMeshParameterWarns) {
 }
 
 TEST(FrontendErrors, RedefinedNamedMaterialWarns) {
-  Compile c(in_world("MakeNamedMaterial \"a\" \"string type\" \"matte\"\n"
-                     "MakeNamedMaterial \"a\" \"string type\" \"plastic\"\n"));
+  Compile c(
+      in_world("MakeNamedMaterial \"a\" \"string type\" \"matte\"\n"
+               "MakeNamedMaterial \"a\" \"string type\" \"plastic\"\n"));
   EXPECT_TRUE(c.ok);
   EXPECT_EQ(c.warnings(),
             std::vector<std::string>{"scene.pbrt:3:1: warning: named material \"a\" redefined"});
 }
 
 TEST(FrontendErrors, RedefinedTextureWarns) {
-  Compile c(in_world("Texture \"t\" \"color\" \"constant\"\n"
-                     "Texture \"t\" \"spectrum\" \"constant\"\n"));
+  Compile c(
+      in_world("Texture \"t\" \"color\" \"constant\"\n"
+               "Texture \"t\" \"spectrum\" \"constant\"\n"));
   EXPECT_TRUE(c.ok);
-  EXPECT_EQ(c.warnings(), std::vector<std::string>{
-                              "scene.pbrt:3:1: warning: spectrum texture \"t\" redefined"});
+  EXPECT_EQ(c.warnings(),
+            std::vector<std::string>{"scene.pbrt:3:1: warning: spectrum texture \"t\" redefined"});
 }
 
 TEST(FrontendErrors, WerrorTurnsAWarningIntoAnError) {
@@ -822,8 +827,9 @@ TEST(FrontendErrors, WerrorTurnsAWarningIntoAnError) {
 }
 
 TEST(FrontendErrors, ErrorsContinueToTheNextDirective) {
-  Compile c(in_world("Shape \"sphere\" \"float radius\" \"x\" \"float zmin\" 0\n"
-                     "Shape \"sphee\"\nShape \"sphere\"\n"));
+  Compile c(
+      in_world("Shape \"sphere\" \"float radius\" \"x\" \"float zmin\" 0\n"
+               "Shape \"sphee\"\nShape \"sphere\"\n"));
   EXPECT_EQ(c.errors(),
             (std::vector<std::string>{
                 "scene.pbrt:2:31: error: parameter \"float radius\" takes numbers, got \"x\"",

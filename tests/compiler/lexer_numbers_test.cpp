@@ -35,9 +35,9 @@ void expect_same(const std::string& s) {
 }
 
 TEST(LexerNumbers, ShortDecimalsMatchFastFloatBitForBit) {
-  for (const char* s : {"0", "-0", "+3", ".5", "1.", "-2.5e-3", "1e5", "1E+05", "0.1", "0.3",
-                        "3.1415927", "16777215", "9999999", "0.0000001", "1e10", "1e-10",
-                        "-0.000", "123.4567", "7e-4"})
+  for (const char* s :
+       {"0", "-0", "+3", ".5", "1.", "-2.5e-3", "1e5", "1E+05", "0.1", "0.3", "3.1415927",
+        "16777215", "9999999", "0.0000001", "1e10", "1e-10", "-0.000", "123.4567", "7e-4"})
     expect_same(s);
   std::mt19937 rng(3);
   char buf[64];
@@ -57,7 +57,8 @@ TEST(LexerNumbers, ShortDecimalsMatchFastFloatBitForBit) {
 
 TEST(LexerNumbers, LongOrOddNumbersAreLeftToFastFloat) {
   float v;
-  for (const char* s : {"16777217", "123456789", "0.123456789", "1e11", "1e-11", "-", ".", "e5", "1e", "1e+"}) {
+  for (const char* s :
+       {"16777217", "123456789", "0.123456789", "1e11", "1e-11", "-", ".", "e5", "1e", "1e+"}) {
     std::string t = s;
     const char* end = parse_short_float(t.data(), t.data() + t.size(), &v);
     EXPECT_TRUE(end == nullptr || end != t.data() + t.size()) << s;

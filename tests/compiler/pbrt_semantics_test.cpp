@@ -62,13 +62,15 @@ struct Build {
 };
 
 // Builds and requires no diagnostics at all.
-#define EXPECT_CLEAN(b)                          \
-  do {                                           \
-    EXPECT_TRUE((b).ok) << (b).report();         \
+#define EXPECT_CLEAN(b)                                  \
+  do {                                                   \
+    EXPECT_TRUE((b).ok) << (b).report();                 \
     EXPECT_TRUE((b).diag.all().empty()) << (b).report(); \
   } while (0)
 
-std::string in_world(const std::string& world) { return "WorldBegin\n" + world + "WorldEnd\n"; }
+std::string in_world(const std::string& world) {
+  return "WorldBegin\n" + world + "WorldEnd\n";
+}
 
 void expect_matrix_near(const Matrix4& a, const Matrix4& b) {
   for (int r = 0; r < 4; ++r)
@@ -88,14 +90,15 @@ void expect_rgb(const Entity& e, const char* param, float r, float g, float b) {
 // ---- Scoping and names ----
 
 TEST(PbrtSemantics, NamedTexturesAndMaterialsVanishAtAttributeEnd) {
-  Build b(in_world("AttributeBegin\n"
-                   "  Texture \"t\" \"float\" \"constant\" \"float value\" 0.5\n"
-                   "  MakeNamedMaterial \"m\" \"string type\" \"matte\"\n"
-                   "  Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "  NamedMaterial \"m\"\n"
-                   "AttributeEnd\n"
-                   "Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "NamedMaterial \"m\"\n"));
+  Build b(
+      in_world("AttributeBegin\n"
+               "  Texture \"t\" \"float\" \"constant\" \"float value\" 0.5\n"
+               "  MakeNamedMaterial \"m\" \"string type\" \"matte\"\n"
+               "  Material \"matte\" \"texture sigma\" \"t\"\n"
+               "  NamedMaterial \"m\"\n"
+               "AttributeEnd\n"
+               "Material \"matte\" \"texture sigma\" \"t\"\n"
+               "NamedMaterial \"m\"\n"));
   EXPECT_EQ(b.errors(),
             (std::vector<std::string>{"scene.pbrt:8:34: error: undefined float texture \"t\" for "
                                       "parameter \"texture sigma\"",
@@ -103,33 +106,35 @@ TEST(PbrtSemantics, NamedTexturesAndMaterialsVanishAtAttributeEnd) {
 }
 
 TEST(PbrtSemantics, NamedTexturesAreVisibleInNestedBlocks) {
-  Build b(in_world("Texture \"t\" \"float\" \"constant\"\n"
-                   "AttributeBegin\n"
-                   "  AttributeBegin\n"
-                   "    Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "    Shape \"sphere\"\n"
-                   "  AttributeEnd\n"
-                   "AttributeEnd\n"));
+  Build b(
+      in_world("Texture \"t\" \"float\" \"constant\"\n"
+               "AttributeBegin\n"
+               "  AttributeBegin\n"
+               "    Material \"matte\" \"texture sigma\" \"t\"\n"
+               "    Shape \"sphere\"\n"
+               "  AttributeEnd\n"
+               "AttributeEnd\n"));
   EXPECT_CLEAN(b);
   EXPECT_EQ(b.material_of(0).params.get_texture("sigma"), 0);
 }
 
 TEST(PbrtSemantics, NamedMediaCoordinateSystemsAndObjectsAreGlobal) {
-  Build b("Integrator \"volpath\"\n"
-          "WorldBegin\n"
-          "AttributeBegin\n"
-          "  MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
-          "  Translate 1 2 3\n"
-          "  CoordinateSystem \"here\"\n"
-          "  ObjectBegin \"o\"\n"
-          "    Shape \"sphere\"\n"
-          "  ObjectEnd\n"
-          "AttributeEnd\n"
-          "MediumInterface \"fog\"\n"
-          "CoordSysTransform \"here\"\n"
-          "ObjectInstance \"o\"\n"
-          "Shape \"sphere\"\n"
-          "WorldEnd\n");
+  Build b(
+      "Integrator \"volpath\"\n"
+      "WorldBegin\n"
+      "AttributeBegin\n"
+      "  MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n"
+      "  Translate 1 2 3\n"
+      "  CoordinateSystem \"here\"\n"
+      "  ObjectBegin \"o\"\n"
+      "    Shape \"sphere\"\n"
+      "  ObjectEnd\n"
+      "AttributeEnd\n"
+      "MediumInterface \"fog\"\n"
+      "CoordSysTransform \"here\"\n"
+      "ObjectInstance \"o\"\n"
+      "Shape \"sphere\"\n"
+      "WorldEnd\n");
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.shapes.size(), 2u);
   EXPECT_EQ(b.shape(1).inside_medium, 0);
@@ -140,10 +145,11 @@ TEST(PbrtSemantics, NamedMediaCoordinateSystemsAndObjectsAreGlobal) {
 }
 
 TEST(PbrtSemantics, FloatAndSpectrumTexturesAreSeparateNamespaces) {
-  Build b(in_world("Texture \"n\" \"float\" \"constant\" \"float value\" 0.25\n"
-                   "Texture \"n\" \"spectrum\" \"constant\" \"rgb value\" [0.1 0.2 0.3]\n"
-                   "Material \"matte\" \"texture Kd\" \"n\" \"texture sigma\" \"n\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Texture \"n\" \"float\" \"constant\" \"float value\" 0.25\n"
+               "Texture \"n\" \"spectrum\" \"constant\" \"rgb value\" [0.1 0.2 0.3]\n"
+               "Material \"matte\" \"texture Kd\" \"n\" \"texture sigma\" \"n\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);  // in particular, no "redefined" warning
   ASSERT_EQ(b.scene.textures.size(), 2u);
   EXPECT_EQ(b.scene.textures[0].params.category, Category::kFloatTexture);
@@ -154,9 +160,10 @@ TEST(PbrtSemantics, FloatAndSpectrumTexturesAreSeparateNamespaces) {
 }
 
 TEST(PbrtSemantics, ColorTextureClassIsSpectrum) {
-  Build b(in_world("Texture \"c\" \"color\" \"checkerboard\"\n"
-                   "Material \"matte\" \"texture Kd\" \"c\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Texture \"c\" \"color\" \"checkerboard\"\n"
+               "Material \"matte\" \"texture Kd\" \"c\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.textures.size(), 1u);
   EXPECT_EQ(b.scene.textures[0].params.category, Category::kSpectrumTexture);
@@ -165,10 +172,11 @@ TEST(PbrtSemantics, ColorTextureClassIsSpectrum) {
 }
 
 TEST(PbrtSemantics, TextureRedefinitionWarnsAndTheNewOneWins) {
-  Build b(in_world("Texture \"t\" \"float\" \"constant\" \"float value\" 0.1\n"
-                   "Texture \"t\" \"float\" \"constant\" \"float value\" 0.2\n"
-                   "Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Texture \"t\" \"float\" \"constant\" \"float value\" 0.1\n"
+               "Texture \"t\" \"float\" \"constant\" \"float value\" 0.2\n"
+               "Material \"matte\" \"texture sigma\" \"t\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings(),
             std::vector<std::string>{"scene.pbrt:3:1: warning: float texture \"t\" redefined"});
@@ -177,10 +185,11 @@ TEST(PbrtSemantics, TextureRedefinitionWarnsAndTheNewOneWins) {
 }
 
 TEST(PbrtSemantics, NamedMaterialRedefinitionWarnsAndTheNewOneWins) {
-  Build b(in_world("MakeNamedMaterial \"m\" \"string type\" \"matte\"\n"
-                   "MakeNamedMaterial \"m\" \"string type\" \"mirror\"\n"
-                   "NamedMaterial \"m\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("MakeNamedMaterial \"m\" \"string type\" \"matte\"\n"
+               "MakeNamedMaterial \"m\" \"string type\" \"mirror\"\n"
+               "NamedMaterial \"m\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings(),
             std::vector<std::string>{"scene.pbrt:3:1: warning: named material \"m\" redefined"});
@@ -189,15 +198,16 @@ TEST(PbrtSemantics, NamedMaterialRedefinitionWarnsAndTheNewOneWins) {
 }
 
 TEST(PbrtSemantics, MaterialsKeepTheTexturesTheyNamedWhenCreated) {
-  Build b(in_world("Texture \"t\" \"float\" \"constant\" \"float value\" 0.1\n"
-                   "MakeNamedMaterial \"named\" \"string type\" \"matte\" \"texture sigma\" \"t\"\n"
-                   "Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "Texture \"t\" \"float\" \"constant\" \"float value\" 0.2\n"
-                   "Shape \"sphere\"\n"
-                   "NamedMaterial \"named\"\n"
-                   "Shape \"sphere\"\n"
-                   "Material \"matte\" \"texture sigma\" \"t\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Texture \"t\" \"float\" \"constant\" \"float value\" 0.1\n"
+               "MakeNamedMaterial \"named\" \"string type\" \"matte\" \"texture sigma\" \"t\"\n"
+               "Material \"matte\" \"texture sigma\" \"t\"\n"
+               "Texture \"t\" \"float\" \"constant\" \"float value\" 0.2\n"
+               "Shape \"sphere\"\n"
+               "NamedMaterial \"named\"\n"
+               "Shape \"sphere\"\n"
+               "Material \"matte\" \"texture sigma\" \"t\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings().size(), 1u);  // the redefinition
   EXPECT_EQ(b.material_of(0).params.get_texture("sigma"), 0);
@@ -208,9 +218,10 @@ TEST(PbrtSemantics, MaterialsKeepTheTexturesTheyNamedWhenCreated) {
 // ---- Per-shape material overrides ----
 
 TEST(PbrtSemantics, ShapeParametersTheMaterialKnowsMakeANewMaterial) {
-  Build b(in_world("Material \"plastic\" \"rgb Kd\" [0.1 0.2 0.3] \"float roughness\" 0.5\n"
-                   "Shape \"sphere\" \"rgb Kd\" [0.9 0.8 0.7] \"float radius\" 2\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Material \"plastic\" \"rgb Kd\" [0.1 0.2 0.3] \"float roughness\" 0.5\n"
+               "Shape \"sphere\" \"rgb Kd\" [0.9 0.8 0.7] \"float radius\" 2\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);  // "rgb Kd" counts as used
   ASSERT_EQ(b.scene.shapes.size(), 2u);
   EXPECT_NE(b.shape(0).material, b.shape(1).material);
@@ -224,8 +235,9 @@ TEST(PbrtSemantics, ShapeParametersTheMaterialKnowsMakeANewMaterial) {
 }
 
 TEST(PbrtSemantics, ShapeParametersNeitherKnowsAreUnused) {
-  Build b(in_world("Material \"matte\"\n"
-                   "Shape \"sphere\" \"rgb Ks\" [0.9 0.8 0.7]\n"));
+  Build b(
+      in_world("Material \"matte\"\n"
+               "Shape \"sphere\" \"rgb Ks\" [0.9 0.8 0.7]\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings(), std::vector<std::string>{"scene.pbrt:3:16: warning: parameter \"rgb "
                                                    "Ks\" is not used by sphere shape"});
@@ -234,11 +246,12 @@ TEST(PbrtSemantics, ShapeParametersNeitherKnowsAreUnused) {
 }
 
 TEST(PbrtSemantics, MixMaterialRecordsItsTwoMaterials) {
-  Build b(in_world("MakeNamedMaterial \"a\" \"string type\" \"matte\"\n"
-                   "MakeNamedMaterial \"b\" \"string type\" \"mirror\"\n"
-                   "Material \"mix\" \"string namedmaterial1\" \"a\" \"string namedmaterial2\" \"b\" "
-                   "\"rgb amount\" [0.3 0.3 0.3]\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("MakeNamedMaterial \"a\" \"string type\" \"matte\"\n"
+               "MakeNamedMaterial \"b\" \"string type\" \"mirror\"\n"
+               "Material \"mix\" \"string namedmaterial1\" \"a\" \"string namedmaterial2\" \"b\" "
+               "\"rgb amount\" [0.3 0.3 0.3]\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   const MaterialDesc& mix = b.material_of(0);
   EXPECT_EQ(mix.params.type_name(), "mix");
@@ -252,12 +265,13 @@ TEST(PbrtSemantics, MixMaterialRecordsItsTwoMaterials) {
 }
 
 TEST(PbrtSemantics, IndexOnGlassAndUberIsEta) {
-  Build b(in_world("Material \"glass\" \"float index\" 1.33\n"
-                   "Shape \"sphere\"\n"
-                   "Material \"uber\" \"float index\" 1.7\n"
-                   "Shape \"sphere\"\n"
-                   "Material \"glass\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Material \"glass\" \"float index\" 1.33\n"
+               "Shape \"sphere\"\n"
+               "Material \"uber\" \"float index\" 1.7\n"
+               "Shape \"sphere\"\n"
+               "Material \"glass\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   EXPECT_TRUE(b.material_of(0).params.given("eta"));
   EXPECT_FLOAT_EQ(b.material_of(0).params.get_float("eta"), 1.33f);
@@ -277,9 +291,10 @@ TEST(PbrtSemantics, InterfaceMaterialIsNone) {
 constexpr const char* kTriangle = "Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0] ";
 
 TEST(PbrtSemantics, TriangleMeshAcceptsFloatUvAndFloatSt) {
-  Build b(in_world(std::string(kTriangle) + "\"integer indices\" [0 1 2] \"float uv\" [0 0 1 0 0 1]\n" +
-                   kTriangle + "\"integer indices\" [0 1 2] \"float st\" [0 0 .5 0 0 .5]\n" +
-                   kTriangle + "\"integer indices\" [0 1 2] \"point2 uv\" [0 0 1 0 1 1]\n"));
+  Build b(in_world(std::string(kTriangle) +
+                   "\"integer indices\" [0 1 2] \"float uv\" [0 0 1 0 0 1]\n" + kTriangle +
+                   "\"integer indices\" [0 1 2] \"float st\" [0 0 .5 0 0 .5]\n" + kTriangle +
+                   "\"integer indices\" [0 1 2] \"point2 uv\" [0 0 1 0 1 1]\n"));
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.meshes.size(), 3u);
   EXPECT_EQ(b.scene.meshes[0].uv, (std::vector<float>{0, 0, 1, 0, 0, 1}));
@@ -288,8 +303,9 @@ TEST(PbrtSemantics, TriangleMeshAcceptsFloatUvAndFloatSt) {
 }
 
 TEST(PbrtSemantics, TriangleMeshAcceptsIntegerFaceIndices) {
-  Build b(in_world("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] "
-                   "\"integer indices\" [0 1 2 2 1 3] \"integer faceIndices\" [7 9]\n"));
+  Build b(
+      in_world("Shape \"trianglemesh\" \"point3 P\" [0 0 0 1 0 0 0 1 0 1 1 0] "
+               "\"integer indices\" [0 1 2 2 1 3] \"integer faceIndices\" [7 9]\n"));
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.meshes.size(), 1u);
   EXPECT_EQ(b.scene.meshes[0].num_triangles(), 2u);
@@ -331,14 +347,15 @@ TEST(PbrtSemantics, ThreeVertexTriangleMeshMayLeaveOutIndices) {
 // ---- pbrt-v2 spellings ----
 
 TEST(PbrtSemantics, PbrtV2SpellingsPbrtV3StillAccepts) {
-  Build b("Sampler \"lowdiscrepancy\" \"integer pixelsamples\" 8\n"
-          "WorldBegin\n"
-          "LightSource \"exinfinite\"\n"
-          "AttributeBegin\n"
-          "  AreaLightSource \"area\" \"rgb L\" [1 1 1]\n"
-          "  Shape \"sphere\"\n"
-          "AttributeEnd\n"
-          "WorldEnd\n");
+  Build b(
+      "Sampler \"lowdiscrepancy\" \"integer pixelsamples\" 8\n"
+      "WorldBegin\n"
+      "LightSource \"exinfinite\"\n"
+      "AttributeBegin\n"
+      "  AreaLightSource \"area\" \"rgb L\" [1 1 1]\n"
+      "  Shape \"sphere\"\n"
+      "AttributeEnd\n"
+      "WorldEnd\n");
   EXPECT_CLEAN(b);
   EXPECT_EQ(b.scene.sampler.type_name(), "02sequence");
   EXPECT_EQ(b.scene.sampler.get_int("pixelsamples"), 8);
@@ -387,9 +404,10 @@ TEST(PbrtSemantics, TransformNumbersAreColumnMajor) {
 }
 
 TEST(PbrtSemantics, ConcatTransformIsColumnMajorAndPostMultiplies) {
-  Build b(in_world("Translate 1 2 3\n"
-                   "ConcatTransform [2 0 0 0  0 2 0 0  0 0 2 0  1 0 0 1]\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Translate 1 2 3\n"
+               "ConcatTransform [2 0 0 0  0 2 0 0  0 0 2 0  1 0 0 1]\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   // T(1,2,3) * (T(1,0,0) * S(2)): a point at the origin lands at (2, 2, 3).
   expect_matrix_near(b.transform_of(0).start,
@@ -397,24 +415,26 @@ TEST(PbrtSemantics, ConcatTransformIsColumnMajorAndPostMultiplies) {
 }
 
 TEST(PbrtSemantics, TransformBeginEndRestoresOnlyTheTransform) {
-  Build b(in_world("TransformBegin\n"
-                   "  Translate 1 0 0\n"
-                   "  Material \"mirror\"\n"
-                   "TransformEnd\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("TransformBegin\n"
+               "  Translate 1 0 0\n"
+               "  Material \"mirror\"\n"
+               "TransformEnd\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   expect_matrix_near(b.transform_of(0).start, Matrix4());
   EXPECT_EQ(b.material_of(0).params.type_name(), "mirror");
 }
 
 TEST(PbrtSemantics, CameraRecordsCameraFromWorldAndCoordSysCameraRestoresItsInverse) {
-  Build b("Translate 1 2 3\n"
-          "Camera \"perspective\"\n"
-          "WorldBegin\n"
-          "Shape \"sphere\"\n"
-          "CoordSysTransform \"camera\"\n"
-          "Shape \"sphere\"\n"
-          "WorldEnd\n");
+  Build b(
+      "Translate 1 2 3\n"
+      "Camera \"perspective\"\n"
+      "WorldBegin\n"
+      "Shape \"sphere\"\n"
+      "CoordSysTransform \"camera\"\n"
+      "Shape \"sphere\"\n"
+      "WorldEnd\n");
   EXPECT_CLEAN(b);
   EXPECT_TRUE(b.scene.camera.given);
   expect_matrix_near(b.scene.camera.camera_from_world.start, translate(1, 2, 3));
@@ -438,17 +458,18 @@ TEST(PbrtSemantics, LookAtBuildsCameraFromWorld) {
 }
 
 TEST(PbrtSemantics, ActiveTransformSelectsWhichTransformChanges) {
-  Build b("TransformTimes 0.25 0.75\n"
-          "WorldBegin\n"
-          "ActiveTransform EndTime\n"
-          "Translate 1 0 0\n"
-          "ActiveTransform All\n"
-          "Shape \"sphere\"\n"
-          "ActiveTransform StartTime\n"
-          "Translate 0 2 0\n"
-          "ActiveTransform All\n"
-          "Shape \"sphere\"\n"
-          "WorldEnd\n");
+  Build b(
+      "TransformTimes 0.25 0.75\n"
+      "WorldBegin\n"
+      "ActiveTransform EndTime\n"
+      "Translate 1 0 0\n"
+      "ActiveTransform All\n"
+      "Shape \"sphere\"\n"
+      "ActiveTransform StartTime\n"
+      "Translate 0 2 0\n"
+      "ActiveTransform All\n"
+      "Shape \"sphere\"\n"
+      "WorldEnd\n");
   EXPECT_CLEAN(b);
   const AnimatedTransform& t0 = b.transform_of(0);
   EXPECT_TRUE(t0.animated());
@@ -463,19 +484,21 @@ TEST(PbrtSemantics, ActiveTransformSelectsWhichTransformChanges) {
 }
 
 TEST(PbrtSemantics, TransformTimesDefaultToZeroAndOne) {
-  Build b(in_world("ActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("ActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   EXPECT_DOUBLE_EQ(b.transform_of(0).start_time, 0);
   EXPECT_DOUBLE_EQ(b.transform_of(0).end_time, 1);
 }
 
 TEST(PbrtSemantics, CameraMayBeAnimated) {
-  Build b("ActiveTransform StartTime\n"
-          "Translate 0 0 1\n"
-          "ActiveTransform All\n"
-          "Camera \"perspective\"\n"
-          "WorldBegin\nWorldEnd\n");
+  Build b(
+      "ActiveTransform StartTime\n"
+      "Translate 0 0 1\n"
+      "ActiveTransform All\n"
+      "Camera \"perspective\"\n"
+      "WorldBegin\nWorldEnd\n");
   EXPECT_CLEAN(b);
   const AnimatedTransform& c = b.scene.camera.camera_from_world;
   EXPECT_TRUE(c.animated());
@@ -485,14 +508,15 @@ TEST(PbrtSemantics, CameraMayBeAnimated) {
 }
 
 TEST(PbrtSemantics, ObjectDefinitionKeepsItsTransformAndInstancesRecordTheirOwn) {
-  Build b(in_world("Translate 1 0 0\n"
-                   "ObjectBegin \"o\"\n"
-                   "  Translate 0 2 0\n"
-                   "  Shape \"sphere\"\n"
-                   "ObjectEnd\n"
-                   "Translate 0 0 3\n"
-                   "ObjectInstance \"o\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Translate 1 0 0\n"
+               "ObjectBegin \"o\"\n"
+               "  Translate 0 2 0\n"
+               "  Shape \"sphere\"\n"
+               "ObjectEnd\n"
+               "Translate 0 0 3\n"
+               "ObjectInstance \"o\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.objects.size(), 1u);
   EXPECT_EQ(b.scene.objects[0].name, "o");
@@ -511,13 +535,14 @@ TEST(PbrtSemantics, ObjectDefinitionKeepsItsTransformAndInstancesRecordTheirOwn)
 }
 
 TEST(PbrtSemantics, AreaLightInsideAnObjectDefinitionIsIgnoredWithAWarning) {
-  Build b(in_world("AttributeBegin\n"
-                   "  AreaLightSource \"diffuse\"\n"
-                   "  ObjectBegin \"o\"\n"
-                   "    Shape \"sphere\"\n"
-                   "  ObjectEnd\n"
-                   "AttributeEnd\n"
-                   "ObjectInstance \"o\"\n"));
+  Build b(
+      in_world("AttributeBegin\n"
+               "  AreaLightSource \"diffuse\"\n"
+               "  ObjectBegin \"o\"\n"
+               "    Shape \"sphere\"\n"
+               "  ObjectEnd\n"
+               "AttributeEnd\n"
+               "ObjectInstance \"o\"\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings(), std::vector<std::string>{
                               "scene.pbrt:5:5: warning: area lights are not supported inside "
@@ -527,11 +552,12 @@ TEST(PbrtSemantics, AreaLightInsideAnObjectDefinitionIsIgnoredWithAWarning) {
 }
 
 TEST(PbrtSemantics, AreaLightOnAnAnimatedShapeIsIgnoredWithAWarning) {
-  Build b(in_world("AreaLightSource \"diffuse\"\n"
-                   "ActiveTransform EndTime\n"
-                   "Translate 1 0 0\n"
-                   "ActiveTransform All\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("AreaLightSource \"diffuse\"\n"
+               "ActiveTransform EndTime\n"
+               "Translate 1 0 0\n"
+               "ActiveTransform All\n"
+               "Shape \"sphere\"\n"));
   EXPECT_TRUE(b.ok);
   EXPECT_EQ(b.warnings(), std::vector<std::string>{
                               "scene.pbrt:6:1: warning: area lights are not supported on shapes "
@@ -540,11 +566,12 @@ TEST(PbrtSemantics, AreaLightOnAnAnimatedShapeIsIgnoredWithAWarning) {
 }
 
 TEST(PbrtSemantics, AreaLightAppliesToTheShapesOfItsBlock) {
-  Build b(in_world("AttributeBegin\n"
-                   "  AreaLightSource \"diffuse\" \"rgb L\" [2 2 2] \"bool twosided\" \"true\"\n"
-                   "  Shape \"sphere\"\n"
-                   "AttributeEnd\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("AttributeBegin\n"
+               "  AreaLightSource \"diffuse\" \"rgb L\" [2 2 2] \"bool twosided\" \"true\"\n"
+               "  Shape \"sphere\"\n"
+               "AttributeEnd\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   EXPECT_EQ(b.shape(0).area_light, 0);
   EXPECT_EQ(b.shape(1).area_light, kNone);
@@ -555,16 +582,17 @@ TEST(PbrtSemantics, AreaLightAppliesToTheShapesOfItsBlock) {
 // ---- Orientation ----
 
 TEST(PbrtSemantics, ReverseOrientationAndHandedness) {
-  Build b(in_world("AttributeBegin\n"
-                   "  ReverseOrientation\n"
-                   "  Shape \"sphere\"\n"
-                   "  ReverseOrientation\n"
-                   "  Shape \"sphere\"\n"
-                   "  ReverseOrientation\n"
-                   "AttributeEnd\n"
-                   "Shape \"sphere\"\n"
-                   "Scale -1 1 1\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("AttributeBegin\n"
+               "  ReverseOrientation\n"
+               "  Shape \"sphere\"\n"
+               "  ReverseOrientation\n"
+               "  Shape \"sphere\"\n"
+               "  ReverseOrientation\n"
+               "AttributeEnd\n"
+               "Shape \"sphere\"\n"
+               "Scale -1 1 1\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.shapes.size(), 4u);
   EXPECT_TRUE(b.shape(0).reverse_orientation);
@@ -579,20 +607,21 @@ TEST(PbrtSemantics, ReverseOrientationAndHandedness) {
 // ---- Media ----
 
 TEST(PbrtSemantics, MediumInterfaceWithOneOrTwoNames) {
-  Build b("Integrator \"volpath\"\n"
-          "MakeNamedMedium \"a\" \"string type\" \"homogeneous\"\n"
-          "MakeNamedMedium \"b\" \"string type\" \"homogeneous\" \"float g\" 0.5\n"
-          "MediumInterface \"\" \"b\"\n"
-          "Camera \"perspective\"\n"
-          "WorldBegin\n"
-          "MediumInterface \"a\"\n"
-          "Shape \"sphere\"\n"
-          "MediumInterface \"a\" \"b\"\n"
-          "Shape \"sphere\"\n"
-          "LightSource \"point\"\n"
-          "MediumInterface \"\" \"b\"\n"
-          "Shape \"sphere\"\n"
-          "WorldEnd\n");
+  Build b(
+      "Integrator \"volpath\"\n"
+      "MakeNamedMedium \"a\" \"string type\" \"homogeneous\"\n"
+      "MakeNamedMedium \"b\" \"string type\" \"homogeneous\" \"float g\" 0.5\n"
+      "MediumInterface \"\" \"b\"\n"
+      "Camera \"perspective\"\n"
+      "WorldBegin\n"
+      "MediumInterface \"a\"\n"
+      "Shape \"sphere\"\n"
+      "MediumInterface \"a\" \"b\"\n"
+      "Shape \"sphere\"\n"
+      "LightSource \"point\"\n"
+      "MediumInterface \"\" \"b\"\n"
+      "Shape \"sphere\"\n"
+      "WorldEnd\n");
   EXPECT_CLEAN(b);
   ASSERT_EQ(b.scene.media.size(), 2u);
   EXPECT_FLOAT_EQ(b.scene.media[1].params.get_float("g"), 0.5f);
@@ -619,8 +648,9 @@ TEST(PbrtSemantics, MediumMayBeDefinedAfterTheMediumInterfaceThatNamesIt) {
 }
 
 TEST(PbrtSemantics, MediaWithAnIntegratorThatIgnoresThemWarn) {
-  const std::string world = in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\"\n"
-                                     "MediumInterface \"m\" \"\"\nShape \"sphere\"\n");
+  const std::string world = in_world(
+      "MakeNamedMedium \"m\" \"string type\" \"homogeneous\"\n"
+      "MediumInterface \"m\" \"\"\nShape \"sphere\"\n");
   Build path_default(world);
   EXPECT_TRUE(path_default.ok);
   EXPECT_EQ(path_default.warnings(),
@@ -675,9 +705,10 @@ TEST(PbrtSemantics, DefaultsAreFilledIn) {
 }
 
 TEST(PbrtSemantics, GivenValuesReplaceDefaults) {
-  Build b("Integrator \"path\" \"integer maxdepth\" 12\n"
-          "Film \"image\" \"integer xresolution\" 64 \"integer yresolution\" 32\n"
-          "WorldBegin\nShape \"sphere\" \"float radius\" 3\nWorldEnd\n");
+  Build b(
+      "Integrator \"path\" \"integer maxdepth\" 12\n"
+      "Film \"image\" \"integer xresolution\" 64 \"integer yresolution\" 32\n"
+      "WorldBegin\nShape \"sphere\" \"float radius\" 3\nWorldEnd\n");
   EXPECT_CLEAN(b);
   EXPECT_EQ(b.scene.integrator.get_int("maxdepth"), 12);
   EXPECT_EQ(b.scene.film.get_int("xresolution"), 64);
@@ -688,8 +719,9 @@ TEST(PbrtSemantics, GivenValuesReplaceDefaults) {
 
 TEST(PbrtSemantics, WholeNumbersSpelledAsFloatsAreIntegers) {
   // pbrt-v3 reads every number as a double and converts it for "integer" parameters.
-  Build b("Sampler \"halton\" \"integer pixelsamples\" 2.0\n"
-          "Film \"image\" \"integer xresolution\" [ 1e3 ]\nWorldBegin\nWorldEnd\n");
+  Build b(
+      "Sampler \"halton\" \"integer pixelsamples\" 2.0\n"
+      "Film \"image\" \"integer xresolution\" [ 1e3 ]\nWorldBegin\nWorldEnd\n");
   EXPECT_CLEAN(b);
   EXPECT_EQ(b.scene.sampler.get_int("pixelsamples"), 2);
   EXPECT_EQ(b.scene.film.get_int("xresolution"), 1000);
@@ -724,8 +756,8 @@ TEST(PbrtSemantics, RelativePathsResolveAgainstTheTopLevelFilesDirectory) {
   ASSERT_EQ(b.scene.meshes.size(), 1u);
   EXPECT_EQ(b.scene.meshes[0].num_triangles(), 1u);
   const std::vector<std::string>& in = b.scene.input_files;
-  for (const std::string& f : {top, dir + "/sub/a.pbrt", dir + "/sub/b.pbrt",
-                               dir + "/meshes/tri.ply"})
+  for (const std::string& f :
+       {top, dir + "/sub/a.pbrt", dir + "/sub/b.pbrt", dir + "/meshes/tri.ply"})
     EXPECT_NE(std::find(in.begin(), in.end(), f), in.end()) << f;
 }
 
@@ -755,35 +787,39 @@ TEST(PbrtSemantics, PlainSceneCallsForNoEffects) {
 }
 
 TEST(PbrtSemantics, TexturesEffectNeedsAMaterialInUse) {
-  Build unused(in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
-                        "Material \"matte\" \"texture Kd\" \"c\"\n"
-                        "Material \"matte\"\n"
-                        "Shape \"sphere\"\n"));
+  Build unused(
+      in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
+               "Material \"matte\" \"texture Kd\" \"c\"\n"
+               "Material \"matte\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(unused);
   EXPECT_FALSE(unused.scene.effects.textures);
-  Build used(in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
-                      "Material \"matte\" \"texture Kd\" \"c\"\n"
-                      "Shape \"sphere\"\n"));
+  Build used(
+      in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
+               "Material \"matte\" \"texture Kd\" \"c\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(used);
   EXPECT_TRUE(used.scene.effects.textures);
 }
 
 TEST(PbrtSemantics, TexturesEffectThroughAMixedMaterial) {
-  Build b(in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
-                   "MakeNamedMaterial \"a\" \"string type\" \"matte\" \"texture Kd\" \"c\"\n"
-                   "MakeNamedMaterial \"b\" \"string type\" \"matte\"\n"
-                   "Material \"mix\" \"string namedmaterial1\" \"a\" \"string namedmaterial2\" \"b\"\n"
-                   "Shape \"sphere\"\n"));
+  Build b(
+      in_world("Texture \"c\" \"spectrum\" \"checkerboard\"\n"
+               "MakeNamedMaterial \"a\" \"string type\" \"matte\" \"texture Kd\" \"c\"\n"
+               "MakeNamedMaterial \"b\" \"string type\" \"matte\"\n"
+               "Material \"mix\" \"string namedmaterial1\" \"a\" \"string namedmaterial2\" \"b\"\n"
+               "Shape \"sphere\"\n"));
   EXPECT_CLEAN(b);
   EXPECT_TRUE(b.scene.effects.textures);
 }
 
 TEST(PbrtSemantics, EffectsOfLightsInstancesAlphaAndSubsurface) {
-  Build b(in_world("LightSource \"infinite\"\n"
-                   "ObjectBegin \"o\"\nShape \"sphere\"\nObjectEnd\n"
-                   "ObjectInstance \"o\"\n"
-                   "Material \"subsurface\"\n" +
-                   std::string(kTriangle) + "\"float alpha\" 0\n"));
+  Build b(
+      in_world("LightSource \"infinite\"\n"
+               "ObjectBegin \"o\"\nShape \"sphere\"\nObjectEnd\n"
+               "ObjectInstance \"o\"\n"
+               "Material \"subsurface\"\n" +
+               std::string(kTriangle) + "\"float alpha\" 0\n"));
   EXPECT_CLEAN(b);
   const Effects& fx = b.scene.effects;
   EXPECT_TRUE(fx.infinite_lights);

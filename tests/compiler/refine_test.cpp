@@ -58,14 +58,24 @@ std::string error_of(const std::string& shape) {
 struct Vec {
   double x, y, z;
 };
-Vec sub(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec sub(Vec a, Vec b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
 Vec cross(Vec a, Vec b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double length(Vec a) { return std::sqrt(dot(a, a)); }
-Vec point(const TriangleMesh& m, size_t i) { return {m.P[3 * i], m.P[3 * i + 1], m.P[3 * i + 2]}; }
-Vec normal(const TriangleMesh& m, size_t i) { return {m.N[3 * i], m.N[3 * i + 1], m.N[3 * i + 2]}; }
+double dot(Vec a, Vec b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+double length(Vec a) {
+  return std::sqrt(dot(a, a));
+}
+Vec point(const TriangleMesh& m, size_t i) {
+  return {m.P[3 * i], m.P[3 * i + 1], m.P[3 * i + 2]};
+}
+Vec normal(const TriangleMesh& m, size_t i) {
+  return {m.N[3 * i], m.N[3 * i + 1], m.N[3 * i + 2]};
+}
 // The normal the winding of triangle t implies.
 Vec winding_normal(const TriangleMesh& m, size_t t) {
   Vec a = point(m, m.indices[3 * t]), b = point(m, m.indices[3 * t + 1]),
@@ -261,8 +271,9 @@ TEST(LoopSubdiv, SceneShapeUsesLevelsAndItsAlias) {
 
 TEST(LoopSubdiv, OpenMeshesSubdivideWithBoundaryRules) {
   // One triangle: every vertex is a boundary vertex of valence 2.
-  Build b("Shape \"loopsubdiv\" \"integer levels\" [2] \"point P\" [0 0 0  1 0 0  0 1 0] "
-          "\"integer indices\" [0 1 2]\n");
+  Build b(
+      "Shape \"loopsubdiv\" \"integer levels\" [2] \"point P\" [0 0 0  1 0 0  0 1 0] "
+      "\"integer indices\" [0 1 2]\n");
   ASSERT_TRUE(b.ok) << b.report();
   const TriangleMesh& m = b.mesh();
   EXPECT_EQ(m.num_triangles(), 16u);
@@ -327,9 +338,10 @@ std::string grid_param(const char* name, float t0, float t1) {
 }
 
 TEST(Nurbs, BilinearPatchIsThePlane) {
-  Build b("Shape \"nurbs\" \"integer nu\" [2] \"integer nv\" [2] \"integer uorder\" [2] "
-          "\"integer vorder\" [2] \"float uknots\" [0 0 1 1] \"float vknots\" [0 0 1 1] "
-          "\"point P\" [0 0 0  2 0 0  0 3 0  2 3 0]\n");
+  Build b(
+      "Shape \"nurbs\" \"integer nu\" [2] \"integer nv\" [2] \"integer uorder\" [2] "
+      "\"integer vorder\" [2] \"float uknots\" [0 0 1 1] \"float vknots\" [0 0 1 1] "
+      "\"point P\" [0 0 0  2 0 0  0 3 0  2 3 0]\n");
   ASSERT_TRUE(b.ok) << b.report();
   const TriangleMesh& m = b.mesh();
   const size_t n = size_t(kNurbsDice);
@@ -373,12 +385,13 @@ TEST(Nurbs, QuadraticPatchMatchesTheSplineAtAChosenPoint) {
   std::string P;
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i)
-      P += std::to_string(g[i]) + " " + std::to_string(g[j]) + " " +
-           std::to_string(a[i] * bv[j]) + "  ";
-  Build b("Shape \"nurbs\" \"integer nu\" [4] \"integer nv\" [4] \"integer uorder\" [3] "
-          "\"integer vorder\" [3] \"float uknots\" [0 0 0 .5 1 1 1] "
-          "\"float vknots\" [0 0 0 .5 1 1 1] " +
-          grid_param("u", .25f, 1) + grid_param("v", .75f, 1) + "\"point P\" [" + P + "]\n");
+      P += std::to_string(g[i]) + " " + std::to_string(g[j]) + " " + std::to_string(a[i] * bv[j]) +
+           "  ";
+  Build b(
+      "Shape \"nurbs\" \"integer nu\" [4] \"integer nv\" [4] \"integer uorder\" [3] "
+      "\"integer vorder\" [3] \"float uknots\" [0 0 0 .5 1 1 1] "
+      "\"float vknots\" [0 0 0 .5 1 1 1] " +
+      grid_param("u", .25f, 1) + grid_param("v", .75f, 1) + "\"point P\" [" + P + "]\n");
   ASSERT_TRUE(b.ok) << b.report();
   const TriangleMesh& m = b.mesh();
   // Vertex 0 is (u0, v0) = (.25, .75): A = .25*1 + .625*3 + .125*0 = 2.125, A' = 1;
@@ -417,9 +430,11 @@ TEST(Nurbs, HomogeneousControlPointsMakeACircle) {
           std::to_string(w) + "  ";
     Pw += "0 1 " + std::to_string(z) + " 1  ";
   }
-  Build b("Shape \"nurbs\" \"integer nu\" [3] \"integer nv\" [2] \"integer uorder\" [3] "
-          "\"integer vorder\" [2] \"float uknots\" [0 0 0 1 1 1] \"float vknots\" [0 0 1 1] "
-          "\"float Pw\" [" + Pw + "]\n");
+  Build b(
+      "Shape \"nurbs\" \"integer nu\" [3] \"integer nv\" [2] \"integer uorder\" [3] "
+      "\"integer vorder\" [2] \"float uknots\" [0 0 0 1 1 1] \"float vknots\" [0 0 1 1] "
+      "\"float Pw\" [" +
+      Pw + "]\n");
   ASSERT_TRUE(b.ok) << b.report();
   const TriangleMesh& m = b.mesh();
   ASSERT_EQ(m.num_vertices(), size_t(kNurbsDice * kNurbsDice));
@@ -472,8 +487,9 @@ TEST(Nurbs, InvalidInputIsReportedAtTheShape) {
 // ---- heightfield -----------------------------------------------------------------------------
 
 TEST(Heightfield, GridPositionsUvAndTriangles) {
-  Build b("Shape \"heightfield\" \"integer nu\" [3] \"integer nv\" [2] "
-          "\"float Pz\" [0 1 2 3 4 5]\n");
+  Build b(
+      "Shape \"heightfield\" \"integer nu\" [3] \"integer nv\" [2] "
+      "\"float Pz\" [0 1 2 3 4 5]\n");
   ASSERT_TRUE(b.ok) << b.report();
   const TriangleMesh& m = b.mesh();
   ASSERT_EQ(m.num_vertices(), 6u);
@@ -582,11 +598,10 @@ TEST(RefineSharedScenes, ArchiveRecordsTheSourceShapeAndLevel) {
   const std::string path = testing_support::shared_dir() + "/scenes/rs-nurbs/nurbs_3x3.pbrt";
   SharedScene s("rs-nurbs/nurbs_3x3.pbrt");
   ASSERT_TRUE(s.ok);
-  const std::string out =
-      testing_support::scratch_dir("RefineArchive") + "/nurbs_3x3.pbrta";
+  const std::string out = testing_support::scratch_dir("RefineArchive") + "/nurbs_3x3.pbrta";
   std::string error;
-  ASSERT_TRUE(write_archive(s.scene, s.files, directory_of(path), out, ArchiveOptions{}, nullptr,
-                            &error))
+  ASSERT_TRUE(
+      write_archive(s.scene, s.files, directory_of(path), out, ArchiveOptions{}, nullptr, &error))
       << error;
   pbrta::SceneArchive a;
   ASSERT_TRUE(a.load(out, 1, &error)) << error;

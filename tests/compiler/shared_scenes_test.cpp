@@ -24,7 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 
 bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // The paths the README lists after "Missing:" (up to the end of the table cell or line).
@@ -76,8 +77,8 @@ TEST(SharedScenes, EveryEntrySceneCompiles) {
     SceneDesc scene;
     auto t0 = std::chrono::steady_clock::now();
     bool ok = build_scene(path, &files, &diag, &scene);
-    double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count();
+    double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::string rel = path.substr(scenes.size() + 1);
     std::string status = "ok";
     if (!ok) {

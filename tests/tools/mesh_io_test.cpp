@@ -75,8 +75,8 @@ using Triangle = std::array<std::array<float, 3>, 3>;
 std::vector<Triangle> triangles_matched(const Mesh& original, const Mesh& got, double bound,
                                         bool same_order, double* max_error) {
   std::vector<uint32_t> nearest;
-  *max_error = pbrta::draco_max_displacement(arrays(original), arrays(got), bound, same_order,
-                                             &nearest);
+  *max_error =
+      pbrta::draco_max_displacement(arrays(original), arrays(got), bound, same_order, &nearest);
   std::vector<Triangle> out;
   for (size_t f = 0; f < got.num_triangles(); ++f) {
     Triangle t;
@@ -96,16 +96,22 @@ std::vector<Triangle> triangles_of(const Mesh& m) {
   return triangles_matched(m, m, 0, true, &unused);
 }
 
-bool holds_normals(const std::string& ext) { return ext != "stl"; }
-bool holds_uv(const std::string& ext) { return ext != "stl"; }
-bool lossy(const std::string& ext) { return ext == "drc"; }
+bool holds_normals(const std::string& ext) {
+  return ext != "stl";
+}
+bool holds_uv(const std::string& ext) {
+  return ext != "stl";
+}
+bool lossy(const std::string& ext) {
+  return ext == "drc";
+}
 
 // Attribute values of got's vertices against their matched originals.
 void expect_attributes_close(const Mesh& original, const Mesh& got, double normal_tol,
                              double uv_tol, const std::string& what) {
   std::vector<uint32_t> nearest;
-  const double bound = pbrta::draco_position_bound(original.positions.data(),
-                                                   original.num_vertices(), 11);
+  const double bound =
+      pbrta::draco_position_bound(original.positions.data(), original.num_vertices(), 11);
   pbrta::draco_max_displacement(arrays(original), arrays(got), bound, false, &nearest);
   double worst_n = 0, worst_uv = 0;
   for (size_t v = 0; v < got.num_vertices(); ++v) {
@@ -114,8 +120,9 @@ void expect_attributes_close(const Mesh& original, const Mesh& got, double norma
       worst_n = std::max(worst_n, double(std::fabs(got.normals[3 * v + size_t(k)] -
                                                    original.normals[3 * o + size_t(k)])));
     for (int k = 0; k < 2 && !got.uvs.empty(); ++k)
-      worst_uv = std::max(worst_uv, double(std::fabs(got.uvs[2 * v + size_t(k)] -
-                                                     original.uvs[2 * o + size_t(k)])));
+      worst_uv =
+          std::max(worst_uv,
+                   double(std::fabs(got.uvs[2 * v + size_t(k)] - original.uvs[2 * o + size_t(k)])));
   }
   EXPECT_LE(worst_n, normal_tol) << what;
   EXPECT_LE(worst_uv, uv_tol) << what;
@@ -135,10 +142,9 @@ TEST(MeshIo, RoundTripsEveryFormatPair) {
   const std::string dir = scratch_dir("mesh_io_pairs");
   const Mesh original = test_mesh();
   const std::vector<Triangle> want = triangles_of(original);
-  const double bound = pbrta::draco_position_bound(original.positions.data(),
-                                                   original.num_vertices(), 14) +
-                       pbrta::draco_position_slack(original.positions.data(),
-                                                   original.num_vertices());
+  const double bound =
+      pbrta::draco_position_bound(original.positions.data(), original.num_vertices(), 14) +
+      pbrta::draco_position_slack(original.positions.data(), original.num_vertices());
   for (const std::string a : kFormats)
     for (const std::string b : kFormats) {
       const std::string what = a + " -> " + b;
@@ -211,8 +217,7 @@ TEST(MeshIo, FaceIndicesSurvivePlyDracoAndPbrt) {
 // Every PLY of the shared corpus through Draco and back at 11, 14 and 16 bits, both encodings.
 TEST(MeshIo, SharedPlyMeshesThroughDraco) {
   std::vector<std::string> plys;
-  for (const auto& e : fs::recursive_directory_iterator(testing_support::shared_dir() +
-                                                        "/scenes"))
+  for (const auto& e : fs::recursive_directory_iterator(testing_support::shared_dir() + "/scenes"))
     if (e.is_regular_file() && extension_of(e.path().string()) == "ply")
       plys.push_back(e.path().string());
   std::sort(plys.begin(), plys.end());
@@ -237,8 +242,7 @@ TEST(MeshIo, SharedPlyMeshesThroughDraco) {
         ASSERT_TRUE(read_mesh(dir + "/m.ply", &back, &error)) << what << error;
         EXPECT_EQ(back.num_triangles(), original.num_triangles()) << what;
         const double bound =
-            pbrta::draco_position_bound(original.positions.data(), original.num_vertices(),
-                                        bits) +
+            pbrta::draco_position_bound(original.positions.data(), original.num_vertices(), bits) +
             pbrta::draco_position_slack(original.positions.data(), original.num_vertices());
         if (sequential && back.num_vertices() == original.num_vertices()) {
           // Same order: vertex v came from vertex v, triangle f from triangle f.
@@ -299,32 +303,34 @@ TEST(MeshIo, CountsThatLie) {
   n = 2;  // one record short
   std::memcpy(&stl[80], &n, 4);
   expect_read_fails(write_file(dir + "/short.stl", stl), "header says 2 triangles");
-  expect_read_fails(write_file(dir + "/huge.ply", "ply\nformat binary_little_endian 1.0\n"
-                                                  "element vertex 1000000000\nproperty float x\n"
-                                                  "property float y\nproperty float z\n"
-                                                  "element face 0\nproperty list uchar int "
-                                                  "vertex_indices\nend_header\n"),
+  expect_read_fails(write_file(dir + "/huge.ply",
+                               "ply\nformat binary_little_endian 1.0\n"
+                               "element vertex 1000000000\nproperty float x\n"
+                               "property float y\nproperty float z\n"
+                               "element face 0\nproperty list uchar int "
+                               "vertex_indices\nend_header\n"),
                     "");
   expect_read_fails(write_file(dir + "/junk.drc", "DRACO\x02\x02\x01\x01\0\0garbage"), "");
 }
 
 TEST(MeshIo, NanCoordinatesAreRejected) {
   const std::string dir = scratch_dir("mesh_io_nan");
-  expect_read_fails(write_file(dir + "/n.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"),
-                    "line 2");
+  expect_read_fails(write_file(dir + "/n.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), "line 2");
   expect_read_fails(write_file(dir + "/i.obj", "v 0 0 0\nv 1e50 0 0\nv 0 1 0\nf 1 2 3\n"),
                     "not a finite number");
   expect_read_fails(write_file(dir + "/n.off", "OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n"),
                     "vertex 1");
-  expect_read_fails(write_file(dir + "/n.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                               "property float x\nproperty float y\n"
-                                               "property float z\nelement face 1\n"
-                                               "property list uchar int vertex_indices\n"
-                                               "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
+  expect_read_fails(write_file(dir + "/n.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 3\n"
+                               "property float x\nproperty float y\n"
+                               "property float z\nelement face 1\n"
+                               "property list uchar int vertex_indices\n"
+                               "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
                     "");
-  expect_read_fails(write_file(dir + "/n.stl", "solid x\nfacet normal 0 0 1\nouter loop\n"
-                                               "vertex 0 0 0\nvertex 1 0 NaN\nvertex 0 1 0\n"
-                                               "endloop\nendfacet\nendsolid x\n"),
+  expect_read_fails(write_file(dir + "/n.stl",
+                               "solid x\nfacet normal 0 0 1\nouter loop\n"
+                               "vertex 0 0 0\nvertex 1 0 NaN\nvertex 0 1 0\n"
+                               "endloop\nendfacet\nendsolid x\n"),
                     "line 5");
   std::string stl(84 + 50, '\0');
   const uint32_t n = 1;
@@ -332,8 +338,9 @@ TEST(MeshIo, NanCoordinatesAreRejected) {
   const float nan = std::nanf("");
   std::memcpy(&stl[84 + 12 + 4], &nan, 4);
   expect_read_fails(write_file(dir + "/nb.stl", stl), "not finite");
-  expect_read_fails(write_file(dir + "/n.pbrt", "Shape \"trianglemesh\" \"integer indices\" "
-                                                "[0 1 2] \"point P\" [0 0 0 1 0 0 0 1 nan]\n"),
+  expect_read_fails(write_file(dir + "/n.pbrt",
+                               "Shape \"trianglemesh\" \"integer indices\" "
+                               "[0 1 2] \"point P\" [0 0 0 1 0 0 0 1 nan]\n"),
                     "");
 }
 
@@ -345,20 +352,23 @@ TEST(MeshIo, OutOfRangeIndicesAreRejected) {
                     "out of range");
   expect_read_fails(write_file(dir + "/c.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n"),
                     "out of range");
-  expect_read_fails(write_file(dir + "/d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/2 2/1 3/1\n"),
-                    "texture index");
+  expect_read_fails(
+      write_file(dir + "/d.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/2 2/1 3/1\n"),
+      "texture index");
   expect_read_fails(write_file(dir + "/e.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"),
                     "out of range");
   expect_read_fails(write_file(dir + "/f.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n9 0 1 2\n"),
                     "bad vertex count");
-  expect_read_fails(write_file(dir + "/g.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                               "property float x\nproperty float y\n"
-                                               "property float z\nelement face 1\n"
-                                               "property list uchar int vertex_indices\n"
-                                               "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
+  expect_read_fails(write_file(dir + "/g.ply",
+                               "ply\nformat ascii 1.0\nelement vertex 3\n"
+                               "property float x\nproperty float y\n"
+                               "property float z\nelement face 1\n"
+                               "property list uchar int vertex_indices\n"
+                               "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
                     "");
-  expect_read_fails(write_file(dir + "/h.pbrt", "Shape \"trianglemesh\" \"integer indices\" "
-                                                "[0 1 5] \"point P\" [0 0 0 1 0 0 0 1 0]\n"),
+  expect_read_fails(write_file(dir + "/h.pbrt",
+                               "Shape \"trianglemesh\" \"integer indices\" "
+                               "[0 1 5] \"point P\" [0 0 0 1 0 0 0 1 0]\n"),
                     "");
   // And nothing invalid is written either.
   Mesh bad = test_mesh();
@@ -402,11 +412,11 @@ TEST(MeshIo, ConvertOutputCompilesWithPbrtc) {
     for (std::string& a : args) argv.push_back(a.data());
     ASSERT_NO_THROW(app.parse(int(argv.size()), argv.data()));
     ASSERT_EQ(exit_code, 0);
-    const std::string scene = write_file(
-        dir + "/scene.pbrt",
-        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
-        "AttributeBegin\nTranslate 1 0 0\nInclude \"" + fs::path(out).filename().string() +
-            "\"\nAttributeEnd\nWorldEnd\n");
+    const std::string scene =
+        write_file(dir + "/scene.pbrt",
+                   "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+                   "AttributeBegin\nTranslate 1 0 0\nInclude \"" +
+                       fs::path(out).filename().string() + "\"\nAttributeEnd\nWorldEnd\n");
     pbrtc::SourceFiles files;
     pbrtc::Diagnostics diag(&files);
     pbrtc::SceneDesc desc;

@@ -26,13 +26,12 @@ constexpr double kPi = 3.14159265358979323846;
 // manifold, shared vertices, outward (counter-clockwise) winding. 20 * 4^levels faces.
 Mesh icosphere(int levels, double radius) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<std::array<double, 3>> p = {{-1, t, 0}, {1, t, 0},   {-1, -t, 0}, {1, -t, 0},
-                                          {0, -1, t}, {0, 1, t},   {0, -1, -t}, {0, 1, -t},
-                                          {t, 0, -1}, {t, 0, 1},   {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<uint32_t> f = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11,
-                             1, 5,  9,  5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1,  8,
-                             3, 9,  4,  3, 4,  2, 3, 2, 6, 3, 6,  8,  3, 8,  9,
-                             4, 9,  5,  2, 4,  11, 6, 2, 10, 8, 6, 7, 9, 8,  1};
+  std::vector<std::array<double, 3>> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                                          {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                                          {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<uint32_t> f = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+                             4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+                             6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
   auto normalize = [](std::array<double, 3> v) {
     const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     return std::array<double, 3>{v[0] / l, v[1] / l, v[2] / l};
@@ -69,8 +68,8 @@ Mesh icosphere(int levels, double radius) {
 Mesh cube() {
   Mesh mesh;
   for (int i = 0; i < 8; ++i) {
-    mesh.positions.insert(mesh.positions.end(), {float(i & 1), float((i >> 1) & 1),
-                                                 float((i >> 2) & 1)});
+    mesh.positions.insert(mesh.positions.end(),
+                          {float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)});
   }
   // Quads as (a, b, c, d) counter-clockwise seen from outside, split along a-c.
   const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
@@ -214,10 +213,10 @@ TEST(MeshNormals, AreaAndAngleWeightingDifferOnAFan) {
 
 TEST(MeshNormals, DegenerateFacesAndIsolatedVerticesGiveFiniteNormals) {
   Mesh mesh;
-  mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0,   // a proper triangle
-                    2, 0, 0, 3, 0, 0, 4, 0, 0,   // collinear: zero area
-                    5, 5, 5,                     // isolated
-                    6, 6, 6, 7, 7, 7};           // used only by a repeated-index face
+  mesh.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0,  // a proper triangle
+                    2, 0, 0, 3, 0, 0, 4, 0, 0,  // collinear: zero area
+                    5, 5, 5,                    // isolated
+                    6, 6, 6, 7, 7, 7};          // used only by a repeated-index face
   mesh.indices = {0, 1, 2, 3, 4, 5, 7, 7, 8, 0, 1, 1, 1, 3, 4};
   for (NormalWeighting w : {NormalWeighting::kArea, NormalWeighting::kAngle}) {
     for (double crease : {30.0, 180.0}) {
@@ -261,12 +260,14 @@ TEST(MeshHausdorff, KnownPairs) {
   // [0,1]x[0,1] against [0,2]x[0,1] in one plane: a lies on b (0 one way); b's far corner is 1
   // from a. Over b's uniform samples half are at 0 and half at u in [0, 1]: E[d^2] = 1/6, and
   // with as many zero samples from a, the combined rms is sqrt(1/12).
-  const HausdorffResult h =
-      hausdorff_distance(grid(4, 1.0, 0.0), [] {
+  const HausdorffResult h = hausdorff_distance(
+      grid(4, 1.0, 0.0),
+      [] {
         Mesh m = grid(4, 1.0, 0.0);
         for (size_t v = 0; v < m.num_vertices(); ++v) m.positions[3 * v] *= 2;
         return m;
-      }(), HausdorffOptions{100000, 3});
+      }(),
+      HausdorffOptions{100000, 3});
   EXPECT_NEAR(h.max_a_to_b, 0.0, 1e-9);
   EXPECT_NEAR(h.max_b_to_a, 1.0, 1e-9);  // the vertex (2, y) is sampled exactly
   EXPECT_NEAR(h.rms, std::sqrt(1.0 / 12.0), 0.01);
@@ -363,9 +364,10 @@ TEST(MeshSimplify, SphereKeepsTenPercentStaysClosedAndClose) {
   const double ideal_rms = 0.3 * 16 * kPi / (3 * std::sqrt(3.0) * f);
   ASSERT_TRUE(report.measured);
   const HausdorffResult& h = report.hausdorff;
-  std::printf("sphere 20480 -> %zu faces: Hausdorff max %.6g rms %.6g (bound %.6g, ideal rms "
-              "%.6g)\n",
-              out.num_triangles(), h.max, h.rms, bound, ideal_rms);
+  std::printf(
+      "sphere 20480 -> %zu faces: Hausdorff max %.6g rms %.6g (bound %.6g, ideal rms "
+      "%.6g)\n",
+      out.num_triangles(), h.max, h.rms, bound, ideal_rms);
   EXPECT_LE(h.max, bound * (1 + 1e-6));
   EXPECT_GT(h.max, 0.25 * bound);  // the sampler finds the deep face interiors, not just vertices
   EXPECT_LT(h.rms, 2 * ideal_rms);
@@ -404,8 +406,8 @@ TEST(MeshSimplify, MaxQuadricErrorStopsEarly) {
 std::string largest_shared_ply() {
   std::string best;
   uintmax_t best_size = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(
-           testing_support::shared_dir() + "/scenes")) {
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(testing_support::shared_dir() + "/scenes")) {
     if (!entry.is_regular_file() || entry.path().extension() != ".ply") continue;
     if (entry.file_size() > best_size) best_size = entry.file_size(), best = entry.path().string();
   }
@@ -442,12 +444,12 @@ TEST(MeshSimplify, RealSharedMeshToAQuarter) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double diag = bbox_diagonal(mesh);
-  std::printf("%s: faces %zu -> %zu, vertices %zu -> %zu, Hausdorff max %.6g (%.4f%% of diag "
-              "%.6g) rms %.6g (%.5f%%), %zu samples, %.2f s with measurement\n",
-              path.c_str(), report.faces_before, report.faces_after, report.vertices_before,
-              report.vertices_after, report.hausdorff.max, 100 * report.hausdorff.max / diag,
-              diag, report.hausdorff.rms, 100 * report.hausdorff.rms / diag,
-              report.hausdorff.samples, seconds);
+  std::printf(
+      "%s: faces %zu -> %zu, vertices %zu -> %zu, Hausdorff max %.6g (%.4f%% of diag "
+      "%.6g) rms %.6g (%.5f%%), %zu samples, %.2f s with measurement\n",
+      path.c_str(), report.faces_before, report.faces_after, report.vertices_before,
+      report.vertices_after, report.hausdorff.max, 100 * report.hausdorff.max / diag, diag,
+      report.hausdorff.rms, 100 * report.hausdorff.rms / diag, report.hausdorff.samples, seconds);
   EXPECT_NEAR(double(report.faces_after), 0.25 * double(report.faces_before),
               0.01 * double(report.faces_before));
   ASSERT_TRUE(report.measured);

@@ -247,7 +247,7 @@ TEST(ObjScene, IncludedOutputCompiles) {
   EXPECT_EQ(light->params.type_name(), "uber");
   EXPECT_FLOAT_EQ(wood->params.get_float("roughness"), 1.f / 20.f);
   EXPECT_FLOAT_EQ(light->params.get_float("roughness"), 1.f);  // Ns absent: 1, so 1/1
-  EXPECT_FLOAT_EQ(wood->params.get_float("eta"), 1.45f);         // "index" is eta's alias
+  EXPECT_FLOAT_EQ(wood->params.get_float("eta"), 1.45f);       // "index" is eta's alias
   EXPECT_FLOAT_EQ(light->params.get_float("eta"), 1.f);
   expect_rgb(wood->params.get_floats("opacity"), 0.75f, 0.75f, 0.75f);
   expect_rgb(light->params.get_floats("opacity"), 0.5f, 0.5f, 0.5f);
@@ -375,9 +375,9 @@ TEST(ObjScene, MultipleLibrariesAndWarnings) {
   EXPECT_EQ(scene.shapes[1].material, -1);  // pbrt-v3: an undefined usemtl means none
   std::string all;
   for (const std::string& w : scene.warnings) all += w + "\n";
-  EXPECT_NE(all.find("m.obj:7:"), std::string::npos) << all;       // usemtl nothing
-  EXPECT_NE(all.find("map_Ka"), std::string::npos) << all;         // not converted
-  EXPECT_NE(all.find("\"cstype\""), std::string::npos) << all;     // unsupported
+  EXPECT_NE(all.find("m.obj:7:"), std::string::npos) << all;    // usemtl nothing
+  EXPECT_NE(all.find("map_Ka"), std::string::npos) << all;      // not converted
+  EXPECT_NE(all.find("\"cstype\""), std::string::npos) << all;  // unsupported
 }
 
 }  // namespace

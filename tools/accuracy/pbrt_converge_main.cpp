@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 #include "runtime/core/clock.h"
 #include "tools/accuracy/error_plot.h"
@@ -37,7 +38,6 @@
 #include "tools/accuracy/sweep_config.h"
 #include "tools/accuracy/sweep_csv.h"
 #include "tools/accuracy/time_to_error.h"
-#include "format/huge_page_heap.h"
 
 namespace {
 

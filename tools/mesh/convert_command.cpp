@@ -6,9 +6,9 @@
 // against the bound the quantization bits imply, so a lossy conversion is never silent.
 #include <CLI/CLI.hpp>
 
+#include <sys/stat.h>
 #include <cstdio>
 #include <string>
-#include <sys/stat.h>
 
 #include "format/draco_codec.h"
 #include "tools/mesh/commands.h"
@@ -83,8 +83,7 @@ int run_convert(const ConvertArgs& args) {
     const double bound =
         pbrta::draco_position_bound(mesh.positions.data(), mesh.num_vertices(), args.draco_bits);
     const double slack = pbrta::draco_position_slack(mesh.positions.data(), mesh.num_vertices());
-    const bool same_order =
-        args.draco_sequential && decoded.num_vertices() == mesh.num_vertices();
+    const bool same_order = args.draco_sequential && decoded.num_vertices() == mesh.num_vertices();
     const double err = pbrta::draco_max_displacement(arrays_of(mesh), arrays_of(decoded),
                                                      bound + slack, same_order);
     char buf[200];
@@ -97,9 +96,9 @@ int run_convert(const ConvertArgs& args) {
   }
   if (!args.quiet) {
     const std::string dropped = dropped_attributes(mesh, ext);
-    std::printf("%s -> %s: %zu vertices, %zu triangles, %lld -> %lld bytes%s%s\n",
-                args.in.c_str(), args.out.c_str(), mesh.num_vertices(), mesh.num_triangles(),
-                file_size(args.in), file_size(args.out), draco_note.c_str(),
+    std::printf("%s -> %s: %zu vertices, %zu triangles, %lld -> %lld bytes%s%s\n", args.in.c_str(),
+                args.out.c_str(), mesh.num_vertices(), mesh.num_triangles(), file_size(args.in),
+                file_size(args.out), draco_note.c_str(),
                 dropped.empty() ? "" : ("; dropped (format cannot hold): " + dropped).c_str());
   }
   return 0;

@@ -6,9 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
-#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -78,8 +78,8 @@ int run_info(const std::string& path) {
 
 void add_info_command(CLI::App* app, int* exit_code) {
   auto path = std::make_shared<std::string>();
-  CLI::App* cmd = app->add_subcommand(
-      "info", "Counts, bounds, attributes and topology problems of a mesh");
+  CLI::App* cmd =
+      app->add_subcommand("info", "Counts, bounds, attributes and topology problems of a mesh");
   cmd->add_option("MESH", *path, "Mesh file (.obj .ply .off .stl .drc .pbrt)")->required();
   cmd->callback([path, exit_code]() { *exit_code = run_info(*path); });
 }

@@ -30,10 +30,10 @@ struct Mesh {
 enum class PbrtStyle { kInline, kPlymesh };
 
 struct WriteOptions {
-  bool ply_ascii = false;           // .ply: ASCII instead of binary little-endian
+  bool ply_ascii = false;               // .ply: ASCII instead of binary little-endian
   PbrtStyle pbrt = PbrtStyle::kInline;  // .pbrt: inline trianglemesh or plymesh + .ply beside it
-  int draco_bits = 14;              // .drc: position quantization bits (the flag pbrtc uses too)
-  bool draco_sequential = false;    // .drc: keep vertex and face order
+  int draco_bits = 14;            // .drc: position quantization bits (the flag pbrtc uses too)
+  bool draco_sequential = false;  // .drc: keep vertex and face order
 };
 
 // Reads path by its extension. Reports progress on large meshes to stderr unless quiet.

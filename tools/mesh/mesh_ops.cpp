@@ -27,14 +27,24 @@ constexpr double kPi = 3.14159265358979323846;
 struct V3 {
   double x = 0, y = 0, z = 0;
 };
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+V3 operator+(V3 a, V3 b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
+V3 operator-(V3 a, V3 b) {
+  return {a.x - b.x, a.y - b.y, a.z - b.z};
+}
+V3 operator*(V3 a, double s) {
+  return {a.x * s, a.y * s, a.z * s};
+}
+double dot(V3 a, V3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 V3 cross(V3 a, V3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-double length(V3 a) { return std::sqrt(dot(a, a)); }
+double length(V3 a) {
+  return std::sqrt(dot(a, a));
+}
 
 V3 position(const Mesh& mesh, size_t v) {
   const float* p = &mesh.positions[3 * v];
@@ -313,7 +323,9 @@ class TriangleBvh {
 
 // Uniform double in [0, 1) from the top 53 bits: std::uniform_real_distribution is not specified
 // bit for bit across standard libraries, mt19937_64 is, so the samples are the same everywhere.
-double unit_random(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+double unit_random(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
 
 // Squared distances from the samples of `from` (used vertices plus area-weighted uniform points)
 // to the surface of `to`, accumulated into max and sum.
@@ -396,7 +408,7 @@ class ModBoundaryT : public OpenMesh::Decimater::ModBaseT<MeshT> {
     const double la = a.norm(), lb = b.norm();
     if (!(la > 0) || !(lb > 0)) return Base::LEGAL_COLLAPSE;  // zero-length border edge
     return (a | b) >= cos_max_turn_ * la * lb ? float(Base::LEGAL_COLLAPSE)
-                                                : float(Base::ILLEGAL_COLLAPSE);
+                                              : float(Base::ILLEGAL_COLLAPSE);
   }
 
  private:
@@ -672,14 +684,14 @@ bool simplify(const Mesh& mesh, const SimplifyOptions& options, Mesh* out, Simpl
   DecimationMesh om;
   OpenMesh::FPropHandleT<int32_t> face_index;
   om.add_property(face_index);
-  size_t rejected = build_openmesh(mesh, /*weld_vertices=*/true, &om, face_index,
-                                   &r.degenerate_faces_dropped);
+  size_t rejected =
+      build_openmesh(mesh, /*weld_vertices=*/true, &om, face_index, &r.degenerate_faces_dropped);
   if (rejected > 0) {
     const size_t welded_rejected = rejected;
     om = DecimationMesh();
     om.add_property(face_index);
-    rejected = build_openmesh(mesh, /*weld_vertices=*/false, &om, face_index,
-                              &r.degenerate_faces_dropped);
+    rejected =
+        build_openmesh(mesh, /*weld_vertices=*/false, &om, face_index, &r.degenerate_faces_dropped);
     if (rejected > 0) {
       *error = std::to_string(std::min(rejected, welded_rejected)) + " of " +
                std::to_string(mesh.num_triangles()) +

@@ -55,11 +55,11 @@ struct HausdorffOptions {
 };
 
 struct HausdorffResult {
-  double max = 0;       // symmetric: the larger of the two directed maxima
-  double rms = 0;       // over all samples of both directions together
+  double max = 0;         // symmetric: the larger of the two directed maxima
+  double rms = 0;         // over all samples of both directions together
   double max_a_to_b = 0;  // farthest sample of a from b
   double max_b_to_a = 0;
-  size_t samples = 0;   // distance queries made, both directions
+  size_t samples = 0;  // distance queries made, both directions
 };
 
 // Symmetric Hausdorff distance between the surfaces of a and b. If exactly one of them has no
@@ -78,8 +78,8 @@ struct SimplifyOptions {
   // borders keep their shape (quadrics alone would let flat borders erode). 0 keeps straight
   // runs only; 180 lets borders go freely.
   double boundary_max_turn_degrees = 15.0;
-  NormalsOptions normals;            // used to recompute normals when the input had them
-  bool measure = true;               // measure the Hausdorff distance into the report
+  NormalsOptions normals;  // used to recompute normals when the input had them
+  bool measure = true;     // measure the Hausdorff distance into the report
   HausdorffOptions hausdorff;
 };
 

@@ -12,8 +12,8 @@
 // mean square of all coordinate differences (so it never exceeds Max).
 // Times are the best of several runs, so one slow run (a page fault, another process) does not
 // decide them. tools/mesh_table.sh runs this over the shared corpus.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "format/draco_codec.h"
+#include "format/huge_page_heap.h"
 #include "format/ply_reader.h"
 #include "format/ply_writer.h"
-#include "format/huge_page_heap.h"
 
 namespace {
 
@@ -81,8 +81,9 @@ int main(int argc, char** argv) {
                "Draco's sequential encoding (keeps vertex order; errors compared index-wise)");
   CLI11_PARSE(app, argc, argv);
 
-  std::printf("| Mesh | Vertices | Triangles | PLY | Bits | DRC | PLY/DRC | Bits/vertex "
-              "| Max error | RMS error | Bound | Encode ms | Decode ms |\n");
+  std::printf(
+      "| Mesh | Vertices | Triangles | PLY | Bits | DRC | PLY/DRC | Bits/vertex "
+      "| Max error | RMS error | Bound | Encode ms | Decode ms |\n");
   std::printf("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
   const std::string tmp_ply = (std::filesystem::temp_directory_path() /
                                ("mesh-table-" + std::to_string(::getpid()) + ".ply"))
@@ -122,10 +123,9 @@ int main(int argc, char** argv) {
         return pbrta::draco_encode(in, opt, &stream, &error);
       });
       pbrta::DecodedMesh out;
-      const double dec_ms =
-          enc_ms < 0 ? -1 : best_ms([&] {
-            return pbrta::draco_decode(stream.data(), stream.size(), &out, &error);
-          });
+      const double dec_ms = enc_ms < 0 ? -1 : best_ms([&] {
+        return pbrta::draco_decode(stream.data(), stream.size(), &out, &error);
+      });
       if (enc_ms < 0 || dec_ms < 0) {
         std::fprintf(stderr, "mesh-table: %s at %d bits: %s\n", path.c_str(), b, error.c_str());
         ++failures;
@@ -150,8 +150,8 @@ int main(int argc, char** argv) {
                     "| %s | %zu | %zu | %s | %d | %s | %.1f | %.1f | %s | %s | %s | %.2f | %.2f |",
                     name.c_str(), in.num_vertices, in.num_triangles, bytes_text(ply_bytes).c_str(),
                     b, bytes_text(stream.size()).c_str(), double(ply_bytes) / stream.size(),
-                    8.0 * stream.size() / std::max<size_t>(in.num_vertices, 1),
-                    g3(max_err).c_str(), g3(rms).c_str(), g3(bound).c_str(), enc_ms, dec_ms);
+                    8.0 * stream.size() / std::max<size_t>(in.num_vertices, 1), g3(max_err).c_str(),
+                    g3(rms).c_str(), g3(bound).c_str(), enc_ms, dec_ms);
       std::printf("%s\n", row);
     }
   }

@@ -46,7 +46,9 @@ class UnionFind {
   std::vector<size_t> parent_;
 };
 
-bool repeats_index(const uint32_t* f) { return f[0] == f[1] || f[1] == f[2] || f[0] == f[2]; }
+bool repeats_index(const uint32_t* f) {
+  return f[0] == f[1] || f[1] == f[2] || f[0] == f[2];
+}
 
 bool zero_area(const Mesh& m, const uint32_t* f) {
   const float* p[3];

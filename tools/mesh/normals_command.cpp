@@ -53,8 +53,8 @@ int run_normals(const NormalsArgs& args) {
   std::printf("%s: %zu triangles, %zu -> %zu vertices (%s weighting, crease %g deg)\n",
               args.out.c_str(), mesh.num_triangles(), input.num_vertices(), mesh.num_vertices(),
               args.weight.c_str(), args.crease);
-  std::printf("  position error (measured Hausdorff, %zu samples): max %.9g, rms %.9g\n",
-              h.samples, h.max, h.rms);
+  std::printf("  position error (measured Hausdorff, %zu samples): max %.9g, rms %.9g\n", h.samples,
+              h.max, h.rms);
   if (input.normals.size() == 3 * input.num_vertices() && input.num_vertices() > 0) {
     // Each output vertex against the input normal of the vertex it was copied from; input
     // normals of zero length carry no direction and are counted, not compared.

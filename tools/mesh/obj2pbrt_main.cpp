@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <string>
 
-#include "tools/mesh/obj_scene.h"
 #include "format/huge_page_heap.h"
+#include "tools/mesh/obj_scene.h"
 
 int main(int argc, char** argv) {
   pbrta::use_huge_page_heap(argv);

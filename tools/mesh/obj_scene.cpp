@@ -14,8 +14,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <charconv>
 #include <cfloat>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -67,8 +67,7 @@ std::string dir_of(const std::string& path) {
 // `\` continues on the next one (the line number reported is the first one's). Returns false
 // with *error set when fn does, or on a control byte (a binary file is not OBJ text).
 template <typename Fn>
-bool for_each_line(const std::string& display, const std::string& text, std::string* error,
-                   Fn fn) {
+bool for_each_line(const std::string& display, const std::string& text, std::string* error, Fn fn) {
   std::string logical;
   std::vector<std::string_view> tokens;
   size_t pos = 0;
@@ -189,8 +188,7 @@ class WarningSink {
  public:
   explicit WarningSink(std::vector<std::string>* out) : out_(out) {}
   // Reports "display:line: text" the first time `key` is seen in this file.
-  void once(const std::string& display, int line, const std::string& key,
-            const std::string& text) {
+  void once(const std::string& display, int line, const std::string& key, const std::string& text) {
     if (seen_.insert(display + '\n' + key).second)
       out_->push_back(display + ":" + std::to_string(line) + ": " + text);
   }
@@ -210,9 +208,9 @@ bool map_file_name(const std::vector<std::string_view>& tokens, std::string* nam
                    bool* had_options, std::string* message) {
   // Options with their maximum argument count; -o, -s and -t take 1 to 3 numbers.
   static const std::map<std::string_view, int> kOptions = {
-      {"-blendu", 1}, {"-blendv", 1}, {"-boost", 1}, {"-mm", 2},   {"-o", 3},
-      {"-s", 3},      {"-t", 3},      {"-texres", 1}, {"-clamp", 1}, {"-bm", 1},
-      {"-imfchan", 1}, {"-type", 1},  {"-cc", 1}};
+      {"-blendu", 1},  {"-blendv", 1}, {"-boost", 1},  {"-mm", 2},    {"-o", 3},
+      {"-s", 3},       {"-t", 3},      {"-texres", 1}, {"-clamp", 1}, {"-bm", 1},
+      {"-imfchan", 1}, {"-type", 1},   {"-cc", 1}};
   size_t i = 1;
   *had_options = false;
   while (i < tokens.size() && tokens[i].size() > 1 && tokens[i][0] == '-') {
@@ -265,91 +263,93 @@ bool parse_mtl(const std::string& path, std::vector<ObjMaterial>* materials,
   ObjMaterial* current = nullptr;
   ObjMaterial discarded;  // statements of a material defined twice (the first one wins)
   std::vector<float> nums;
-  return for_each_line(path, text, error, [&](int line, const std::vector<std::string_view>& t,
-                                              std::string* message) {
-    const std::string_view key = t[0];
-    if (key == "newmtl") {
-      if (t.size() < 2) {
-        *message = "newmtl names no material";
-        return false;
-      }
-      std::string name = joined(t, 1);
-      if (by_name->count(name)) {
-        // tinyobjloader keeps the first definition of a name; so do we, but say so.
-        warn->always(path, line, "material " + in_quotes(name) + " defined again; ignored");
-        discarded = ObjMaterial();
-        current = &discarded;
+  return for_each_line(
+      path, text, error,
+      [&](int line, const std::vector<std::string_view>& t, std::string* message) {
+        const std::string_view key = t[0];
+        if (key == "newmtl") {
+          if (t.size() < 2) {
+            *message = "newmtl names no material";
+            return false;
+          }
+          std::string name = joined(t, 1);
+          if (by_name->count(name)) {
+            // tinyobjloader keeps the first definition of a name; so do we, but say so.
+            warn->always(path, line, "material " + in_quotes(name) + " defined again; ignored");
+            discarded = ObjMaterial();
+            current = &discarded;
+            return true;
+          }
+          (*by_name)[name] = static_cast<int>(materials->size());
+          materials->emplace_back();
+          materials->back().name = name;
+          current = &materials->back();
+          return true;
+        }
+        if (!current) {
+          warn->once(path, line, "before-newmtl", std::string(key) + " before any newmtl; ignored");
+          return true;
+        }
+        ObjMaterial& m = *current;
+        auto colour = [&](std::array<float, 3>* c) {
+          if (t.size() >= 2 && (t[1] == "spectral" || t[1] == "xyz")) {
+            warn->once(path, line, std::string(key) + std::string(t[1]),
+                       std::string(key) + " " + std::string(t[1]) +
+                           " colours are not supported; "
+                           "ignored");
+            return true;
+          }
+          // "Kd r" is grey r, "Kd r g b" a colour.
+          if (!parse_floats(t, 1, 1, 3, std::string(key).c_str(), &nums, message)) return false;
+          if (nums.size() == 2) {
+            *message = std::string(key) + " needs 1 or 3 numbers, found 2";
+            return false;
+          }
+          *c = nums.size() == 1 ? std::array<float, 3>{nums[0], nums[0], nums[0]}
+                                : std::array<float, 3>{nums[0], nums[1], nums[2]};
+          return true;
+        };
+        auto scalar = [&](float* f, size_t from) {
+          if (!parse_floats(t, from, 1, 1, std::string(key).c_str(), &nums, message)) return false;
+          *f = nums[0];
+          return true;
+        };
+        auto texture = [&](std::string* dst) {
+          std::string name;
+          bool had_options = false;
+          if (!map_file_name(t, &name, &had_options, message)) return false;
+          if (had_options)
+            warn->once(path, line, "map-options",
+                       std::string(key) + " options are ignored (pbrt-v3's imagemap has none)");
+          if (!find_texture(dir, name, dst)) {
+            *message = std::string(key) + " file " + in_quotes(name) + " not found (looked in " +
+                       in_quotes(dir.empty() ? "." : dir) + ")";
+            return false;
+          }
+          return true;
+        };
+        if (key == "Kd") return colour(&m.kd);
+        if (key == "Ks") return colour(&m.ks);
+        if (key == "Kt") return colour(&m.kt);
+        if (key == "Ke") return colour(&m.ke);
+        if (key == "Ns") return scalar(&m.ns, 1);
+        if (key == "Ni") return scalar(&m.ni, 1);
+        if (key == "d") return scalar(&m.d, t.size() > 1 && t[1] == "-halo" ? 2 : 1);
+        if (key == "Tr") {
+          // tinyobjloader inverts Tr (transparency) into d (dissolve); the later statement wins.
+          float tr = 0;
+          if (!scalar(&tr, 1)) return false;
+          m.d = 1.f - tr;
+          return true;
+        }
+        if (key == "map_Kd") return texture(&m.map_kd);
+        if (key == "map_Ks") return texture(&m.map_ks);
+        if (key == "map_bump" || key == "bump" || key == "map_Bump") return texture(&m.map_bump);
+        if (key == "Ka" || key == "illum") return true;  // pbrt-v3 has no ambient term
+        warn->once(path, line, std::string(key),
+                   std::string(key) + " is not converted (pbrt-v3's obj2pbrt ignores it too)");
         return true;
-      }
-      (*by_name)[name] = static_cast<int>(materials->size());
-      materials->emplace_back();
-      materials->back().name = name;
-      current = &materials->back();
-      return true;
-    }
-    if (!current) {
-      warn->once(path, line, "before-newmtl", std::string(key) + " before any newmtl; ignored");
-      return true;
-    }
-    ObjMaterial& m = *current;
-    auto colour = [&](std::array<float, 3>* c) {
-      if (t.size() >= 2 && (t[1] == "spectral" || t[1] == "xyz")) {
-        warn->once(path, line, std::string(key) + std::string(t[1]),
-                   std::string(key) + " " + std::string(t[1]) + " colours are not supported; "
-                   "ignored");
-        return true;
-      }
-      // "Kd r" is grey r, "Kd r g b" a colour.
-      if (!parse_floats(t, 1, 1, 3, std::string(key).c_str(), &nums, message)) return false;
-      if (nums.size() == 2) {
-        *message = std::string(key) + " needs 1 or 3 numbers, found 2";
-        return false;
-      }
-      *c = nums.size() == 1 ? std::array<float, 3>{nums[0], nums[0], nums[0]}
-                            : std::array<float, 3>{nums[0], nums[1], nums[2]};
-      return true;
-    };
-    auto scalar = [&](float* f, size_t from) {
-      if (!parse_floats(t, from, 1, 1, std::string(key).c_str(), &nums, message)) return false;
-      *f = nums[0];
-      return true;
-    };
-    auto texture = [&](std::string* dst) {
-      std::string name;
-      bool had_options = false;
-      if (!map_file_name(t, &name, &had_options, message)) return false;
-      if (had_options)
-        warn->once(path, line, "map-options",
-                   std::string(key) + " options are ignored (pbrt-v3's imagemap has none)");
-      if (!find_texture(dir, name, dst)) {
-        *message = std::string(key) + " file " + in_quotes(name) + " not found (looked in " +
-                   in_quotes(dir.empty() ? "." : dir) + ")";
-        return false;
-      }
-      return true;
-    };
-    if (key == "Kd") return colour(&m.kd);
-    if (key == "Ks") return colour(&m.ks);
-    if (key == "Kt") return colour(&m.kt);
-    if (key == "Ke") return colour(&m.ke);
-    if (key == "Ns") return scalar(&m.ns, 1);
-    if (key == "Ni") return scalar(&m.ni, 1);
-    if (key == "d") return scalar(&m.d, t.size() > 1 && t[1] == "-halo" ? 2 : 1);
-    if (key == "Tr") {
-      // tinyobjloader inverts Tr (transparency) into d (dissolve); the later statement wins.
-      float tr = 0;
-      if (!scalar(&tr, 1)) return false;
-      m.d = 1.f - tr;
-      return true;
-    }
-    if (key == "map_Kd") return texture(&m.map_kd);
-    if (key == "map_Ks") return texture(&m.map_ks);
-    if (key == "map_bump" || key == "bump" || key == "map_Bump") return texture(&m.map_bump);
-    if (key == "Ka" || key == "illum") return true;  // pbrt-v3 has no ambient term
-    warn->once(path, line, std::string(key),
-               std::string(key) + " is not converted (pbrt-v3's obj2pbrt ignores it too)");
-    return true;
-  });
+      });
 }
 
 // ---- OBJ -------------------------------------------------------------------------------------
@@ -422,8 +422,7 @@ bool parse_face_vertex(std::string_view tok, size_t nv, size_t nvt, size_t nvn, 
   if (count > 1 && !parts[1].empty() &&
       !resolve_index(parts[1], nvt, "texture coordinate", &out->vt, message))
     return false;
-  if (count > 2 && !parts[2].empty() &&
-      !resolve_index(parts[2], nvn, "normal", &out->vn, message))
+  if (count > 2 && !parts[2].empty() && !resolve_index(parts[2], nvn, "normal", &out->vn, message))
     return false;
   if (count > 2 && parts[2].empty()) {
     *message = "face vertex " + in_quotes(tok) + " ends in '/'";
@@ -434,7 +433,9 @@ bool parse_face_vertex(std::string_view tok, size_t nv, size_t nvt, size_t nvn, 
 
 }  // namespace
 
-float roughness_from_ns(float ns) { return ns == 0 ? 0.f : 1.f / ns; }
+float roughness_from_ns(float ns) {
+  return ns == 0 ? 0.f : 1.f / ns;
+}
 
 bool parse_obj_scene(const std::string& display_path, const std::string& text,
                      const std::string& base_dir, ObjScene* scene, std::string* error) {
@@ -450,146 +451,147 @@ bool parse_obj_scene(const std::string& display_path, const std::string& text,
   std::vector<Triple> face;
   std::string mtl_error;
 
-  const bool ok = for_each_line(display_path, text, error, [&](int line,
-                                                              const std::vector<std::string_view>&
-                                                                  t,
-                                                              std::string* message) {
-    const std::string_view key = t[0];
-    if (key == "v") {
-      // x y z, then an optional w or an r g b vertex colour: all must be numbers, 3 are kept.
-      if (!parse_floats(t, 1, 3, 7, "vertex", &nums, message)) return false;
-      if (v.size() / 3 >= size_t(INT32_MAX)) {
-        *message = "too many vertices";
-        return false;
-      }
-      v.insert(v.end(), nums.begin(), nums.begin() + 3);
-      return true;
-    }
-    if (key == "vt") {
-      if (!parse_floats(t, 1, 1, 3, "texture coordinate", &nums, message)) return false;
-      if (vt.size() / 2 >= size_t(INT32_MAX)) {
-        *message = "too many texture coordinates";
-        return false;
-      }
-      vt.push_back(nums[0]);
-      vt.push_back(nums.size() > 1 ? nums[1] : 0.f);
-      return true;
-    }
-    if (key == "vn") {
-      if (!parse_floats(t, 1, 3, 3, "normal", &nums, message)) return false;
-      if (vn.size() / 3 >= size_t(INT32_MAX)) {
-        *message = "too many normals";
-        return false;
-      }
-      vn.insert(vn.end(), nums.begin(), nums.end());
-      return true;
-    }
-    if (key == "f" || key == "fo") {
-      if (t.size() < 4) {
-        *message = "a face needs at least 3 vertices, found " + std::to_string(t.size() - 1);
-        return false;
-      }
-      face.clear();
-      for (size_t i = 1; i < t.size(); ++i) {
-        Triple tr;
-        if (!parse_face_vertex(t[i], v.size() / 3, vt.size() / 2, vn.size() / 3, &tr, message))
-          return false;
-        face.push_back(tr);
-      }
-      auto key_pair = std::make_pair(name, material);
-      auto it = build_of.find(key_pair);
-      if (it == build_of.end()) {
-        it = build_of.emplace(key_pair, builds.size()).first;
-        builds.emplace_back();
-        builds.back().shape.name = name;
-        builds.back().shape.material = material;
-      }
-      ShapeBuild& b = builds[it->second];
-      uint32_t ids[3];
-      auto vertex_of = [&](const Triple& tr, uint32_t* id) {
-        auto found = b.remap.find(tr);
-        if (found != b.remap.end()) {
-          *id = found->second;
-          return true;
-        }
-        if (b.sources.size() >= size_t(UINT32_MAX)) {
-          *message = "shape " + in_quotes(name) + " has too many vertices";
-          return false;
-        }
-        *id = static_cast<uint32_t>(b.sources.size());
-        b.remap.emplace(tr, *id);
-        b.sources.push_back(tr);
-        const float* p = &v[size_t(tr.v) * 3];
-        b.shape.mesh.positions.insert(b.shape.mesh.positions.end(), p, p + 3);
-        return true;
-      };
-      // A fan around the first vertex, as tinyobjloader triangulates for pbrt-v3's obj2pbrt.
-      if (!vertex_of(face[0], &ids[0]) || !vertex_of(face[1], &ids[2])) return false;
-      for (size_t k = 2; k < face.size(); ++k) {
-        ids[1] = ids[2];
-        if (!vertex_of(face[k], &ids[2])) return false;
-        b.shape.mesh.indices.insert(b.shape.mesh.indices.end(), ids, ids + 3);
-      }
-      return true;
-    }
-    if (key == "o" || key == "g") {
-      name = joined(t, 1);
-      return true;
-    }
-    if (key == "usemtl") {
-      std::string m = joined(t, 1);
-      auto it = material_by_name.find(m);
-      if (it == material_by_name.end()) {
-        // pbrt-v3's obj2pbrt (tinyobjloader) silently uses no material then.
-        warn.always(display_path, line,
-                    "usemtl " + in_quotes(m) + ": no such material in the mtllib files read so "
-                    "far; its faces get the including scene's material");
-        material = -1;
-      } else {
-        material = it->second;
-      }
-      return true;
-    }
-    if (key == "mtllib") {
-      if (t.size() < 2) {
-        *message = "mtllib names no file";
-        return false;
-      }
-      // Several names on one line are several libraries (the OBJ specification's reading).
-      for (size_t i = 1; i < t.size(); ++i) {
-        std::string lib(t[i]);
-        std::string path = join_path(base_dir, lib);
-        std::error_code ec;
-        if (!fs::is_regular_file(path, ec)) {
-          std::string slashed = lib;
-          std::replace(slashed.begin(), slashed.end(), '\\', '/');
-          std::string alt = join_path(base_dir, slashed);
-          if (slashed == lib || !fs::is_regular_file(alt, ec)) {
-            // pbrt-v3 warns and goes on with default materials; a scene converted without its
-            // materials is rarely what was meant, so this is an error.
-            *message = "material library " + in_quotes(lib) + " not found (looked in " +
-                       in_quotes(base_dir.empty() ? "." : base_dir) + ")";
+  const bool ok = for_each_line(
+      display_path, text, error,
+      [&](int line, const std::vector<std::string_view>& t, std::string* message) {
+        const std::string_view key = t[0];
+        if (key == "v") {
+          // x y z, then an optional w or an r g b vertex colour: all must be numbers, 3 are kept.
+          if (!parse_floats(t, 1, 3, 7, "vertex", &nums, message)) return false;
+          if (v.size() / 3 >= size_t(INT32_MAX)) {
+            *message = "too many vertices";
             return false;
           }
-          path = alt;
+          v.insert(v.end(), nums.begin(), nums.begin() + 3);
+          return true;
         }
-        if (!parse_mtl(path, &scene->materials, &material_by_name, &warn, &mtl_error)) {
-          *message = "in material library " + in_quotes(lib) + ": " + mtl_error;
-          return false;
+        if (key == "vt") {
+          if (!parse_floats(t, 1, 1, 3, "texture coordinate", &nums, message)) return false;
+          if (vt.size() / 2 >= size_t(INT32_MAX)) {
+            *message = "too many texture coordinates";
+            return false;
+          }
+          vt.push_back(nums[0]);
+          vt.push_back(nums.size() > 1 ? nums[1] : 0.f);
+          return true;
         }
-      }
-      return true;
-    }
-    if (key == "s") return true;  // smoothing groups: OBJ normals already say it
-    if (key == "l" || key == "p") {
-      warn.once(display_path, line, std::string(key),
-                std::string(key == "l" ? "lines" : "points") + " have no pbrt-v3 shape; skipped");
-      return true;
-    }
-    warn.once(display_path, line, std::string(key),
-              "statement " + in_quotes(key) + " is not supported; skipped");
-    return true;
-  });
+        if (key == "vn") {
+          if (!parse_floats(t, 1, 3, 3, "normal", &nums, message)) return false;
+          if (vn.size() / 3 >= size_t(INT32_MAX)) {
+            *message = "too many normals";
+            return false;
+          }
+          vn.insert(vn.end(), nums.begin(), nums.end());
+          return true;
+        }
+        if (key == "f" || key == "fo") {
+          if (t.size() < 4) {
+            *message = "a face needs at least 3 vertices, found " + std::to_string(t.size() - 1);
+            return false;
+          }
+          face.clear();
+          for (size_t i = 1; i < t.size(); ++i) {
+            Triple tr;
+            if (!parse_face_vertex(t[i], v.size() / 3, vt.size() / 2, vn.size() / 3, &tr, message))
+              return false;
+            face.push_back(tr);
+          }
+          auto key_pair = std::make_pair(name, material);
+          auto it = build_of.find(key_pair);
+          if (it == build_of.end()) {
+            it = build_of.emplace(key_pair, builds.size()).first;
+            builds.emplace_back();
+            builds.back().shape.name = name;
+            builds.back().shape.material = material;
+          }
+          ShapeBuild& b = builds[it->second];
+          uint32_t ids[3];
+          auto vertex_of = [&](const Triple& tr, uint32_t* id) {
+            auto found = b.remap.find(tr);
+            if (found != b.remap.end()) {
+              *id = found->second;
+              return true;
+            }
+            if (b.sources.size() >= size_t(UINT32_MAX)) {
+              *message = "shape " + in_quotes(name) + " has too many vertices";
+              return false;
+            }
+            *id = static_cast<uint32_t>(b.sources.size());
+            b.remap.emplace(tr, *id);
+            b.sources.push_back(tr);
+            const float* p = &v[size_t(tr.v) * 3];
+            b.shape.mesh.positions.insert(b.shape.mesh.positions.end(), p, p + 3);
+            return true;
+          };
+          // A fan around the first vertex, as tinyobjloader triangulates for pbrt-v3's obj2pbrt.
+          if (!vertex_of(face[0], &ids[0]) || !vertex_of(face[1], &ids[2])) return false;
+          for (size_t k = 2; k < face.size(); ++k) {
+            ids[1] = ids[2];
+            if (!vertex_of(face[k], &ids[2])) return false;
+            b.shape.mesh.indices.insert(b.shape.mesh.indices.end(), ids, ids + 3);
+          }
+          return true;
+        }
+        if (key == "o" || key == "g") {
+          name = joined(t, 1);
+          return true;
+        }
+        if (key == "usemtl") {
+          std::string m = joined(t, 1);
+          auto it = material_by_name.find(m);
+          if (it == material_by_name.end()) {
+            // pbrt-v3's obj2pbrt (tinyobjloader) silently uses no material then.
+            warn.always(display_path, line,
+                        "usemtl " + in_quotes(m) +
+                            ": no such material in the mtllib files read so "
+                            "far; its faces get the including scene's material");
+            material = -1;
+          } else {
+            material = it->second;
+          }
+          return true;
+        }
+        if (key == "mtllib") {
+          if (t.size() < 2) {
+            *message = "mtllib names no file";
+            return false;
+          }
+          // Several names on one line are several libraries (the OBJ specification's reading).
+          for (size_t i = 1; i < t.size(); ++i) {
+            std::string lib(t[i]);
+            std::string path = join_path(base_dir, lib);
+            std::error_code ec;
+            if (!fs::is_regular_file(path, ec)) {
+              std::string slashed = lib;
+              std::replace(slashed.begin(), slashed.end(), '\\', '/');
+              std::string alt = join_path(base_dir, slashed);
+              if (slashed == lib || !fs::is_regular_file(alt, ec)) {
+                // pbrt-v3 warns and goes on with default materials; a scene converted without its
+                // materials is rarely what was meant, so this is an error.
+                *message = "material library " + in_quotes(lib) + " not found (looked in " +
+                           in_quotes(base_dir.empty() ? "." : base_dir) + ")";
+                return false;
+              }
+              path = alt;
+            }
+            if (!parse_mtl(path, &scene->materials, &material_by_name, &warn, &mtl_error)) {
+              *message = "in material library " + in_quotes(lib) + ": " + mtl_error;
+              return false;
+            }
+          }
+          return true;
+        }
+        if (key == "s") return true;  // smoothing groups: OBJ normals already say it
+        if (key == "l" || key == "p") {
+          warn.once(
+              display_path, line, std::string(key),
+              std::string(key == "l" ? "lines" : "points") + " have no pbrt-v3 shape; skipped");
+          return true;
+        }
+        warn.once(display_path, line, std::string(key),
+                  "statement " + in_quotes(key) + " is not supported; skipped");
+        return true;
+      });
   if (!ok) {
     *scene = ObjScene();
     return false;
@@ -686,8 +688,12 @@ void append_array(std::string* out, const char* decl, const T* data, size_t n) {
   *out += "\n    ]\n";
 }
 
-bool black(const std::array<float, 3>& c) { return c[0] == 0 && c[1] == 0 && c[2] == 0; }
-bool emissive(const ObjMaterial& m) { return m.ke[0] > 0 || m.ke[1] > 0 || m.ke[2] > 0; }
+bool black(const std::array<float, 3>& c) {
+  return c[0] == 0 && c[1] == 0 && c[2] == 0;
+}
+bool emissive(const ObjMaterial& m) {
+  return m.ke[0] > 0 || m.ke[1] > 0 || m.ke[2] > 0;
+}
 
 bool write_atomically(const std::string& path, const std::string& text, std::string* error) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
@@ -711,8 +717,7 @@ bool write_atomically(const std::string& path, const std::string& text, std::str
 }  // namespace
 
 bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
-                          const ObjPbrtOptions& options, ObjPbrtStats* stats,
-                          std::string* error) {
+                          const ObjPbrtOptions& options, ObjPbrtStats* stats, std::string* error) {
   ObjPbrtStats st;
   std::error_code ec;
   const fs::path out_dir = fs::absolute(fs::path(out_path), ec).parent_path();
@@ -810,7 +815,8 @@ bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
     if (options.style == PbrtStyle::kPlymesh) {
       const std::string ply = (out_dir / (stem + "-" + std::to_string(part) + ".ply")).string();
       std::string ply_error;
-      if (!pbrta::write_ply(ply, pbrta::arrays_of(mesh), &ply_error)) return fail(ply + ": " + ply_error);
+      if (!pbrta::write_ply(ply, pbrta::arrays_of(mesh), &ply_error))
+        return fail(ply + ": " + ply_error);
       written.push_back(ply);
       body += "  Shape \"plymesh\" \"string filename\" " + pbrt_string(name_for(ply)) + "\n";
     } else {
@@ -819,8 +825,7 @@ bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
       append_array(&body, "\"point P\"", mesh.positions.data(), mesh.positions.size());
       if (!mesh.normals.empty())
         append_array(&body, "\"normal N\"", mesh.normals.data(), mesh.normals.size());
-      if (!mesh.uvs.empty())
-        append_array(&body, "\"point2 uv\"", mesh.uvs.data(), mesh.uvs.size());
+      if (!mesh.uvs.empty()) append_array(&body, "\"point2 uv\"", mesh.uvs.data(), mesh.uvs.size());
     }
     body += "AttributeEnd\n\n";
     ++part;
@@ -862,8 +867,10 @@ bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
                   c[0] + dir[0] / len * dist, c[1] + dir[1] / len * dist,
                   c[2] + dir[2] / len * dist, c[0], c[1], c[2], fov);
     out += buf;
-    out += "Film \"image\" \"integer xresolution\" [ 640 ] \"integer yresolution\" [ 480 ]\n"
-           "    \"string filename\" " + pbrt_string(stem + ".exr") + "\n";
+    out +=
+        "Film \"image\" \"integer xresolution\" [ 640 ] \"integer yresolution\" [ 480 ]\n"
+        "    \"string filename\" " +
+        pbrt_string(stem + ".exr") + "\n";
     out += "Sampler \"halton\" \"integer pixelsamples\" [ 16 ]\n";
     out += "Integrator \"path\"\n\nWorldBegin\n\n";
     out += "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n\n";

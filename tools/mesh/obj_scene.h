@@ -58,9 +58,9 @@ bool parse_obj_scene(const std::string& display_path, const std::string& text,
 
 struct ObjPbrtOptions {
   PbrtStyle style = PbrtStyle::kInline;  // kPlymesh: one "<out stem>-<n>.ply" beside the output
-  bool complete_scene = false;   // wrap in Camera, Film, WorldBegin, a light and WorldEnd
-  bool absolute_paths = false;   // texture and PLY file names absolute, not output-relative
-  std::string source_name;       // named in the header comment
+  bool complete_scene = false;           // wrap in Camera, Film, WorldBegin, a light and WorldEnd
+  bool absolute_paths = false;           // texture and PLY file names absolute, not output-relative
+  std::string source_name;               // named in the header comment
 };
 
 struct ObjPbrtStats {

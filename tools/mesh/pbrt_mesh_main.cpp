@@ -6,8 +6,8 @@
 //   pbrt-mesh simplify IN OUT     quadric decimation, reporting the error it introduced
 #include <CLI/CLI.hpp>
 
-#include "tools/mesh/commands.h"
 #include "format/huge_page_heap.h"
+#include "tools/mesh/commands.h"
 
 int main(int argc, char** argv) {
   pbrta::use_huge_page_heap(argv);

@@ -57,10 +57,11 @@ int run_simplify(const SimplifyArgs& args) {
               report.vertices_before, report.vertices_after);
   const double diag = report.bbox_diagonal;
   const auto& h = report.hausdorff;
-  std::printf("  Hausdorff distance (measured, %zu samples): max %.6g (%.4f%% of bbox diagonal "
-              "%.6g), rms %.6g (%.4f%%)\n",
-              h.samples, h.max, diag > 0 ? 100.0 * h.max / diag : 0.0, diag, h.rms,
-              diag > 0 ? 100.0 * h.rms / diag : 0.0);
+  std::printf(
+      "  Hausdorff distance (measured, %zu samples): max %.6g (%.4f%% of bbox diagonal "
+      "%.6g), rms %.6g (%.4f%%)\n",
+      h.samples, h.max, diag > 0 ? 100.0 * h.max / diag : 0.0, diag, h.rms,
+      diag > 0 ? 100.0 * h.rms / diag : 0.0);
   if (report.degenerate_faces_dropped) {
     std::printf("  %zu faces with a repeated vertex dropped\n", report.degenerate_faces_dropped);
   }

@@ -25,12 +25,12 @@
 #include <string>
 
 #include "compiler/archive_dump.h"
+#include "format/huge_page_heap.h"
 #include "runtime/render/render_job.h"
 #include "tools/pbrt/cache.h"
 #include "tools/pbrt/cached_compile.h"
 #include "tools/pbrt/options.h"
 #include "tools/pbrt/scene_compile.h"
-#include "format/huge_page_heap.h"
 
 namespace {
 

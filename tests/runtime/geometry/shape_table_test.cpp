@@ -23,7 +23,8 @@ AttributeEnd
 Shape "trianglemesh" "integer indices" [0 1 2] "point P" [0 0 0 1 0 0 0 1 0]
   "float alpha" 0.5
 WorldEnd
-)", &a));
+)",
+                                            &a));
   ShapeTable t;
   std::string error;
   ASSERT_TRUE(t.build(a, &error)) << error;
