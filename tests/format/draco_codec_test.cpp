@@ -429,16 +429,25 @@ TEST(DracoSection, ReaderDecodesToTheWritersLayout) {
   for (int k = 0; k < 16; ++k) EXPECT_EQ(r.section_data(0)[raw.size() + k], 0);
 }
 
+// An archive whose section 0 is this Draco stream, laid out as the reader will decode it (its
+// raw bytes in *raw when asked).
+std::string archive_of_stream(const std::vector<uint8_t>& stream, const std::string& name,
+                              std::vector<uint8_t>* raw = nullptr) {
+  DecodedMesh d;
+  std::string error;
+  EXPECT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
+  MeshRecord rec;
+  std::vector<uint8_t> bytes;
+  draco_geometry_section(d, &rec, &bytes);
+  if (raw != nullptr) *raw = bytes;
+  return archive_with(bytes, stream, name);
+}
+
 TEST(DracoSection, ReaderRejectsWithMessages) {
   const TestMesh m = torus(20, 12);
   const std::vector<uint8_t> stream = encode(m.view(), 11, true);
-  DecodedMesh d;
-  std::string error;
-  ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
-  MeshRecord rec;
   std::vector<uint8_t> raw;
-  draco_geometry_section(d, &rec, &raw);
-  const std::string good = archive_with(raw, stream, "DracoSectionRejects");
+  const std::string good = archive_of_stream(stream, "DracoSectionRejects", &raw);
   EXPECT_EQ(load_error(good), "");
 
   std::string b = good;
@@ -515,14 +524,8 @@ std::vector<uint8_t> forged_orientation_count(std::vector<uint8_t>* forged) {
 // fails within it, with a message, and this process never runs the loop.
 TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
   std::vector<uint8_t> forged;
-  const std::vector<uint8_t> stream = forged_orientation_count(&forged);
-  DecodedMesh d;
-  std::string error;
-  ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
-  MeshRecord rec;
-  std::vector<uint8_t> raw;
-  draco_geometry_section(d, &rec, &raw);
-  const std::string good = archive_with(raw, stream, "DracoSectionForged");
+  const std::string good =
+      archive_of_stream(forged_orientation_count(&forged), "DracoSectionForged");
   EXPECT_EQ(load_error(good), "");
   std::string b = good;
   SectionEntry e = entry_of(b, 0);
