@@ -4,13 +4,17 @@
 // directory: the default archive name, --verify and --info exit codes and messages, a damaged
 // or truncated archive named with its section and refused by both programs without a crash or
 // an output file, a failed compile that leaves the previous archive in place, --dump that
-// compiles back, and the usage errors (exit 2).
+// compiles back, a forged Draco stream refused within the reader's budget, and the usage errors
+// (exit 2).
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "command_runner.h"
+#include "format/archive_bytes.h"
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
 #include "test_support.h"
@@ -131,6 +135,70 @@ TEST(PbrtcCommand, ATruncatedArchiveIsRefused) {
     EXPECT_NE(r.err.find("cut.pbrta"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir + "/out.exr"));
   }
+}
+
+// A grid of n x n quads with uv: 64+ triangles, so --draco-bits compresses it through Draco.
+std::string uv_grid_scene(int n) {
+  std::string p, uv, idx;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) {
+      p += " " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string((x * y) % 3);
+      uv += " " + std::to_string(double(x) / n) + " " + std::to_string(double(y) / n);
+    }
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const int a = y * (n + 1) + x, b = a + 1, c = a + n + 2, d = a + n + 1;
+      idx += " " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + " " +
+             std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d);
+    }
+  std::string scene = kScene;
+  scene.insert(scene.find("WorldEnd"), "Shape \"trianglemesh\" \"point P\" [" + p +
+                                           "] \"point2 uv\" [" + uv + "] \"integer indices\" [" +
+                                           idx + "]\n");
+  return scene;
+}
+
+// A forged Draco stream with a valid checksum, of the kind that kept Draco busy for seconds (the
+// uv predictor's orientation count, one per vertex but the first two, made 2^31 - 16): both
+// programs refuse it within the reader's budget (format/isolated_jobs.h), with the section and
+// the reason, and pbrtrun writes no image.
+TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
+  const std::string dir = scratch_dir("pbrtc_forged_draco");
+  write_file(dir + "/grid.pbrt", uv_grid_scene(8));
+  Outcome c = run_in(dir, pbrtc() + " -q --draco-bits 14 grid.pbrt -o good.pbrta", "compile");
+  ASSERT_EQ(c.status, 0) << c.err;
+  std::string bytes = read_file(dir + "/good.pbrta");
+  pbrta::ArchiveReader r;
+  std::string error;
+  ASSERT_TRUE(r.open(dir + "/good.pbrta", &error)) << error;
+  uint32_t draco = 0;
+  while (draco < r.section_count() && r.entry(draco).codec != uint32_t(pbrta::Codec::kDraco))
+    ++draco;
+  ASSERT_LT(draco, r.section_count()) << "no Draco section";
+  const pbrta::SectionEntry e = r.entry(draco);
+  const int32_t count = 81 - 2;
+  std::vector<uint64_t> at;
+  for (uint64_t k = e.stored_size - 64; k + 4 <= e.stored_size; ++k) {
+    int32_t v;
+    std::memcpy(&v, &bytes[e.offset + k], 4);
+    if (v == count) at.push_back(e.offset + k);
+  }
+  ASSERT_EQ(at.size(), 1u) << "the orientation count is not where this Draco version writes it";
+  const int32_t forged = 0x7ffffff0;
+  std::memcpy(&bytes[at[0]], &forged, 4);
+  pbrta::test_bytes::reseal(&bytes, draco, e.stored_size);
+  write_file(dir + "/bad.pbrta", bytes);
+  const std::string reason = "bad.pbrta: section 'geometry' (#" + std::to_string(draco) +
+                             "): draco: decoding ran past its budget of 1 s of CPU time";
+
+  Outcome v = run_in(dir, pbrtc() + " --verify good.pbrta bad.pbrta", "verify");
+  EXPECT_EQ(v.status, 1);
+  EXPECT_NE(v.out.find("good.pbrta: ok"), std::string::npos) << v.out;
+  EXPECT_NE(v.err.find(reason), std::string::npos) << v.err;
+  Outcome render = run_in(dir, kBin + "/pbrtrun -q bad.pbrta -o out.exr", "render");
+  EXPECT_EQ(render.status, 1);
+  EXPECT_NE(render.err.find(reason), std::string::npos) << render.err;
+  EXPECT_FALSE(fs::exists(dir + "/out.exr"));
 }
 
 TEST(PbrtcCommand, AFailedCompileLeavesTheOldArchive) {
