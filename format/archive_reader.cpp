@@ -1053,35 +1053,43 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   if (!failed && draco_from < schedule.size()) {
     if (isolation_enabled()) {
       // In child processes with a budget (format/isolated_jobs.h), each decoding into shared
-      // memory that is then copied into place: Draco never runs in this process.
+      // memory that is then copied into place: Draco never runs in this process. Jobs go in
+      // section order, so the section that stops a child is reported before those it left.
+      std::vector<uint32_t> job_task(schedule.begin() + std::ptrdiff_t(draco_from), schedule.end());
+      std::sort(job_task.begin(), job_task.end(),
+                [&](uint32_t a, uint32_t b) { return tasks[a].section < tasks[b].section; });
       std::vector<IsolatedJob> jobs;
       std::vector<uint8_t*> dst;
-      std::vector<uint32_t> job_task;
-      for (size_t k = draco_from; k < schedule.size(); ++k) {
-        const uint32_t i = tasks[schedule[k]].section;
+      for (uint32_t k : job_task) {
+        const uint32_t i = tasks[k].section;
         jobs.push_back(
             IsolatedJob{entries_[i].raw_size + kSectionPadding, entries_[i].stored_size});
         dst.push_back(decoded + slot[i]);
-        job_task.push_back(schedule[k]);
       }
       std::vector<std::string> job_errors;
+      std::vector<char> by_job;
       const int processes = threads > 0 ? threads : int(std::thread::hardware_concurrency());
       run_isolated(
           jobs, dst, processes, IsolationBudget{},
           [&](size_t j, uint8_t* out, std::string* why) {
-            return load_one(tasks[job_task[j]].section, out, &thread_decoder(), why);
+            const uint32_t i = tasks[job_task[j]].section;
+            if (load_one(i, out, &thread_decoder(), why)) return true;
+            // Only the reason crosses back: this process names the section.
+            const std::string named = section_error(i, "");
+            if (why->rfind(named, 0) == 0) why->erase(0, named.size());
+            return false;
           },
-          &job_errors);
+          &job_errors, &by_job);
       for (size_t j = 0; j < jobs.size(); ++j) {
         const uint32_t i = tasks[job_task[j]].section;
         if (!job_errors[j].empty()) {
-          // load_one's own messages name the section already; the budget's do not.
-          const std::string named = section_error(i, "");
-          task_errors[job_task[j]] = job_errors[j].rfind(named, 0) == 0
-                                         ? job_errors[j]
-                                         : section_error(i, "draco: " + job_errors[j]);
+          task_errors[job_task[j]] =
+              section_error(i, by_job[j] ? job_errors[j] : "draco: " + job_errors[j]);
           continue;
         }
+        // The child may have been subverted by its stream: the padding is this process's to set,
+        // and what validate() checks is checked here as for any section.
+        std::memset(decoded + slot[i] + entries_[i].raw_size, 0, kSectionPadding);
         sections_[i].data = decoded + slot[i];
         sections_[i].in_place = false;
         for (uint32_t b : bounds_of[i]) scan(b, sections_[i].data, bounds[b].begin, bounds[b].end);

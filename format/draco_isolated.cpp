@@ -49,7 +49,7 @@ bool all_finite(const std::vector<float>& v) {
 }
 
 // What draco_decode guarantees of its result, checked again on bytes from the child.
-bool from_bytes(const std::vector<uint8_t>& b, DecodedMesh* m) {
+bool from_bytes(const std::vector<uint8_t>& b, const DracoLimits& limits, DecodedMesh* m) {
   uint64_t c[kCounts];
   if (b.size() < sizeof c) return false;
   std::memcpy(c, b.data(), sizeof c);
@@ -61,7 +61,8 @@ bool from_bytes(const std::vector<uint8_t>& b, DecodedMesh* m) {
   if (sizeof c + 4 * words != b.size()) return false;
   const uint64_t nv = c[0] / 3, nt = c[3] / 3;
   if (c[0] % 3 != 0 || nv == 0 || (c[1] != 0 && c[1] != c[0]) || (c[2] != 0 && c[2] != 2 * nv) ||
-      c[3] % 3 != 0 || nt == 0 || (c[4] != 0 && c[4] != nt))
+      c[3] % 3 != 0 || nt == 0 || (c[4] != 0 && c[4] != nt) || nv > limits.max_vertices ||
+      nt > limits.max_triangles)
     return false;
   const uint8_t* at = b.data() + sizeof c;
   take(&at, c[0], &m->positions);
@@ -94,7 +95,7 @@ bool draco_decode_isolated(const uint8_t* data, size_t size, DecodedMesh* out, s
     *error = errors[0].rfind("draco: ", 0) == 0 ? errors[0] : "draco: " + errors[0];
     return false;
   }
-  if (!from_bytes(outputs[0], out)) {
+  if (!from_bytes(outputs[0], draco_limits_for(size), out)) {
     *out = DecodedMesh{};
     *error = "draco: the decoder passed back a malformed mesh";
     return false;

@@ -35,8 +35,9 @@ std::atomic<bool> g_enabled{true};
 
 // What a child reports of each job, in the shared mapping. A message longer than the slot is cut.
 enum : int32_t { kPending = 0, kRunning = 1, kDone = 2, kFailed = 3 };
+// Plain fields: the parent reads a slot only after waitpid, which orders the child's writes.
 struct JobSlot {
-  std::atomic<int32_t> state;
+  int32_t state;
   uint32_t unused;
   uint64_t blob_offset, blob_size;  // run_isolated_blobs: where the output is in the group's file
   char message[1000];
@@ -86,8 +87,9 @@ uint64_t mapped_bytes() {
 }
 #endif
 
-// In a new child: the budget's signals kill, its timers run, its memory is capped.
-void enter_budget(double cpu_seconds, uint64_t memory) {
+// In a new child: the budget's signals kill, its timers run, its memory is capped (mapped: the
+// address space the parent had, measured before the fork so the child calls no stdio).
+void enter_budget(double cpu_seconds, uint64_t memory, uint64_t mapped) {
   // The parent's handlers and mask are inherited.
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;
@@ -101,11 +103,12 @@ void enter_budget(double cpu_seconds, uint64_t memory) {
   pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
   const rlimit no_core{0, 0};
   setrlimit(RLIMIT_CORE, &no_core);
+  (void)mapped;  // unused under AddressSanitizer
 #if !defined(PBRTA_ASAN)
-  if (const uint64_t now = mapped_bytes(); now > 0) {
+  if (mapped > 0) {
     rlimit as{};
     if (getrlimit(RLIMIT_AS, &as) == 0) {
-      const uint64_t want = now + memory;
+      const uint64_t want = mapped + memory;
       if (as.rlim_cur == RLIM_INFINITY || as.rlim_cur > want) {
         as.rlim_cur = want;
         setrlimit(RLIMIT_AS, &as);
@@ -113,8 +116,8 @@ void enter_budget(double cpu_seconds, uint64_t memory) {
     }
   }
 #endif
-  // Outputs passed back through a file are bounded the same way.
-  // (ignoring SIGXFSZ makes a write past it fail with a message instead).
+  // Outputs passed back through a file are bounded the same way; with SIGXFSZ ignored, a write
+  // past the bound fails with a message instead of killing the child.
   const rlimit fsize{memory, memory};
   setrlimit(RLIMIT_FSIZE, &fsize);
   signal(SIGXFSZ, SIG_IGN);
@@ -134,8 +137,9 @@ std::string seconds_text(double s) {
   return buf;
 }
 
-// What stopped a child whose job did not report.
-std::string stop_reason(int status, double cpu_seconds) {
+// What stopped a child whose job did not report (waited: whether status is known).
+std::string stop_reason(bool waited, int status, double cpu_seconds) {
+  if (!waited) return "the decoder's process could not be waited for";
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
     if (sig == SIGPROF)
@@ -157,8 +161,12 @@ struct Groups {
   std::vector<uint64_t> load;  // input bytes
 };
 
+// At most 8 children, whatever the thread count: each may use its memory budget.
+constexpr int kMaxProcesses = 8;
+
 Groups make_groups(const std::vector<uint64_t>& input_bytes, int processes) {
-  const size_t count = std::min<size_t>(input_bytes.size(), size_t(std::max(processes, 1)));
+  const size_t count =
+      std::min<size_t>(input_bytes.size(), size_t(std::clamp(processes, 1, kMaxProcesses)));
   std::vector<size_t> by_size(input_bytes.size());
   for (size_t k = 0; k < by_size.size(); ++k) by_size[k] = k;
   std::stable_sort(by_size.begin(), by_size.end(),
@@ -176,14 +184,16 @@ Groups make_groups(const std::vector<uint64_t>& input_bytes, int processes) {
 }
 
 // Runs the jobs of each group in a child of its own: in_child(k, slot, &why) there, then, here,
-// collect(k, slot, why) for each job (why empty: it succeeded). here(k, &why) runs a job in this
-// process instead, when isolation is off or no child can be had.
+// collect(k, slot, why) for each job that succeeded; a job that failed gets its message in
+// (*errors)[k], marked in (*by_job)[k] when the job gave it rather than what stopped its child.
+// here(k, &why) runs a job in this process instead, when isolation is off or no child can be had.
+// Several threads may call this at once: each call forks and waits for its own children.
 void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& budget,
                 const std::function<bool(size_t, JobSlot&, std::string*)>& in_child,
-                const std::function<void(size_t, const JobSlot&, const std::string&)>& collect,
-                const Job& here, std::vector<std::string>* errors) {
+                const std::function<bool(size_t, const JobSlot&, std::string*)>& collect,
+                const Job& here, std::vector<std::string>* errors, std::vector<char>* by_job) {
   auto run_here = [&](const std::vector<size_t>& list) {
-    for (size_t k : list) run_one(here, k, &(*errors)[k]);
+    for (size_t k : list) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
   };
   const uint64_t mapped = round_up(num_jobs * sizeof(JobSlot));
   void* shared = isolation_enabled() ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE,
@@ -195,16 +205,22 @@ void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& bu
   }
   auto* slots = static_cast<JobSlot*>(shared);  // zero-filled: every state kPending
   const size_t count = groups.jobs.size();
+#if !defined(PBRTA_ASAN)
+  const uint64_t mapped_now = mapped_bytes();
+#else
+  const uint64_t mapped_now = 0;
+#endif
   std::vector<pid_t> pids(count, -1);
   std::vector<double> seconds(count);
   for (size_t g = 0; g < count; ++g) {
     seconds[g] = budget.base_seconds + budget.seconds_per_byte * double(groups.load[g]);
     const pid_t pid = fork();
     if (pid == 0) {
-      enter_budget(seconds[g], budget.base_memory + budget.memory_per_byte * groups.load[g]);
+      enter_budget(seconds[g], budget.base_memory + budget.memory_per_byte * groups.load[g],
+                   mapped_now);
       for (size_t k : groups.jobs[g]) {
         JobSlot& slot = slots[k];
-        slot.state.store(kRunning);
+        slot.state = kRunning;
         std::string why;
         const bool ok =
             run_one([&](size_t j, std::string* e) { return in_child(j, slot, e); }, k, &why);
@@ -213,7 +229,7 @@ void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& bu
           std::memcpy(slot.message, why.data(), n);
           slot.message[n] = '\0';
         }
-        slot.state.store(ok ? kDone : kFailed);
+        slot.state = ok ? kDone : kFailed;
       }
       _exit(0);  // no atexit handlers, no flushing of the parent's stdio buffers
     }
@@ -225,21 +241,31 @@ void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& bu
       continue;
     }
     int status = 0;
-    while (waitpid(pids[g], &status, 0) < 0 && errno == EINTR) {
+    pid_t got;
+    while ((got = waitpid(pids[g], &status, 0)) < 0 && errno == EINTR) {
     }
     bool stopped = false;  // a job of this group did not finish: the later ones never started
     for (size_t k : groups.jobs[g]) {
-      const JobSlot& slot = slots[k];
-      const int32_t state = slot.state.load();
+      // The child may have been subverted by what it decoded: its slot is read once, and its
+      // message only up to the slot's end.
+      const JobSlot slot = slots[k];
+      std::string& why = (*errors)[k];
+      const int32_t state = slot.state;
       if (state == kDone) {
-        collect(k, slot, std::string());
+        try {
+          if (!collect(k, slot, &why) && why.empty()) why = "failed";
+        } catch (const std::bad_alloc&) {
+          why = "out of memory";
+        }
       } else if (state == kFailed) {
-        collect(k, slot, slot.message[0] != '\0' ? slot.message : "failed");
+        why.assign(slot.message, strnlen(slot.message, sizeof slot.message));
+        if (why.empty()) why = "failed";
+        (*by_job)[k] = 1;
       } else if (!stopped) {
-        collect(k, slot, stop_reason(status, seconds[g]));
+        why = stop_reason(got == pids[g], status, seconds[g]);
         stopped = true;
       } else {
-        collect(k, slot, "not decoded: an earlier stream in the same process failed to finish");
+        why = "not decoded: an earlier stream in the same process failed to finish";
       }
     }
   }
@@ -257,8 +283,11 @@ bool isolation_enabled() {
 
 void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_t*>& dst,
                   int processes, const IsolationBudget& budget, const IsolatedWork& work,
-                  std::vector<std::string>* errors) {
+                  std::vector<std::string>* errors, std::vector<char>* by_job) {
   errors->assign(jobs.size(), std::string());
+  std::vector<char> own;
+  if (by_job == nullptr) by_job = &own;
+  by_job->assign(jobs.size(), 0);
   if (jobs.empty()) return;
   std::vector<uint64_t> input(jobs.size());
   for (size_t k = 0; k < jobs.size(); ++k) input[k] = jobs[k].input_bytes;
@@ -271,27 +300,42 @@ void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_
     offset[k] = total;
     total += round_up(jobs[k].out_size);  // the caller bounded the sizes
   }
-  void* shared = isolation_enabled()
-                     ? mmap(nullptr, std::max<uint64_t>(total, 1), PROT_READ | PROT_WRITE,
-                            MAP_SHARED | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0)
-                     : MAP_FAILED;
+  const uint64_t mapped = std::max<uint64_t>(total, 1);
+  void* shared = isolation_enabled() ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE,
+                                            MAP_SHARED | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0)
+                                     : MAP_FAILED;
   if (shared == MAP_FAILED) {
-    for (size_t k = 0; k < jobs.size(); ++k) run_one(here, k, &(*errors)[k]);
+    for (size_t k = 0; k < jobs.size(); ++k) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
     return;
   }
   uint8_t* outputs = static_cast<uint8_t*>(shared);
   run_groups(
       jobs.size(), groups, budget,
       [&](size_t k, JobSlot&, std::string* why) { return work(k, outputs + offset[k], why); },
-      [&](size_t k, const JobSlot&, const std::string& why) {
-        if (why.empty())
-          std::memcpy(dst[k], outputs + offset[k], jobs[k].out_size);
-        else
-          (*errors)[k] = why;
+      [&](size_t k, const JobSlot&, std::string*) {
+        std::memcpy(dst[k], outputs + offset[k], jobs[k].out_size);
+        return true;
       },
-      here, errors);
-  munmap(shared, std::max<uint64_t>(total, 1));
+      here, errors, by_job);
+  munmap(shared, mapped);
 }
+
+namespace {
+
+// All of n bytes, retrying short and interrupted transfers; false on an error or end of file.
+template <typename Transfer>
+bool transfer_all(Transfer io, size_t n) {
+  size_t done = 0;
+  while (done < n) {
+    const ssize_t got = io(done);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return false;
+    done += size_t(got);
+  }
+  return true;
+}
+
+}  // namespace
 
 void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
                         const IsolationBudget& budget, const IsolatedBlobWork& work,
@@ -300,79 +344,81 @@ void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
   const size_t n = input_bytes.size();
   errors->assign(n, std::string());
   outputs->assign(n, std::vector<uint8_t>());
+  std::vector<char> by_job(n, 0);
   if (n == 0) return;
   const Groups groups = make_groups(input_bytes, processes);
   const Job here = [&](size_t k, std::string* why) { return work(k, &(*outputs)[k], why); };
-  // Each group's outputs go into a memory file of its own, appended in job order: their sizes
-  // are known only once they are made.
-  std::vector<int> files(n, -1);
+  // Each group's outputs go into a memory file of its own, back to back in job order: their
+  // sizes are known only once they are made.
+  std::vector<int> file_of_group(groups.jobs.size(), -1);
+  std::vector<size_t> group_of(n, 0);
   bool have_files = isolation_enabled();
-  for (size_t g = 0; g < groups.jobs.size() && have_files; ++g) {
-    const int fd = memfd_create("pbrta-isolated", MFD_CLOEXEC);
-    if (fd < 0) have_files = false;
-    for (size_t k : groups.jobs[g]) files[k] = fd;
+  for (size_t g = 0; g < groups.jobs.size(); ++g) {
+    if (have_files) file_of_group[g] = memfd_create("pbrta-isolated", MFD_CLOEXEC);
+    have_files = have_files && file_of_group[g] >= 0;
+    for (size_t k : groups.jobs[g]) group_of[k] = g;
   }
   auto close_files = [&] {
-    std::vector<int> closed;
-    for (int fd : files)
-      if (fd >= 0 && std::find(closed.begin(), closed.end(), fd) == closed.end()) {
-        close(fd);
-        closed.push_back(fd);
-      }
+    for (int fd : file_of_group)
+      if (fd >= 0) close(fd);
   };
   if (!have_files) {
     close_files();
     for (size_t k = 0; k < n; ++k) run_one(here, k, &(*errors)[k]);
     return;
   }
+  // Where the next output of each group must start, as the parent reads them in job order.
+  std::vector<uint64_t> next(groups.jobs.size(), 0);
   run_groups(
       n, groups, budget,
       [&](size_t k, JobSlot& slot, std::string* why) {
         std::vector<uint8_t> blob;
         if (!work(k, &blob, why)) return false;
-        const off_t at = lseek(files[k], 0, SEEK_END);
-        size_t done = 0;
-        while (at >= 0 && done < blob.size()) {
-          const ssize_t w =
-              pwrite(files[k], blob.data() + done, blob.size() - done, at + off_t(done));
-          if (w <= 0) break;
-          done += size_t(w);
-        }
-        if (at < 0 || done != blob.size()) {
-          *why = "cannot pass the output back: " + std::string(std::strerror(errno));
+        const int fd = file_of_group[group_of[k]];
+        const off_t at = lseek(fd, 0, SEEK_END);
+        errno = 0;
+        if (at < 0 || !transfer_all(
+                          [&](size_t done) {
+                            return pwrite(fd, blob.data() + done, blob.size() - done,
+                                          at + off_t(done));
+                          },
+                          blob.size())) {
+          *why = "cannot pass the output back: " +
+                 std::string(errno != 0 ? std::strerror(errno) : "short write");
+          if (at >= 0 && ftruncate(fd, at) != 0) _exit(1);  // the next outputs would be misplaced
           return false;
         }
         slot.blob_offset = uint64_t(at);
         slot.blob_size = blob.size();
         return true;
       },
-      [&](size_t k, const JobSlot& slot, const std::string& why) {
-        if (!why.empty()) {
-          (*errors)[k] = why;
-          return;
-        }
-        // The child wrote it; the sizes are checked against the file all the same.
+      [&](size_t k, const JobSlot& slot, std::string* why) {
+        // Outputs lie back to back from the file's start, each within the memory budget.
+        const size_t g = group_of[k];
+        const int fd = file_of_group[g];
+        const uint64_t cap = budget.base_memory + budget.memory_per_byte * groups.load[g];
         struct stat st {};
+        if (fstat(fd, &st) != 0 || slot.blob_offset != next[g] || slot.blob_size > cap ||
+            slot.blob_size > uint64_t(st.st_size) - std::min(uint64_t(st.st_size), next[g])) {
+          *why = "the decoder's output is not where it said";
+          return false;
+        }
         std::vector<uint8_t>& out = (*outputs)[k];
-        if (fstat(files[k], &st) != 0 || slot.blob_offset > uint64_t(st.st_size) ||
-            slot.blob_size > uint64_t(st.st_size) - slot.blob_offset) {
-          (*errors)[k] = "the decoder's output is not where it said";
-          return;
-        }
         out.resize(slot.blob_size);
-        size_t done = 0;
-        while (done < out.size()) {
-          const ssize_t r =
-              pread(files[k], out.data() + done, out.size() - done, off_t(slot.blob_offset + done));
-          if (r <= 0) break;
-          done += size_t(r);
-        }
-        if (done != out.size()) {
+        if (!transfer_all(
+                [&](size_t done) {
+                  return pread(fd, out.data() + done, out.size() - done,
+                               off_t(slot.blob_offset + done));
+                },
+                out.size())) {
           out.clear();
-          (*errors)[k] = "cannot read the decoder's output back";
+          *why = "cannot read the decoder's output back";
+          return false;
         }
+        next[g] += slot.blob_size;
+        return true;
       },
-      here, errors);
+      here, errors, &by_job);
   close_files();
 }
 

@@ -16,16 +16,20 @@
 // A budget that grows with the input makes the cost of a hostile file proportional to its size,
 // like any decoder's, however many streams it holds: the jobs of one child share one budget.
 //
-// Cost: one fork per child. Jobs are spread over at most `processes` children by input bytes
-// (largest first, each to the least loaded child), and run in ascending order within a child.
+// Cost: one fork per child. Jobs are spread over at most `processes` children (and never more
+// than 8) by input bytes (largest first, each to the least loaded child), and run in ascending
+// order within a child: a caller that numbers its jobs in the order it reports failures sees the
+// job that stopped a child before the ones that child never started.
 //
 // set_isolation_enabled(false) makes run_isolated call the jobs on this thread instead, with no
 // budget: for fuzzers, whose coverage counters and crash reports must stay in their own process.
 // fork failing (EAGAIN, ENOMEM) falls back to the same.
 //
-// Thread safety: run_isolated may be called from any one thread at a time; the child runs only
-// the calling thread, so a job must not use locks or threads another thread may hold (the glibc
-// allocator is safe: fork resets it in the child).
+// Thread safety: any number of threads may call these at once (pbrtc decodes .drc files on every
+// thread); each call forks and waits for its own children. A child runs only the thread that
+// forked it, so a job must not need a lock another thread may hold at the fork: glibc's allocator
+// is safe (fork takes its locks), as is C++ exception unwinding with GCC 12 and glibc 2.35 on
+// (lock-free _dl_find_object). Were a job to block on such a lock, the wall-clock limit ends it.
 #pragma once
 
 #include <cstddef>
@@ -54,10 +58,11 @@ using IsolatedWork = std::function<bool(size_t k, uint8_t* out, std::string* err
 // Runs every job and copies each successful job's output to dst[k]. (*errors)[k] is left empty
 // for a job that succeeded; otherwise it holds the job's own message, or what stopped its child:
 // "decoding ran past its budget of 1.2 s of CPU time", "the decoder crashed (signal 11)",
-// "not decoded: an earlier stream in the same process failed to finish".
+// "not decoded: an earlier stream in the same process failed to finish". (*by_job)[k], when
+// asked for, says the message is the job's own. A job's message is cut at 999 bytes.
 void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_t*>& dst,
                   int processes, const IsolationBudget& budget, const IsolatedWork& work,
-                  std::vector<std::string>* errors);
+                  std::vector<std::string>* errors, std::vector<char>* by_job = nullptr);
 
 // Job k: fills *out with its output, of a size only it knows; false with one message in *error.
 using IsolatedBlobWork =

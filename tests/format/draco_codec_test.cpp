@@ -537,6 +537,38 @@ TEST(DracoSection, AForgedStreamIsStoppedByItsBudget) {
             "of 1 s of CPU time (a forged or damaged stream)");
 }
 
+// The section that stops a child is the one reported, though the child would have decoded a
+// larger section first were the jobs in schedule order (largest first): there the small sound
+// section 0 would be left "not decoded" and reported as the lowest-numbered failure.
+TEST(DracoSection, TheSectionThatStopsTheDecoderIsTheOneReported) {
+  std::vector<uint8_t> forged;
+  const std::vector<uint8_t> stream = forged_orientation_count(&forged);
+  const TestMesh small = torus(4, 4);
+  const std::vector<uint8_t> sound = encode(small.view(false, false, false), 11, false);
+  ASSERT_LT(sound.size(), forged.size());
+  ArchiveWriter w;
+  for (const std::vector<uint8_t>* s : {&sound, &stream}) {
+    DecodedMesh d;
+    std::string error;
+    ASSERT_TRUE(draco_decode(s->data(), s->size(), &d, &error)) << error;
+    MeshRecord rec;
+    std::vector<uint8_t> raw;
+    draco_geometry_section(d, &rec, &raw);
+    w.add_encoded_section(SectionKind::kGeometry, raw, s == &stream ? forged : *s, 1,
+                          Codec::kDraco);
+  }
+  w.add_section(SectionKind::kStrings, std::vector<uint8_t>(100, 'x'), 1, Codec::kZstd);
+  const std::string path = testing_support::scratch_dir("DracoSectionOrder") + "/a.pbrta";
+  std::string error;
+  ASSERT_TRUE(w.write(path, 0, 3, 1, &error)) << error;
+  ArchiveReader r;
+  ASSERT_TRUE(r.open(path, &error)) << error;
+  EXPECT_FALSE(r.load_sections(1, &error));  // one thread: one child decodes both
+  EXPECT_EQ(error, path +
+                       ": section 'geometry' (#1): draco: decoding ran past its budget of 1 s "
+                       "of CPU time (a forged or damaged stream)");
+}
+
 // A .drc file a user names goes through the same budget (plymesh, pbrt-mesh): the isolated
 // decode gives what draco_decode gives, its messages, and stops the forged stream.
 TEST(DracoCodec, IsolatedDecodeMatchesAndIsBounded) {
