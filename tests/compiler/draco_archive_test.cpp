@@ -18,6 +18,7 @@
 #include "format/archive_bytes.h"
 #include "format/archive_names.h"
 #include "format/draco_codec.h"
+#include "format/draco_forgery.h"
 #include "format/ply_reader.h"
 #include "format/scene_archive.h"
 #include "test_support.h"
@@ -304,6 +305,39 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
   EXPECT_EQ(b.errors[0], "cannot read Draco file \"" + dir +
                              "/junk.drc\": draco: bitstream "
                              "version 32.98; this reader takes 2.2");
+
+  // A forged file (format/draco_forgery.h) costs the compile the budget Draco runs under, not the
+  // seconds Draco would spend on it, and is an error like any unreadable file.
+  std::vector<float> P, uv;
+  std::vector<uint32_t> idx;
+  for (int y = 0; y <= 8; ++y)
+    for (int x = 0; x <= 8; ++x) {
+      P.insert(P.end(), {float(x), float(y), float((x * y) % 3)});
+      uv.insert(uv.end(), {x / 8.f, y / 8.f});
+    }
+  for (uint32_t y = 0; y < 8; ++y)
+    for (uint32_t x = 0; x < 8; ++x) {
+      const uint32_t a = y * 9 + x;
+      idx.insert(idx.end(), {a, a + 1, a + 10, a, a + 10, a + 9});
+    }
+  pbrta::MeshArrays g;
+  g.positions = P.data();
+  g.uv = uv.data();
+  g.indices = idx.data();
+  g.num_vertices = 81;
+  g.num_triangles = 128;
+  ASSERT_TRUE(pbrta::draco_encode(g, pbrta::DracoOptions{}, &stream, &error)) << error;
+  ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(stream.data(), stream.size(), 81));
+  testing_support::write_file(dir + "/forged.drc", std::string(stream.begin(), stream.end()));
+  const std::string forged = testing_support::write_file(
+      dir + "/forged.pbrt", scene_text("Shape \"plymesh\" \"string filename\" \"forged.drc\"\n"));
+  CompiledScene f;
+  compile_scene(forged, &f);
+  EXPECT_FALSE(f.ok);
+  ASSERT_FALSE(f.errors.empty());
+  EXPECT_EQ(f.errors[0], "cannot read Draco file \"" + dir +
+                             "/forged.drc\": draco: decoding ran past its budget of 1 s of CPU "
+                             "time (a forged or damaged stream)");
 }
 
 }  // namespace

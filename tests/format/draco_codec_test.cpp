@@ -20,6 +20,7 @@
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
+#include "format/draco_forgery.h"
 #include "test_support.h"
 
 namespace pbrta {
@@ -496,27 +497,15 @@ TEST(DracoSection, ReaderRejectsWithMessages) {
   }
 }
 
-// A forged stream that every check made before Draco runs passes, yet that keeps Draco busy
-// for seconds: the texture-coordinate predictor's count of orientation bits, an int32 read raw
-// from the stream (one per vertex but the first two), made 2^31 - 16. Draco decodes that many
-// bits whatever the stream holds (in this process it accepts the stream after 6 s). Returns the
-// uv-only torus's stream and sets *forged to the forged copy.
+// The uv-only torus's stream; *forged gets a copy with the orientation count forged
+// (format/draco_forgery.h).
 std::vector<uint8_t> forged_orientation_count(std::vector<uint8_t>* forged) {
   const TestMesh m = torus(8, 8);
   const std::vector<uint8_t> stream = encode(m.view(false, true, false), 14, false);
-  // The count is near the end: only the uv attribute's data and the wrap transform follow it.
-  const int32_t count = int32_t(m.P.size() / 3) - 2;
-  std::vector<size_t> at;
-  for (size_t k = stream.size() - 64; k + 4 <= stream.size(); ++k) {
-    int32_t v;
-    std::memcpy(&v, &stream[k], 4);
-    if (v == count) at.push_back(k);
-  }
-  EXPECT_EQ(at.size(), 1u) << "the orientation count " << count
-                           << " is not where this Draco version writes it";
   *forged = stream;
-  const int32_t big = 0x7ffffff0;
-  if (!at.empty()) std::memcpy(forged->data() + at[0], &big, 4);
+  EXPECT_TRUE(test_forgery::forge_orientation_count(forged->data(), forged->size(),
+                                                    uint32_t(m.P.size() / 3)))
+      << "the orientation count is not where this Draco version writes it";
   return stream;
 }
 

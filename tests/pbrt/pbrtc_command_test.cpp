@@ -17,6 +17,7 @@
 #include "format/archive_bytes.h"
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
+#include "format/draco_forgery.h"
 #include "test_support.h"
 
 namespace {
@@ -158,8 +159,8 @@ std::string uv_grid_scene(int n) {
   return scene;
 }
 
-// A forged Draco stream with a valid checksum, of the kind that kept Draco busy for seconds (the
-// uv predictor's orientation count, one per vertex but the first two, made 2^31 - 16): both
+// A forged Draco stream with a valid checksum, of the kind that kept Draco busy for seconds
+// (format/draco_forgery.h): both
 // programs refuse it within the reader's budget (format/isolated_jobs.h), with the section and
 // the reason, and pbrtrun writes no image.
 TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
@@ -176,16 +177,9 @@ TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
     ++draco;
   ASSERT_LT(draco, r.section_count()) << "no Draco section";
   const pbrta::SectionEntry e = r.entry(draco);
-  const int32_t count = 81 - 2;
-  std::vector<uint64_t> at;
-  for (uint64_t k = e.stored_size - 64; k + 4 <= e.stored_size; ++k) {
-    int32_t v;
-    std::memcpy(&v, &bytes[e.offset + k], 4);
-    if (v == count) at.push_back(e.offset + k);
-  }
-  ASSERT_EQ(at.size(), 1u) << "the orientation count is not where this Draco version writes it";
-  const int32_t forged = 0x7ffffff0;
-  std::memcpy(&bytes[at[0]], &forged, 4);
+  ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(
+      reinterpret_cast<uint8_t*>(&bytes[e.offset]), e.stored_size, 81))
+      << "the orientation count is not where this Draco version writes it";
   pbrta::test_bytes::reseal(&bytes, draco, e.stored_size);
   write_file(dir + "/bad.pbrta", bytes);
   const std::string reason = "bad.pbrta: section 'geometry' (#" + std::to_string(draco) +

@@ -23,6 +23,7 @@
 #include "compiler/scene_desc.h"
 #include "compiler/source_files.h"
 #include "format/draco_codec.h"
+#include "format/draco_forgery.h"
 #include "test_support.h"
 #include "tools/mesh/commands.h"
 #include "tools/mesh/mesh.h"
@@ -311,6 +312,35 @@ TEST(MeshIo, CountsThatLie) {
                                "vertex_indices\nend_header\n"),
                     "");
   expect_read_fails(write_file(dir + "/junk.drc", "DRACO\x02\x02\x01\x01\0\0garbage"), "");
+}
+
+// A .drc file forged to keep Draco busy for seconds (format/draco_forgery.h) is refused within
+// the budget Draco runs under (format/isolated_jobs.h), by the same reader pbrt-mesh uses.
+TEST(MeshIo, AForgedDracoFileIsRefusedWithinItsBudget) {
+  const std::string dir = scratch_dir("mesh_io_forged_drc");
+  Mesh grid;
+  const int n = 8;
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x) {
+      grid.positions.insert(grid.positions.end(), {float(x), float(y), float((x * y) % 3)});
+      grid.uvs.insert(grid.uvs.end(), {float(x) / n, float(y) / n});
+    }
+  for (uint32_t y = 0; y < n; ++y)
+    for (uint32_t x = 0; x < n; ++x) {
+      const uint32_t a = y * (n + 1) + x;
+      grid.indices.insert(grid.indices.end(), {a, a + 1, a + n + 2, a, a + n + 2, a + n + 1});
+    }
+  WriteOptions opt;
+  opt.draco_bits = 14;
+  std::string error;
+  ASSERT_TRUE(write_mesh(dir + "/good.drc", grid, opt, &error)) << error;
+  Mesh back;
+  ASSERT_TRUE(read_mesh(dir + "/good.drc", &back, &error)) << error;
+  std::string bytes = testing_support::read_file(dir + "/good.drc");
+  ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(reinterpret_cast<uint8_t*>(&bytes[0]),
+                                                           bytes.size(), 81));
+  expect_read_fails(write_file(dir + "/forged.drc", bytes),
+                    "draco: decoding ran past its budget of 1 s of CPU time");
 }
 
 TEST(MeshIo, NanCoordinatesAreRejected) {
