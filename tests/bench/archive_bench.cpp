@@ -3,6 +3,8 @@
 //   archive_bench [--repeat N] [--threads T] SCENE.pbrt...
 //   archive_bench [--repeat N] [--threads T] --load ARCHIVE   (load only, for profiling;
 //   ARCHIVE_BENCH_LOAD_ONLY=1 leaves out the baselines too)
+//   ARCHIVE_BENCH_DRACO_IN_PROCESS=1 decodes Draco sections in this process instead of in
+//   budgeted children (format/isolated_jobs.h), to measure what the isolation costs.
 //
 // For each scene: the bytes the compile read (scene text, meshes, images) and the archive's
 // bytes with zstd and with --codec none; the time to parse the text into a SceneDesc (this
@@ -40,6 +42,7 @@
 #include "format/archive_reader.h"
 #include "format/checksum.h"
 #include "format/huge_page_heap.h"
+#include "format/isolated_jobs.h"
 #include "format/scene_archive.h"
 #include "format/zstd_frames.h"
 #include "tests/compiler/compiled_scene.h"
@@ -309,6 +312,7 @@ int run_once(const std::string& what, const std::string& path, int threads) {
 
 int main(int argc, char** argv) {
   pbrta::use_huge_page_heap(argv);
+  if (std::getenv("ARCHIVE_BENCH_DRACO_IN_PROCESS") != nullptr) pbrta::set_isolation_enabled(false);
   if (argc == 5 && !std::strcmp(argv[1], "--once"))
     return run_once(argv[2], argv[3], std::atoi(argv[4]));
   int repeat = 5, threads = 2;
