@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "compiler/bsdf_file.h"
+#include "compiler/entity_checks.h"
 #include "compiler/mesh_builder.h"
 #include "compiler/refine.h"
 #include "compiler/scene_images.h"
@@ -650,7 +651,11 @@ void SceneBuilder::MakeNamedMedium(Loc loc, std::string_view name, const ParamLi
   if (!s_->resolver.begin(Category::kMedium, params.strings[tp->offset], tp->value_loc, &m.params))
     return;
   s_->resolver.assign_all(&m.params, params, {}, false);
+  const bool ok = s_->resolver.check_required(m.params, loc, &params);
   s_->resolver.report_unused(params, &m.params);
+  if (!ok || (m.params.type_name() == "heterogeneous" &&
+              !check_heterogeneous_medium(m.params, params, loc, s_->diag)))
+    return;
   m.world_from_medium = s_->cur.t[0];
   if (s_->named_media.count(m.name)) s_->diag->warning(loc, "medium \"" + m.name + "\" redefined");
   s_->scene->media.push_back(std::move(m));
@@ -909,7 +914,7 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
     if (over) material = int32_t(s_->scene->materials.size() - 1);
   }
   s_->resolver.report_unused(params, &sh.params);
-  if (!ok) return;
+  if (!ok || (tn == "curve" && !check_curve(sh.params, params, loc, s_->diag))) return;
 
   if (tn == "trianglemesh") {
     TriangleMesh mesh;

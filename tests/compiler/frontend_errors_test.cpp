@@ -299,6 +299,81 @@ TEST(FrontendErrors, EmptyCropWindow) {
       "y1)");
 }
 
+// ---- Curves and heterogeneous media: pbrt-v3's checks across parameters ----
+
+// Four control points: one cubic Bezier segment, or two quadratic B-spline segments.
+constexpr const char* kCurveP = "\"point3 P\" [0 0 0 1 1 0 2 1 0 3 0 0]";
+
+std::string curve(const std::string& more, const char* P = kCurveP) {
+  return in_world(std::string("Shape \"curve\" ") + P + more + "\n");
+}
+
+TEST(FrontendErrors, CurvesPbrtV3AcceptsCompile) {
+  for (const std::string& more :
+       {std::string(), std::string(" \"string basis\" \"bspline\" \"integer degree\" 2"),
+        std::string(" \"string type\" \"ribbon\" \"normal N\" [0 0 1 0 0 1]"),
+        std::string(" \"string type\" \"cylinder\"")}) {
+    Compile c(curve(more));
+    EXPECT_TRUE(c.ok) << more << ": " << c.first_error();
+    EXPECT_TRUE(c.warnings().empty()) << more;
+  }
+  // pbrt-v3's Bezier test passes 7 points of a cubic (two segments) and, degree 2, 1 point
+  // (no segment at all).
+  EXPECT_TRUE(Compile(curve("", "\"point3 P\" [0 0 0 1 1 0 2 1 0 3 0 0 4 1 0 5 1 0 6 0 0]")).ok);
+  EXPECT_TRUE(Compile(curve(" \"integer degree\" 2", "\"point3 P\" [0 0 0]")).ok);
+}
+
+TEST(FrontendErrors, CurveDegreeBasisAndType) {
+  EXPECT_EQ(first_error(curve(" \"integer degree\" 4")),
+            "scene.pbrt:2:69: error: curve \"degree\" 4: only degree 2 and 3 curves are supported");
+  EXPECT_EQ(first_error(curve(" \"string basis\" \"catmull\"")),
+            "scene.pbrt:2:67: error: curve \"basis\" \"catmull\": only \"bezier\" and "
+            "\"bspline\" are supported");
+  EXPECT_EQ(first_error(curve(" \"string type\" \"tube\"")),
+            "scene.pbrt:2:66: error: curve \"type\" \"tube\" unknown: \"flat\", \"ribbon\" or "
+            "\"cylinder\" (pbrt-v3 would use \"cylinder\")");
+}
+
+TEST(FrontendErrors, CurveControlPointCounts) {
+  EXPECT_EQ(first_error(curve("", "\"point3 P\" [0 0 0 1 1 0 2 1 0 3 0 0 4 0 0]")),
+            "scene.pbrt:2:27: error: curve has 5 control points: a degree 3 Bezier curve needs "
+            "3 n + 4 for some n >= 0");
+  EXPECT_EQ(first_error(curve(" \"string basis\" \"bspline\"", "\"point3 P\" [0 0 0 1 1 0 2 1 0]")),
+            "scene.pbrt:2:27: error: curve has 3 control points: a degree 3 B-spline needs at "
+            "least 4");
+}
+
+TEST(FrontendErrors, RibbonCurveNormals) {
+  EXPECT_EQ(first_error(curve(" \"string type\" \"ribbon\"")),
+            "scene.pbrt:2:1: error: a \"ribbon\" curve needs normals \"N\" at its segments' ends");
+  EXPECT_EQ(first_error(curve(" \"string type\" \"ribbon\" \"normal N\" [0 0 1]")),
+            "scene.pbrt:2:87: error: a ribbon curve of 1 segment needs 2 normals, not 1");
+  // Normals on another type are ignored with a warning, as pbrt-v3 does.
+  Compile flat(curve(" \"normal N\" [0 0 1 0 0 1]"));
+  EXPECT_TRUE(flat.ok) << flat.first_error();
+  EXPECT_EQ(flat.warnings(),
+            std::vector<std::string>{"scene.pbrt:2:64: warning: curve normals are only used by "
+                                     "\"ribbon\" curves (ignored, as pbrt-v3 does)"});
+}
+
+TEST(FrontendErrors, HeterogeneousMediumDensityCount) {
+  const std::string medium =
+      "MakeNamedMedium \"smoke\" \"string type\" \"heterogeneous\" \"integer nx\" 2 "
+      "\"integer ny\" 2 \"integer nz\" 2 ";
+  EXPECT_TRUE(Compile(in_world(medium + "\"float density\" [1 2 3 4 5 6 7 8]\n")).ok);
+  EXPECT_EQ(first_error(in_world(medium + "\"float density\" [1 2 3 4 5 6 7]\n")),
+            "scene.pbrt:2:117: error: heterogeneous medium has 7 density values; nx * ny * nz = "
+            "2 * 2 * 2 = 8");
+  EXPECT_EQ(first_error(in_world(medium + "\n")),
+            "scene.pbrt:2:1: error: heterogeneous medium needs parameter \"float density\"");
+  // Three int32s whose product needs more than 64 bits.
+  EXPECT_EQ(first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
+                                 "\"float density\" [1] \"integer nx\" 2000000000 "
+                                 "\"integer ny\" 2000000000 \"integer nz\" 2000000000\n")),
+            "scene.pbrt:2:68: error: heterogeneous medium has 1 density values; nx * ny * nz = "
+            "2000000000 * 2000000000 * 2000000000");
+}
+
 // ---- Meshes ----
 
 constexpr const char* kTriangleP = "\"point3 P\" [0 0 0 1 0 0 1 1 0]";
