@@ -3,13 +3,9 @@
 //
 // pbrt-v3 reports these with Error() and then makes no shape (curves) or no medium, so the scene
 // it renders lacks them; pbrtc, which checks scenes as a compiler checks code, makes them compile
-// errors at the parameter that is wrong, with pbrt-v3's rules:
-//   curve: "degree" 2 or 3; "basis" "bezier" or "bspline"; a Bezier curve has degree * n +
-//     degree + 1 control points for some n (the test pbrt-v3 makes, C++ remainder included), a
-//     B-spline at least degree + 1; "type" "flat", "ribbon" or "cylinder" (pbrt-v3 falls back to
-//     cylinder after its error); a ribbon has exactly one normal per segment end; normals on
-//     another type are ignored with a warning, as pbrt-v3 does.
-//   heterogeneous medium: exactly nx * ny * nz "density" values.
+// errors at the parameter that is wrong, by the rules in format/entity_rules.h (which the archive
+// reader applies too). Normals on a curve that is not a ribbon are ignored with a warning, as
+// pbrt-v3 does.
 // Each function takes the resolved entity and the directive's parameters (for locations) and
 // returns false after reporting an error.
 #pragma once

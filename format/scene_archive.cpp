@@ -10,6 +10,7 @@
 
 #include "format/archive_names.h"
 #include "format/draco_codec.h"
+#include "format/entity_rules.h"
 #include "format/fourier_table.h"
 #include "format/texel_format.h"
 
@@ -445,6 +446,8 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
 
   // Entities and their values: one entity's checks, false (with the reason in c) on failure.
   const uint16_t minor = r.header().minor;
+  const int curve_type = find_type(Category::kShape, "curve");
+  const int heterogeneous_type = find_type(Category::kMedium, "heterogeneous");
   auto check_entity = [&](uint32_t i, Checker& c) -> bool {
     const EntityRecord& e = entities[i];
     // Messages are built only on failure: this loop runs once per entity.
@@ -518,6 +521,25 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
             c.fail(vat() + "string " + std::to_string(words[v.offset + k]) + " out of range");
             return false;
           }
+    }
+    // Counts tied to other parameters (format/entity_rules.h), now that every value is sound.
+    RuleViolation rule;
+    if (e.category == uint8_t(Category::kShape) && int(e.type) == curve_type) {
+      CurveCounts cc;
+      cc.degree = get_int(i, "degree", 3);
+      cc.basis = get_string(i, "basis");
+      const ValueRecord* P = value(i, "P");
+      const ValueRecord* N = value(i, "N");
+      cc.control_points = P ? P->count : 0;
+      cc.type = get_string(i, "type");
+      cc.normals_given = given(i, "N");
+      cc.normals = N ? N->count : 0;
+      if (!check_curve_rules(cc, &rule)) return c.fail(at() + rule.message);
+    } else if (e.category == uint8_t(Category::kMedium) && int(e.type) == heterogeneous_type) {
+      const ValueRecord* d = value(i, "density");
+      if (!check_density_rule(get_int(i, "nx", 1), get_int(i, "ny", 1), get_int(i, "nz", 1),
+                              d ? d->count : 0, &rule))
+        return c.fail(at() + rule.message);
     }
     return true;
   };

@@ -216,3 +216,64 @@ TEST_F(EntityCheck, FirstBadMeshLayoutInOrder) {
 
 }  // namespace
 }  // namespace pbrtc
+
+namespace pbrtc {
+namespace {
+
+// The counts format/entity_rules.h ties together are checked by the reader too: a curve whose
+// degree, or a heterogeneous medium whose grid size, an archive was edited to break is refused,
+// so a renderer may index control points and density grids by them.
+TEST(EntityRules, TheReaderRefusesACurveOrDensityGridThatBreaksThem) {
+  const std::string dir = testing_support::scratch_dir("EntityRules");
+  const std::string scene = testing_support::write_file(
+      dir + "/s.pbrt",
+      "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+      "MakeNamedMedium \"smoke\" \"string type\" \"heterogeneous\" \"integer nx\" 2 "
+      "\"float density\" [0.5 1]\n"
+      "Shape \"curve\" \"point P\" [0 0 0 1 1 0 2 1 0 3 0 0] \"float width\" 0.1\n"
+      "WorldEnd\n");
+  CompiledScene c;
+  compile_scene(scene, &c);
+  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
+  ArchiveOptions opt;
+  opt.compress = false;  // the words are edited in place
+  std::string error;
+  const std::string path = dir + "/good.pbrta";
+  ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), path, opt, nullptr, &error))
+      << error;
+  pbrta::SceneArchive a;
+  ASSERT_TRUE(a.load(path, 1, &error)) << error;
+  const std::string good = testing_support::read_file(path);
+  const uint32_t words = testing_support::section_entry(a, pbrta::SectionKind::kWords);
+  ASSERT_NE(words, pbrta::kNoIndex);
+  uint32_t curve = pbrta::kNoIndex, medium = pbrta::kNoIndex;
+  for (uint32_t e = 0; e < a.entities.size; ++e) {
+    if (a.type_name(e) == "curve") curve = e;
+    if (a.type_name(e) == "heterogeneous") medium = e;
+  }
+  ASSERT_NE(curve, pbrta::kNoIndex);
+  ASSERT_NE(medium, pbrta::kNoIndex);
+  // The archive with entity e's int parameter `name` set to v.
+  auto with = [&](uint32_t e, const char* name, int32_t v) {
+    std::string b = good;
+    const uint64_t at = a.reader().entry(words).offset + uint64_t(a.value(e, name)->offset) * 4;
+    std::memcpy(&b[at], &v, 4);
+    return b;
+  };
+  const std::string prefix =
+      path + ": section 'entities' (#" +
+      std::to_string(testing_support::section_entry(a, pbrta::SectionKind::kEntities)) + "): ";
+  EXPECT_EQ(testing_support::reseal_and_load(with(curve, "degree", 5), path),
+            prefix + "entity " + std::to_string(curve) +
+                ": curve \"degree\" 5: only degree 2 and 3 curves are supported");
+  EXPECT_EQ(testing_support::reseal_and_load(with(curve, "degree", 2), path),
+            prefix + "entity " + std::to_string(curve) +
+                ": curve has 4 control points: a degree 2 Bezier curve needs 2 n + 3 for some n "
+                ">= 0");
+  EXPECT_EQ(testing_support::reseal_and_load(with(medium, "nx", 3), path),
+            prefix + "entity " + std::to_string(medium) +
+                ": heterogeneous medium has 2 density values; nx * ny * nz = 3 * 1 * 1 = 3");
+}
+
+}  // namespace
+}  // namespace pbrtc

@@ -372,8 +372,13 @@ class Archive:
         self.read_images()
         self.read_provenance()
         for e, (cat, typ, _, _) in enumerate(self.entities):
-            if self.schema.types[cat][typ][0] == "fourier" and cat == self.schema.category["material"]:
+            name = self.schema.types[cat][typ][0]
+            if name == "fourier" and cat == self.schema.category["material"]:
                 self.check_fourier(e)
+            elif name == "curve" and cat == self.schema.category["shape"]:
+                self.check_curve(e)
+            elif name == "heterogeneous" and cat == self.schema.category["medium"]:
+                self.check_density(e)
 
     def check_section_count(self, kind, count, element_size=None):
         s = self.sections_of.get(kind)
@@ -680,6 +685,26 @@ class Archive:
                 and all(0 <= m <= mmax and 0 <= off and off + channels * m <= len(coeffs)
                         for off, m in zip(offsets[::2], offsets[1::2]))):
             self.fail(f"entity {e}: inconsistent fourier table", VALUES)
+
+    def check_curve(self, e):
+        """ARCHIVE.md section 10's rules for a curve's counts."""
+        degree, basis, kind = (self.value(e, name)[0] for name in ("degree", "basis", "type"))
+        points, normals = len(self.value(e, "P")) // 3, len(self.value(e, "N")) // 3
+        ok = degree in (2, 3) and basis in ("bezier", "bspline") and kind in ("flat", "ribbon", "cylinder")
+        if ok and basis == "bezier":
+            ok, segments = (points - 1 - degree) % degree == 0, (points - 1) // degree
+        elif ok:
+            ok, segments = points >= degree + 1, points - degree
+        if ok and kind == "ribbon":
+            ok = normals == segments + 1
+        if not ok:
+            self.fail(f"entity {e}: curve counts break the rules", VALUES)
+
+    def check_density(self, e):
+        """ARCHIVE.md section 10: a heterogeneous medium has nx * ny * nz density values."""
+        nx, ny, nz = (self.value(e, name)[0] for name in ("nx", "ny", "nz"))
+        if len(self.value(e, "density")) != nx * ny * nz:
+            self.fail(f"entity {e}: density grid is not nx * ny * nz", VALUES)
 
     # ------------------------------------------------------------ output
 
