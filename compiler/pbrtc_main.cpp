@@ -11,11 +11,13 @@
 // is 0 only if everything succeeded, and a failed compile writes nothing.
 #include <CLI/CLI.hpp>
 
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
@@ -158,7 +160,9 @@ int main(int argc, char** argv) {
                  "magnitude 65520+ refused) or unorm8 (linear bytes, value/255; values outside "
                  "[0, 1] refused)")
       ->check(CLI::IsMember({"f32", "f16", "unorm8"}));
-  app.add_option("--nthreads", nthreads, "threads for compression and loading (default: all)")
+  app.add_option("--nthreads", nthreads,
+                 "threads for reading meshes, decoding images, compressing and loading "
+                 "(default: all)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--Werror", werror, "treat warnings as errors");
   app.add_flag("-q,--quiet", quiet, "print only errors and warnings");
@@ -166,6 +170,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.set_version_flag("--version", "pbrtc 0.1.0 (archive format 1.0)");
   CLI11_PARSE(app, argc, argv);
+  // Every parallel step (PLY reading and image decoding run in oneTBB's default arena) within
+  // --nthreads; the archive's bytes do not depend on it.
+  std::optional<tbb::global_control> limit;
+  if (nthreads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
 
   if (print_schema) {
     pbrtc::print_schema_markdown(std::cout);
