@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -186,9 +185,11 @@ Groups make_groups(const std::vector<uint64_t>& input_bytes, int processes) {
 // Runs the jobs of each group in a child of its own: in_child(k, slot, &why) there, then, here,
 // collect(k, slot, why) for each job that succeeded; a job that failed gets its message in
 // (*errors)[k], marked in (*by_job)[k] when the job gave it rather than what stopped its child.
-// here(k, &why) runs a job in this process instead, when isolation is off or no child can be had.
+// here(k, &why) runs a job in this process instead: every job when the caller could not set up
+// (ready false: isolation off, or no memory for its outputs) or the slots cannot be mapped, a
+// group's jobs when no child can be had for it.
 // Several threads may call this at once: each call forks and waits for its own children.
-void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& budget,
+void run_groups(bool ready, size_t num_jobs, const Groups& groups, const IsolationBudget& budget,
                 const std::function<bool(size_t, JobSlot&, std::string*)>& in_child,
                 const std::function<bool(size_t, const JobSlot&, std::string*)>& collect,
                 const Job& here, std::vector<std::string>* errors, std::vector<char>* by_job) {
@@ -196,9 +197,9 @@ void run_groups(size_t num_jobs, const Groups& groups, const IsolationBudget& bu
     for (size_t k : list) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
   };
   const uint64_t mapped = round_up(num_jobs * sizeof(JobSlot));
-  void* shared = isolation_enabled() ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE,
-                                            MAP_SHARED | MAP_ANONYMOUS, -1, 0)
-                                     : MAP_FAILED;
+  void* shared =
+      ready ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)
+            : MAP_FAILED;
   if (shared == MAP_FAILED) {
     for (const std::vector<size_t>& list : groups.jobs) run_here(list);
     return;
@@ -304,20 +305,16 @@ void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_
   void* shared = isolation_enabled() ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE,
                                             MAP_SHARED | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0)
                                      : MAP_FAILED;
-  if (shared == MAP_FAILED) {
-    for (size_t k = 0; k < jobs.size(); ++k) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
-    return;
-  }
   uint8_t* outputs = static_cast<uint8_t*>(shared);
   run_groups(
-      jobs.size(), groups, budget,
+      shared != MAP_FAILED, jobs.size(), groups, budget,
       [&](size_t k, JobSlot&, std::string* why) { return work(k, outputs + offset[k], why); },
       [&](size_t k, const JobSlot&, std::string*) {
         std::memcpy(dst[k], outputs + offset[k], jobs[k].out_size);
         return true;
       },
       here, errors, by_job);
-  munmap(shared, mapped);
+  if (shared != MAP_FAILED) munmap(shared, mapped);
 }
 
 namespace {
@@ -358,19 +355,10 @@ void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
     have_files = have_files && file_of_group[g] >= 0;
     for (size_t k : groups.jobs[g]) group_of[k] = g;
   }
-  auto close_files = [&] {
-    for (int fd : file_of_group)
-      if (fd >= 0) close(fd);
-  };
-  if (!have_files) {
-    close_files();
-    for (size_t k = 0; k < n; ++k) run_one(here, k, &(*errors)[k]);
-    return;
-  }
   // Where the next output of each group must start, as the parent reads them in job order.
   std::vector<uint64_t> next(groups.jobs.size(), 0);
   run_groups(
-      n, groups, budget,
+      have_files, n, groups, budget,
       [&](size_t k, JobSlot& slot, std::string* why) {
         std::vector<uint8_t> blob;
         if (!work(k, &blob, why)) return false;
@@ -419,7 +407,8 @@ void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
         return true;
       },
       here, errors, &by_job);
-  close_files();
+  for (int fd : file_of_group)
+    if (fd >= 0) close(fd);
 }
 
 }  // namespace pbrta
