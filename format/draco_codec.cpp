@@ -164,6 +164,12 @@ bool validate_input(const MeshArrays& in, const DracoOptions& opt, std::string* 
   if (opt.compression_level < 0 || opt.compression_level > 10)
     return fail(error,
                 "compression level " + std::to_string(opt.compression_level) + " is outside 0..10");
+  return draco_check_mesh(in, error);
+}
+
+}  // namespace
+
+bool draco_check_mesh(const MeshArrays& in, std::string* error) {
   if (in.num_triangles == 0 || in.num_vertices == 0) return fail(error, "the mesh is empty");
   if (in.num_vertices > kMaxDracoElements || in.num_triangles > kMaxDracoElements)
     return fail(error, "the mesh is too large for Draco (more than 2^30 vertices or triangles)");
@@ -182,6 +188,8 @@ bool validate_input(const MeshArrays& in, const DracoOptions& opt, std::string* 
                              std::to_string(in.num_vertices) + " vertices)");
   return true;
 }
+
+namespace {
 
 // Adds a float attribute with one value per vertex, mapped from points through point_vertex
 // (identity when empty).

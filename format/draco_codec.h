@@ -89,8 +89,12 @@ struct DracoLimits {
 // plus 1 MiB) can hold at 12 bytes per vertex and per triangle, at most 2^28 of either.
 DracoLimits draco_limits_for(uint64_t stream_bytes);
 
-// Encodes in (which must be valid: indices in range, every value finite, at least one
-// triangle) with opt into *out.
+// Whether a mesh is one Draco can carry: at least one triangle, at most 2^30 vertices and
+// triangles, positions and indices present, every value finite, every index below the vertex
+// count. False with the first problem in *error ("position of vertex 12 is not finite").
+[[nodiscard]] bool draco_check_mesh(const MeshArrays& in, std::string* error);
+
+// Encodes in (which must pass draco_check_mesh) with opt into *out.
 [[nodiscard]] bool draco_encode(const MeshArrays& in, const DracoOptions& opt,
                                 std::vector<uint8_t>* out, std::string* error);
 

@@ -1,7 +1,6 @@
 // format/draco_isolated.cpp — draco_decode_isolated (format/draco_codec.h): a .drc file from a
 // user decoded in a budgeted child process (format/isolated_jobs.h), its mesh passed back as
 // bytes and checked here as untrusted input.
-#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -42,12 +41,6 @@ void take(const uint8_t** at, uint64_t n, std::vector<T>* v) {
   *at += n * sizeof(T);
 }
 
-bool all_finite(const std::vector<float>& v) {
-  for (float x : v)
-    if (!std::isfinite(x)) return false;
-  return true;
-}
-
 // What draco_decode guarantees of its result, checked again on bytes from the child.
 bool from_bytes(const std::vector<uint8_t>& b, const DracoLimits& limits, DecodedMesh* m) {
   uint64_t c[kCounts];
@@ -60,8 +53,8 @@ bool from_bytes(const std::vector<uint8_t>& b, const DracoLimits& limits, Decode
   }
   if (sizeof c + 4 * words != b.size()) return false;
   const uint64_t nv = c[0] / 3, nt = c[3] / 3;
-  if (c[0] % 3 != 0 || nv == 0 || (c[1] != 0 && c[1] != c[0]) || (c[2] != 0 && c[2] != 2 * nv) ||
-      c[3] % 3 != 0 || nt == 0 || (c[4] != 0 && c[4] != nt) || nv > limits.max_vertices ||
+  if (c[0] % 3 != 0 || (c[1] != 0 && c[1] != c[0]) || (c[2] != 0 && c[2] != 2 * nv) ||
+      c[3] % 3 != 0 || (c[4] != 0 && c[4] != nt) || nv > limits.max_vertices ||
       nt > limits.max_triangles)
     return false;
   const uint8_t* at = b.data() + sizeof c;
@@ -70,9 +63,8 @@ bool from_bytes(const std::vector<uint8_t>& b, const DracoLimits& limits, Decode
   take(&at, c[2], &m->uv);
   take(&at, c[3], &m->indices);
   take(&at, c[4], &m->face_indices);
-  for (uint32_t i : m->indices)
-    if (i >= nv) return false;
-  return all_finite(m->positions) && all_finite(m->normals) && all_finite(m->uv);
+  std::string unused;  // the caller has one message for any malformed mesh
+  return draco_check_mesh(m->view(), &unused);
 }
 
 }  // namespace
