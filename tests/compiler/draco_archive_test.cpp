@@ -312,26 +312,10 @@ TEST(DracoArchive, PlymeshReadsDrcFiles) {
 
   // A forged file (format/draco_forgery.h) costs the compile the budget Draco runs under, not the
   // seconds Draco would spend on it, and is an error like any unreadable file.
-  std::vector<float> P, uv;
-  std::vector<uint32_t> idx;
-  for (int y = 0; y <= 8; ++y)
-    for (int x = 0; x <= 8; ++x) {
-      P.insert(P.end(), {float(x), float(y), float((x * y) % 3)});
-      uv.insert(uv.end(), {x / 8.f, y / 8.f});
-    }
-  for (uint32_t y = 0; y < 8; ++y)
-    for (uint32_t x = 0; x < 8; ++x) {
-      const uint32_t a = y * 9 + x;
-      idx.insert(idx.end(), {a, a + 1, a + 10, a, a + 10, a + 9});
-    }
-  pbrta::MeshArrays g;
-  g.positions = P.data();
-  g.uv = uv.data();
-  g.indices = idx.data();
-  g.num_vertices = 81;
-  g.num_triangles = 128;
-  ASSERT_TRUE(pbrta::draco_encode(g, pbrta::DracoOptions{}, &stream, &error)) << error;
-  ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(stream.data(), stream.size(), 81));
+  const pbrta::test_forgery::UvGrid g = pbrta::test_forgery::uv_grid(8);
+  ASSERT_TRUE(pbrta::draco_encode(g.view(), pbrta::DracoOptions{}, &stream, &error)) << error;
+  ASSERT_TRUE(
+      pbrta::test_forgery::forge_orientation_count(stream.data(), stream.size(), g.num_vertices()));
   testing_support::write_file(dir + "/forged.drc", std::string(stream.begin(), stream.end()));
   EXPECT_EQ(first_error("forged.drc"), "cannot read Draco file \"" + dir +
                                            "/forged.drc\": draco: decoding ran past its budget "

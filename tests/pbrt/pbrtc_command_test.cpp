@@ -139,23 +139,16 @@ TEST(PbrtcCommand, ATruncatedArchiveIsRefused) {
 }
 
 // A grid of n x n quads with uv: 64+ triangles, so --draco-bits compresses it through Draco.
-std::string uv_grid_scene(int n) {
-  std::string p, uv, idx;
-  for (int y = 0; y <= n; ++y)
-    for (int x = 0; x <= n; ++x) {
-      p += " " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string((x * y) % 3);
-      uv += " " + std::to_string(double(x) / n) + " " + std::to_string(double(y) / n);
-    }
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      const int a = y * (n + 1) + x, b = a + 1, c = a + n + 2, d = a + n + 1;
-      idx += " " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(c) + " " +
-             std::to_string(a) + " " + std::to_string(c) + " " + std::to_string(d);
-    }
+std::string uv_grid_scene(const pbrta::test_forgery::UvGrid& g) {
+  auto list = [](const auto& v) {
+    std::string out;
+    for (auto x : v) out += " " + std::to_string(x);
+    return out;
+  };
   std::string scene = kScene;
-  scene.insert(scene.find("WorldEnd"), "Shape \"trianglemesh\" \"point P\" [" + p +
-                                           "] \"point2 uv\" [" + uv + "] \"integer indices\" [" +
-                                           idx + "]\n");
+  scene.insert(scene.find("WorldEnd"), "Shape \"trianglemesh\" \"point P\" [" + list(g.P) +
+                                           "] \"point2 uv\" [" + list(g.uv) +
+                                           "] \"integer indices\" [" + list(g.indices) + "]\n");
   return scene;
 }
 
@@ -165,7 +158,8 @@ std::string uv_grid_scene(int n) {
 // the reason, and pbrtrun writes no image.
 TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
   const std::string dir = scratch_dir("pbrtc_forged_draco");
-  write_file(dir + "/grid.pbrt", uv_grid_scene(8));
+  const pbrta::test_forgery::UvGrid grid = pbrta::test_forgery::uv_grid(8);
+  write_file(dir + "/grid.pbrt", uv_grid_scene(grid));
   Outcome c = run_in(dir, pbrtc() + " -q --draco-bits 14 grid.pbrt -o good.pbrta", "compile");
   ASSERT_EQ(c.status, 0) << c.err;
   std::string bytes = read_file(dir + "/good.pbrta");
@@ -178,7 +172,7 @@ TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
   ASSERT_LT(draco, r.section_count()) << "no Draco section";
   const pbrta::SectionEntry e = r.entry(draco);
   ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(
-      reinterpret_cast<uint8_t*>(&bytes[e.offset]), e.stored_size, 81))
+      reinterpret_cast<uint8_t*>(&bytes[e.offset]), e.stored_size, grid.num_vertices()))
       << "the orientation count is not where this Draco version writes it";
   pbrta::test_bytes::reseal(&bytes, draco, e.stored_size);
   write_file(dir + "/bad.pbrta", bytes);

@@ -318,18 +318,11 @@ TEST(MeshIo, CountsThatLie) {
 // the budget Draco runs under (format/isolated_jobs.h), by the same reader pbrt-mesh uses.
 TEST(MeshIo, AForgedDracoFileIsRefusedWithinItsBudget) {
   const std::string dir = scratch_dir("mesh_io_forged_drc");
+  const pbrta::test_forgery::UvGrid g = pbrta::test_forgery::uv_grid(8);
   Mesh grid;
-  const int n = 8;
-  for (int y = 0; y <= n; ++y)
-    for (int x = 0; x <= n; ++x) {
-      grid.positions.insert(grid.positions.end(), {float(x), float(y), float((x * y) % 3)});
-      grid.uvs.insert(grid.uvs.end(), {float(x) / n, float(y) / n});
-    }
-  for (uint32_t y = 0; y < n; ++y)
-    for (uint32_t x = 0; x < n; ++x) {
-      const uint32_t a = y * (n + 1) + x;
-      grid.indices.insert(grid.indices.end(), {a, a + 1, a + n + 2, a, a + n + 2, a + n + 1});
-    }
+  grid.positions = g.P;
+  grid.uvs = g.uv;
+  grid.indices = g.indices;
   WriteOptions opt;
   opt.draco_bits = 14;
   std::string error;
@@ -338,7 +331,7 @@ TEST(MeshIo, AForgedDracoFileIsRefusedWithinItsBudget) {
   ASSERT_TRUE(read_mesh(dir + "/good.drc", &back, &error)) << error;
   std::string bytes = testing_support::read_file(dir + "/good.drc");
   ASSERT_TRUE(pbrta::test_forgery::forge_orientation_count(reinterpret_cast<uint8_t*>(&bytes[0]),
-                                                           bytes.size(), 81));
+                                                           bytes.size(), g.num_vertices()));
   expect_read_fails(write_file(dir + "/forged.drc", bytes),
                     "draco: decoding ran past its budget of 1 s of CPU time");
 }
