@@ -9,10 +9,15 @@
 namespace pbrtc {
 namespace {
 
-// Reports v at the parameter it names (its first value), or at the directive.
+// The first value of parameter `name` as the scene gave it, or the directive's location.
+Loc value_loc(const ParamList& params, const std::string& name, Loc loc) {
+  const ParsedParam* p = name.empty() ? nullptr : params.find(name);
+  return p ? p->value_loc : loc;
+}
+
+// Reports v at the parameter it names.
 bool report(const pbrta::RuleViolation& v, const ParamList& params, Loc loc, Diagnostics* diag) {
-  const ParsedParam* p = v.param.empty() ? nullptr : params.find(v.param);
-  diag->error(p ? p->value_loc : loc, v.message);
+  diag->error(value_loc(params, v.param, loc), v.message);
   return false;
 }
 
@@ -31,11 +36,9 @@ bool check_curve(const Entity& c, const ParamList& params, Loc loc, Diagnostics*
   counts.normals = normals;
   pbrta::RuleViolation v;
   if (!pbrta::check_curve_rules(counts, &v)) return report(v, params, loc, diag);
-  if (counts.normals_given && counts.type != "ribbon") {
-    const ParsedParam* p = params.find("N");
-    diag->warning(p ? p->value_loc : loc,
+  if (counts.normals_given && counts.type != "ribbon")
+    diag->warning(value_loc(params, "N", loc),
                   "curve normals are only used by \"ribbon\" curves (ignored, as pbrt-v3 does)");
-  }
   return true;
 }
 
