@@ -703,11 +703,11 @@ int ArchiveReader::find_section(SectionKind kind) const {
 }
 
 bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
-                             std::string* error) {
+                             std::string* reason) {
   const SectionEntry& e = entries_[index];
   Section& s = sections_[index];
-  auto bad = [&](const std::string& reason) {
-    *error = section_error(index, reason);
+  auto bad = [&](const std::string& why) {
+    *reason = why;
     return false;
   };
   const Codec codec = static_cast<Codec>(e.codec);
@@ -988,7 +988,10 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     uint8_t* out = decoded + slot[t.section];
     archive_detail::Decoder& decoder = thread_decoder();
     if (t.frame == kWholeSection) {
-      if (!load_one(t.section, out, &decoder, &task_errors[k])) return;
+      if (!load_one(t.section, out, &decoder, &task_errors[k])) {
+        task_errors[k] = section_error(t.section, task_errors[k]);
+        return;
+      }
       const uint8_t* data = sections_[t.section].data;
       for (uint32_t b : bounds_of[t.section]) scan(b, data, bounds[b].begin, bounds[b].end);
       return;
@@ -1072,12 +1075,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       run_isolated(
           jobs, dst, processes, IsolationBudget{},
           [&](size_t j, uint8_t* out, std::string* why) {
-            const uint32_t i = tasks[job_task[j]].section;
-            if (load_one(i, out, &thread_decoder(), why)) return true;
-            // Only the reason crosses back: this process names the section.
-            const std::string named = section_error(i, "");
-            if (why->rfind(named, 0) == 0) why->erase(0, named.size());
-            return false;
+            return load_one(tasks[job_task[j]].section, out, &thread_decoder(), why);
           },
           &job_errors, &by_job);
       for (size_t j = 0; j < jobs.size(); ++j) {

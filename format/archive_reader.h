@@ -186,8 +186,10 @@ class ArchiveReader {
   // validate(), and on failure reset() with the path kept for messages.
   bool validate_or_reset(std::string* error);
   // Checks and decodes section index into out (raw_size bytes plus zeroed padding, unless in
-  // place).
-  bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder, std::string* error);
+  // place). On failure *reason says why, without the file and section: the caller names them
+  // (a Draco section's reason comes back from a child process, which cannot).
+  bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
+                std::string* reason);
   // Reads, verifies and decodes one frame of a codec-4 section into out (the section's buffer).
   bool load_frame(const LoadTask& task, uint8_t* out, archive_detail::Decoder* decoder,
                   WordBound* bounds, uint64_t num_bounds, std::string* error);
