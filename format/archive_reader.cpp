@@ -1053,6 +1053,32 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   bool failed = false;
   for (uint32_t i : order) failed |= !errors[i].empty();
   for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
+  // The Draco streams' checksums, here and before any child is forked: a damaged stream fails
+  // for the price of hashing it (microseconds), not of a process (a millisecond or more). Read
+  // with pread from a file, as the frame indexes are, so a file that shrank gives an error here
+  // rather than SIGBUS.
+  if (!failed) {
+    std::vector<uint8_t> stored;
+    for (size_t k = draco_from; k < schedule.size(); ++k) {
+      const uint32_t i = tasks[schedule[k]].section;
+      const SectionEntry& e = entries_[i];
+      const uint8_t* at = base_ + e.offset;
+      std::string why;
+      if (fd_ >= 0) {
+        stored.resize(e.stored_size);
+        if (!read_at(e.offset, e.stored_size, stored.data(), &why)) {
+          task_errors[schedule[k]] = section_error(i, why);
+          failed = true;
+          continue;
+        }
+        at = stored.data();
+      }
+      if (checksum64(at, e.stored_size) != e.checksum) {
+        task_errors[schedule[k]] = section_error(i, "checksum mismatch");
+        failed = true;
+      }
+    }
+  }
   if (!failed && draco_from < schedule.size()) {
     if (isolation_enabled()) {
       // In child processes with a budget (format/isolated_jobs.h), each decoding into shared
