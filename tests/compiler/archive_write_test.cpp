@@ -17,6 +17,7 @@
 #include "compiler/archive_builder.h"
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
+#include "format/archive_bytes.h"
 #include "format/scene_archive.h"
 #include "test_support.h"
 
@@ -186,41 +187,94 @@ TEST(ArchiveWrite, FailedWriteLeavesNoFile) {
   EXPECT_TRUE(testing_support::read_file(dir + "/missing-dir/x.pbrta").empty());
 }
 
-// Flipping sampled bytes of a real archive: every load either succeeds with the
-// same meaning (a flip in padding) or fails with a message naming the file.
+// A real scene's archive, damaged: every byte flipped in turn, a few thousand bytes changed at
+// random, and truncation at every section boundary, for each codec (zstd, none, and zstd with
+// Draco meshes). No change may pass: checksums cover the header, table and sections, and the
+// reader checks that the padding between them is zero. Every error names the file.
 TEST(ArchiveWrite, DamagedSceneArchivesFailCleanly) {
   std::string dir = testing_support::scratch_dir("archive_damage");
   std::string path = testing_support::shared_dir() + "/scenes/rs-cornell-box/cornell_box.pbrt";
   CompiledScene c;
   compile_scene(path, &c);
   ASSERT_TRUE(c.ok);
-  for (bool compress : {true, false}) {
-    std::string good = write(c, path, dir + "/good.pbrta", compress, 1);
-    std::mt19937 rng(7);
-    int failures = 0, trials = 600;
-    for (int t = 0; t < trials; ++t) {
+  const std::string file = dir + "/bad.pbrta";
+  enum Variant { kZstd, kNone, kDraco };
+  for (Variant v : {kZstd, kNone, kDraco}) {
+    SCOPED_TRACE(v == kZstd ? "zstd" : v == kNone ? "none" : "draco");
+    ArchiveOptions opt;
+    opt.compress = v != kNone;
+    opt.draco_bits = v == kDraco ? 14 : 0;
+    opt.draco_min_triangles = 1;  // cornell's boxes are small
+    opt.threads = 1;
+    std::string error;
+    ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(path), dir + "/good.pbrta", opt,
+                              nullptr, &error))
+        << error;
+    const std::string good = testing_support::read_file(dir + "/good.pbrta");
+    pbrta::Header h;
+    std::memcpy(&h, good.data(), sizeof h);
+    if (v == kDraco) {
+      bool has_draco = false;
+      for (uint32_t i = 0; i < h.section_count; ++i)
+        has_draco |= pbrta::test_bytes::entry_of(good, i).codec == uint32_t(pbrta::Codec::kDraco);
+      ASSERT_TRUE(has_draco) << "the Draco variant holds no Draco section";
+    }
+    // Loads `bytes` from memory (1 thread) or, when via_file, from a file (2 threads); the
+    // error, or "" if it loaded.
+    auto load = [&](const std::string& bytes, bool via_file) {
+      pbrta::SceneArchive a;
+      std::string e;
+      if (via_file) {
+        testing_support::write_file(file, bytes);
+        if (a.load(file, 2, &e)) return std::string();
+      } else if (a.load_memory(bytes, file, 1, &e)) {
+        return std::string();
+      }
+      return e.empty() ? std::string("(empty error)") : e;
+    };
+    ASSERT_EQ(load(good, true), "");
+    int changes = 0;
+    auto expect_refused = [&](const std::string& bytes, const std::string& what, bool via_file) {
+      ++changes;
+      const std::string e = load(bytes, via_file);
+      EXPECT_NE(e, "") << what << " was accepted";
+      EXPECT_EQ(e.compare(0, file.size() + 2, file + ": "), 0) << what << ": " << e;
+    };
+    // Every byte, a one-bit flip each; every 16th through the file system.
+    for (size_t k = 0; k < good.size(); ++k) {
       std::string bad = good;
-      size_t at = rng() % bad.size();
-      bad[at] = char(bad[at] ^ (1 + rng() % 255));
-      std::string file = dir + "/bad.pbrta";
-      testing_support::write_file(file, bad);
-      pbrta::SceneArchive a;
-      std::string error;
-      if (a.load(file, 1, &error)) continue;
-      ++failures;
-      ASSERT_EQ(error.compare(0, file.size(), file), 0) << error;
+      bad[k] = char(bad[k] ^ (1u << (k % 8)));
+      expect_refused(bad, "a flip at byte " + std::to_string(k), k % 16 == 0);
     }
-    // Almost every byte is covered by a checksum; only padding may change silently.
-    EXPECT_GT(failures, trials * 8 / 10);
-    // Truncation anywhere fails.
-    for (size_t cut = 0; cut < good.size(); cut += 1 + good.size() / 97) {
-      std::string file = dir + "/cut.pbrta";
-      testing_support::write_file(file, good.substr(0, cut));
-      pbrta::SceneArchive a;
-      std::string error;
-      EXPECT_FALSE(a.load(file, 1, &error)) << "cut at " << cut;
-      EXPECT_EQ(error.compare(0, file.size(), file), 0) << error;
+    // Whole bytes changed at random, one or three at a time.
+    std::mt19937 rng(7);
+    for (int t = 0; t < 1500; ++t) {
+      std::string bad = good;
+      const int n = t % 2 ? 3 : 1;
+      for (int j = 0; j < n; ++j) {
+        const size_t at = rng() % bad.size();
+        bad[at] = char(bad[at] ^ (1 + rng() % 255));
+      }
+      expect_refused(bad, "random change " + std::to_string(t), false);
     }
+    // Truncation at every section boundary (each section's start, end and padded end), inside
+    // the header and table, and one byte short of the whole.
+    std::vector<uint64_t> cuts = {
+        0, 1, 63, 64, 64 + 48 * uint64_t{h.section_count} - 1, good.size() - 1};
+    for (uint32_t i = 0; i < h.section_count; ++i) {
+      const pbrta::SectionEntry e = pbrta::test_bytes::entry_of(good, i);
+      for (uint64_t cut : {e.offset, e.offset + 1, e.offset + e.stored_size,
+                           (e.offset + e.stored_size + 15) / 16 * 16})
+        cuts.push_back(cut);
+    }
+    for (uint64_t cut : cuts) {
+      if (cut >= good.size()) continue;
+      const std::string what = "a cut at byte " + std::to_string(cut);
+      expect_refused(good.substr(0, cut), what, true);
+      const std::string e = load(good.substr(0, cut), false);
+      EXPECT_NE(e.find("truncated"), std::string::npos) << what << ": " << e;
+    }
+    EXPECT_GT(changes, 3000);
   }
 }
 
