@@ -346,6 +346,7 @@ class Builder {
     // own, the other meshes share chunks as before.
     std::vector<DracoMesh> draco(s.meshes.size());
     if (opt.draco_bits > 0) {
+      if (opt.progress) opt.progress->phase("Draco meshes", s.meshes.size());
       tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
       arena.execute([&] {
         tbb::parallel_for(size_t(0), s.meshes.size(), [&](size_t i) {
@@ -591,7 +592,15 @@ bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::
   pbrta::ArchiveWriter writer;
   Builder builder(scene, files, base_dir);
   builder.build(&writer, options);
-  if (!writer.write(path, effect_bits(scene.effects), options.zstd_level, options.threads, error))
+  pbrta::ArchiveWriter::CompressProgress on_compressed;
+  if (options.progress) {
+    options.progress->phase(options.compress ? "compressing" : "writing", writer.section_count());
+    on_compressed = [p = options.progress](uint64_t done, uint64_t total) {
+      p->compressed(done, total);
+    };
+  }
+  if (!writer.write(path, effect_bits(scene.effects), options.zstd_level, options.threads, error,
+                    on_compressed))
     return false;
   if (stats) {
     stats->file_size = writer.last_file_size();

@@ -17,6 +17,17 @@
 
 namespace pbrtc {
 
+// Called while an archive is written, so a long compile can show where it is: phase() once
+// before each long step ("Draco meshes", "compressing"; items: meshes, sections), then
+// compressed() as sections finish compressing (raw bytes so far and in all; from the writer's
+// threads, never two calls at once; last with done == total). Must be cheap; the callee
+// throttles by time.
+struct ArchiveProgress {
+  virtual ~ArchiveProgress() = default;
+  virtual void phase(const char* name, size_t items) = 0;
+  virtual void compressed(uint64_t done, uint64_t total) = 0;
+};
+
 struct ArchiveOptions {
   bool compress = true;  // false: --codec none (sections usable in place)
   int zstd_level = 6;
@@ -41,6 +52,7 @@ struct ArchiveOptions {
   // always wrote. write_archive refuses an image the format cannot hold (f16: a finite value
   // of magnitude 65520 or more; unorm8: anything outside [0, 1]) with an error naming it.
   pbrta::PixelFormat texture_format = pbrta::PixelFormat::kFloat32;
+  ArchiveProgress* progress = nullptr;  // none by default
 };
 
 // One mesh stored with Draco: sizes, the displacement measured against the original vertices

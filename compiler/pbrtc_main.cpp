@@ -80,10 +80,11 @@ void print_draco_report(const std::string& path, int bits, const pbrtc::ArchiveS
                worst->mesh, worst->bound, worst->slack, verdict);
 }
 
-// Progress of a long compile on stderr, only when stderr is a terminal: the shape count and
-// each loading phase on one line rewritten in place (at most 4 times a second), erased when
-// the build is done so the summary line stands alone.
-class Progress : public pbrtc::BuildProgress {
+// Progress of a long compile on stderr, only when stderr is a terminal: the shape count, each
+// loading and writing phase, and the bytes compressed, on one line rewritten in place (counts at
+// most 4 times a second), erased when each stage is done so the summary line stands alone.
+// One phase() overrides both interfaces' (the same signature).
+class Progress : public pbrtc::BuildProgress, public pbrtc::ArchiveProgress {
  public:
   explicit Progress(std::string path)
       : path_(std::move(path)),
@@ -97,6 +98,13 @@ class Progress : public pbrtc::BuildProgress {
     if (!enabled_) return;
     last_ = std::chrono::steady_clock::now();
     show(std::string(name) + " (" + std::to_string(items) + ")");
+  }
+  void compressed(uint64_t done, uint64_t total) override {
+    if (!enabled_ || (done < total && !due())) return;
+    char what[96];
+    std::snprintf(what, sizeof what, "compressing, %.1f of %.1f MiB", double(done) / (1 << 20),
+                  double(total) / (1 << 20));
+    show(what);
   }
   void finish() {
     if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
@@ -273,10 +281,13 @@ int main(int argc, char** argv) {
     opt.texture_format = texture_precision == "f16"      ? pbrta::PixelFormat::kHalf16
                          : texture_precision == "unorm8" ? pbrta::PixelFormat::kUnorm8
                                                          : pbrta::PixelFormat::kFloat32;
+    if (!quiet) opt.progress = &progress;
     pbrtc::ArchiveStats stats;
     std::string error;
-    if (!pbrtc::write_archive(scene, files, path == "-" ? "" : pbrtc::directory_of(path), out, opt,
-                              &stats, &error)) {
+    const bool written = pbrtc::write_archive(
+        scene, files, path == "-" ? "" : pbrtc::directory_of(path), out, opt, &stats, &error);
+    progress.finish();
+    if (!written) {
       std::cerr << "pbrtc: error: " << error << "\n";
       all_ok = false;
       continue;

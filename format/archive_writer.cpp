@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
 #include <system_error>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -116,7 +118,7 @@ uint32_t ArchiveWriter::add_section(SectionKind kind, const void* data, size_t s
 }
 
 bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_level, int threads,
-                          std::string* error) {
+                          std::string* error, const CompressProgress& progress) {
   header_ = Header{};
   table_.clear();
   const std::string what = "cannot write '" + path + "': ";
@@ -148,6 +150,12 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return sections_[a].raw.size() > sections_[b].raw.size();
   });
+  auto compresses = [](Codec c) { return c != Codec::kNone && c != Codec::kDraco; };
+  uint64_t to_compress = 0;
+  for (const Section& s : sections_)
+    if (compresses(s.codec)) to_compress += s.raw.size();
+  std::atomic<uint64_t> compressed{0};
+  std::mutex progress_mutex;
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(
@@ -189,6 +197,12 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             e.checksum = checksum64(stored, e.codec == Codec::kZstdShuffle4Frames
                                                 ? frame_count(s.raw.size()) * sizeof(FrameEntry)
                                                 : e.stored_size);
+            if (compresses(s.codec)) {
+              const uint64_t done = compressed += s.raw.size();
+              // A display, not a log: a thread that finds another reporting goes on.
+              std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+              if (progress && lock && done < to_compress) progress(done, to_compress);
+            }
           }
         });
   });
@@ -199,6 +213,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
       return false;
     }
   }
+  if (progress && to_compress > 0) progress(to_compress, to_compress);
 
   std::vector<SectionEntry> table(n);
   auto fill_table = [&] {

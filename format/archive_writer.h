@@ -23,6 +23,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -45,10 +46,16 @@ class ArchiveWriter {
 
   uint32_t section_count() const { return static_cast<uint32_t>(sections_.size()); }
 
+  // Called as sections finish compressing, with the raw bytes compressed so far and the total
+  // to compress (the sections whose codec is zstd), for a progress display: from the writer's
+  // threads but never two calls at once, skipped while another call runs, and always once at
+  // the end with done == total. Not called when nothing is to be compressed.
+  using CompressProgress = std::function<void(uint64_t done, uint64_t total)>;
+
   // Writes the archive to path (see above). zstd_level is clamped to zstd's range; threads <= 0
   // means all cores. May be called more than once; the sections are kept.
   [[nodiscard]] bool write(const std::string& path, uint64_t effects, int zstd_level, int threads,
-                           std::string* error);
+                           std::string* error, const CompressProgress& progress = {});
 
   // After a successful write: the file's size, its header and its table (offsets, stored sizes,
   // codecs actually used), for reports.

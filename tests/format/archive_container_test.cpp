@@ -11,6 +11,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -306,6 +307,59 @@ TEST(ArchiveContainer, DeterministicAcrossThreadCounts) {
   add_all(&w2, sections);
   ASSERT_TRUE(w2.write(dir + "/u.pbrta", 0, 9, 2, &error)) << error;
   EXPECT_TRUE(a == testing_support::read_file(dir + "/u.pbrta"));
+}
+
+// Progress: the raw bytes of the zstd sections (not the stored or Draco ones), counted up as
+// sections finish on any thread, never two reports at once, the last one the whole. The bytes
+// written are those of a write without a progress callback.
+TEST(ArchiveContainer, ReportsCompressionProgress) {
+  const std::string dir = testing_support::scratch_dir("ArchiveContainer.Progress");
+  std::vector<TestSection> sections = mixed_sections();
+  for (uint32_t k = 0; k < 6; ++k)
+    sections.push_back(
+        {SectionKind::kGeometry, Codec::kZstdShuffle4, 0, float_bytes(100000 + 1000 * k, 20 + k)});
+  uint64_t expected_total = 0;
+  for (const TestSection& t : sections)
+    if (t.codec != Codec::kNone) expected_total += t.raw.size();
+  ArchiveWriter w;
+  add_all(&w, sections);
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    std::vector<std::pair<uint64_t, uint64_t>> calls;
+    std::atomic<int> inside{0};
+    bool overlapped = false;
+    std::string error;
+    ASSERT_TRUE(w.write(dir + "/p.pbrta", 0, 3, threads, &error,
+                        [&](uint64_t done, uint64_t total) {
+                          overlapped |= inside++ != 0;
+                          calls.emplace_back(done, total);
+                          --inside;
+                        }))
+        << error;
+    EXPECT_FALSE(overlapped);
+    ASSERT_FALSE(calls.empty());
+    for (size_t k = 0; k < calls.size(); ++k) {
+      EXPECT_EQ(calls[k].second, expected_total);
+      if (k > 0) {
+        EXPECT_LE(calls[k - 1].first, calls[k].first);  // an empty section adds nothing
+      }
+    }
+    EXPECT_EQ(calls.back().first, expected_total);
+    if (threads == 1) {
+      EXPECT_GE(calls.size(), 6u);  // one thread never skips a report
+    }
+    ASSERT_TRUE(w.write(dir + "/q.pbrta", 0, 3, threads, &error)) << error;
+    EXPECT_TRUE(testing_support::read_file(dir + "/p.pbrta") ==
+                testing_support::read_file(dir + "/q.pbrta"));
+  }
+  // Nothing to compress, no report.
+  ArchiveWriter none;
+  none.add_section(SectionKind::kScene, random_bytes(112, 1), 1, Codec::kNone);
+  int reports = 0;
+  std::string error;
+  ASSERT_TRUE(none.write(dir + "/n.pbrta", 0, 3, 2, &error, [&](uint64_t, uint64_t) { ++reports; }))
+      << error;
+  EXPECT_EQ(reports, 0);
 }
 
 TEST(ArchiveContainer, LayoutAlignmentAndPadding) {

@@ -2,10 +2,16 @@
 //
 // run_in(dir, command) runs a shell command line in dir, with XDG_CACHE_HOME=dir/cache so
 // pbrt's cache never leaks between tests, and returns its exit status (-1 if it did not exit,
-// e.g. it crashed), its stdout and stderr, and how long it took.
+// e.g. it crashed), its stdout and stderr, and how long it took. run_on_terminal does the same
+// with stdout and stderr on a pseudo-terminal (what programs that draw progress only on a
+// terminal show a user), both in `out`; a command still running after 60 s is killed.
 #pragma once
 
+#include <poll.h>
+#include <pty.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -35,6 +41,40 @@ inline Outcome run_in(const std::string& dir, const std::string& command,
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   r.err = read_file(err);
   r.out = read_file(out);
+  return r;
+}
+
+inline Outcome run_on_terminal(const std::string& dir, const std::string& command) {
+  Outcome r;
+  auto t0 = std::chrono::steady_clock::now();
+  int master = -1;
+  const pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
+  if (pid < 0) return r;
+  if (pid == 0) {
+    const std::string line = "cd '" + dir + "' && XDG_CACHE_HOME='" + dir + "/cache' " + command;
+    execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Read until the terminal closes (EIO once the last writer exits).
+  char buffer[4096];
+  for (;;) {
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (elapsed > 60) {
+      kill(pid, SIGKILL);
+      break;
+    }
+    pollfd p{master, POLLIN, 0};
+    if (poll(&p, 1, 1000) <= 0) continue;
+    const ssize_t n = read(master, buffer, sizeof buffer);
+    if (n <= 0) break;
+    r.out.append(buffer, size_t(n));
+  }
+  close(master);
+  int raw = 0;
+  waitpid(pid, &raw, 0);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return r;
 }
 

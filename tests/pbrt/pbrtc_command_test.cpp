@@ -8,6 +8,7 @@
 // (exit 2).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -27,6 +28,7 @@ using testing_support::kBin;
 using testing_support::Outcome;
 using testing_support::read_file;
 using testing_support::run_in;
+using testing_support::run_on_terminal;
 using testing_support::scratch_dir;
 using testing_support::write_file;
 
@@ -187,6 +189,40 @@ TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
   EXPECT_EQ(render.status, 1);
   EXPECT_NE(render.err.find(reason), std::string::npos) << render.err;
   EXPECT_FALSE(fs::exists(dir + "/out.exr"));
+}
+
+// Progress on a terminal: each phase of the compile (here the Draco meshes, then compression
+// and its byte count) on one line rewritten in place, erased before the summary line; none of it
+// through a pipe or with --quiet.
+TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
+  const std::string dir = scratch_dir("pbrtc_progress");
+  write_file(dir + "/grid.pbrt", uv_grid_scene(pbrta::test_forgery::uv_grid(8)));
+  const Outcome t = run_on_terminal(dir, pbrtc() + " --draco-bits 14 grid.pbrt");
+  ASSERT_EQ(t.status, 0) << t.out;
+  const std::string line = "\r\033[Kgrid.pbrt: ";
+  const size_t draco = t.out.find(line + "Draco meshes (2)");  // the box's 2 triangles, the grid
+  const size_t compressing = t.out.find(line + "compressing (");
+  const size_t bytes = t.out.rfind(line + "compressing, ");
+  const size_t summary = t.out.find("\r\033[Kpbrtc: grid.pbrt: ");
+  ASSERT_NE(draco, std::string::npos) << t.out;
+  ASSERT_NE(summary, std::string::npos) << t.out;
+  EXPECT_LT(draco, compressing);
+  EXPECT_LT(compressing, bytes);
+  EXPECT_LT(bytes, summary);
+  // The last count is the whole: "compressing, X of X MiB".
+  const std::string last = t.out.substr(bytes + line.size(), summary - bytes - line.size());
+  double done = -1, total = -2;
+  ASSERT_EQ(std::sscanf(last.c_str(), "compressing, %lf of %lf MiB", &done, &total), 2) << last;
+  EXPECT_EQ(done, total);
+  EXPECT_TRUE(fs::exists(dir + "/grid.pbrta"));
+
+  const Outcome piped = run_in(dir, pbrtc() + " --draco-bits 14 grid.pbrt", "piped");
+  EXPECT_EQ(piped.status, 0);
+  EXPECT_EQ(piped.err.find('\033'), std::string::npos) << piped.err;
+  EXPECT_EQ(piped.err.rfind("pbrtc: grid.pbrt: ", 0), 0u) << piped.err;
+  const Outcome quiet = run_on_terminal(dir, pbrtc() + " -q --draco-bits 14 grid.pbrt");
+  EXPECT_EQ(quiet.status, 0);
+  EXPECT_EQ(quiet.out, "");
 }
 
 TEST(PbrtcCommand, AFailedCompileLeavesTheOldArchive) {
