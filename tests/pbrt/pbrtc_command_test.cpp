@@ -8,7 +8,9 @@
 // (exit 2).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -19,6 +21,7 @@
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
 #include "format/draco_forgery.h"
+#include "format/scene_archive.h"
 #include "test_support.h"
 
 namespace {
@@ -223,6 +226,89 @@ TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
   const Outcome quiet = run_on_terminal(dir, pbrtc() + " -q --draco-bits 14 grid.pbrt");
   EXPECT_EQ(quiet.status, 0);
   EXPECT_EQ(quiet.out, "");
+}
+
+// The Draco report's "largest vertex displacement" is what the archive holds: the largest
+// per-axis distance from a decoded vertex to the nearest vertex the scene gave, measured here
+// by brute force, and within the bound the bits imply.
+TEST(PbrtcCommand, TheDracoReportStatesTheDisplacementTheArchiveHolds) {
+  const std::string dir = scratch_dir("pbrtc_draco_report");
+  const int n = 16;
+  std::vector<float> P;  // as pbrtc reads them back from the text below
+  std::string points, indices;
+  char number[32];
+  for (int y = 0; y <= n; ++y)
+    for (int x = 0; x <= n; ++x)
+      for (double c : {0.37 * x, 0.53 * y, std::sin(0.7 * x * y)}) {
+        std::snprintf(number, sizeof number, " %.9g", c);
+        points += number;
+        P.push_back(std::strtof(number, nullptr));
+      }
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const int a = y * (n + 1) + x;
+      for (int v : {a, a + 1, a + n + 2, a, a + n + 2, a + n + 1})
+        indices += " " + std::to_string(v);
+    }
+  std::string scene = kScene;
+  scene.insert(scene.find("WorldEnd"), "Shape \"trianglemesh\" \"point P\" [" + points +
+                                           "] \"integer indices\" [" + indices + "]\n");
+  write_file(dir + "/bumps.pbrt", scene);
+  double reported[2] = {};
+  for (int k = 0; k < 2; ++k) {
+    const int bits = k == 0 ? 8 : 14;
+    SCOPED_TRACE(std::to_string(bits) + " bits");
+    const std::string out = "b" + std::to_string(bits) + ".pbrta";
+    const Outcome c = run_in(
+        dir, pbrtc() + " --draco-bits " + std::to_string(bits) + " bumps.pbrt -o " + out, "c");
+    ASSERT_EQ(c.status, 0) << c.err;
+    const size_t at = c.err.find("largest vertex displacement ");
+    ASSERT_NE(at, std::string::npos) << c.err;
+    double bound = 0, rounding = 0;
+    unsigned mesh = 0;
+    ASSERT_EQ(
+        std::sscanf(c.err.c_str() + at,
+                    "largest vertex displacement %lf (mesh %u: bound %lf + float rounding %lf)",
+                    &reported[k], &mesh, &bound, &rounding),
+        4)
+        << c.err;
+    EXPECT_NE(c.err.find("every mesh within its bound"), std::string::npos) << c.err;
+
+    pbrta::SceneArchive a;
+    std::string error;
+    ASSERT_TRUE(a.load(dir + "/" + out, 1, &error)) << error;
+    ASSERT_LT(mesh, a.meshes.size);
+    const pbrta::MeshRecord& m = a.meshes[mesh];
+    ASSERT_EQ(m.num_vertices, P.size() / 3) << "the report names another mesh";
+    const float* got = a.positions(mesh);
+    double measured = 0;
+    for (uint32_t v = 0; v < m.num_vertices; ++v) {
+      double nearest = 1e30;
+      for (size_t o = 0; o < P.size(); o += 3) {
+        double d = 0;
+        for (int j = 0; j < 3; ++j) d = std::max(d, std::fabs(double(got[3 * v + j]) - P[o + j]));
+        nearest = std::min(nearest, d);
+      }
+      measured = std::max(measured, nearest);
+    }
+    // The bound the bits imply (half a quantization step over the largest extent), and float
+    // rounding of a few ulps of the largest magnitude on top.
+    double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30}, largest = 0;
+    for (size_t o = 0; o < P.size(); ++o) {
+      lo[o % 3] = std::min(lo[o % 3], double(P[o]));
+      hi[o % 3] = std::max(hi[o % 3], double(P[o]));
+      largest = std::max(largest, std::fabs(double(P[o])));
+    }
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double expected_bound = extent / ((1 << bits) - 1) / 2;
+    EXPECT_GT(measured, 0.5 * expected_bound);  // it did quantize
+    EXPECT_LE(measured, expected_bound + 8 * largest * 0x1p-24);
+    // Printed with 3 significant digits.
+    EXPECT_NEAR(reported[k], measured, 0.006 * measured);
+    EXPECT_NEAR(bound, expected_bound, 0.006 * expected_bound);
+    EXPECT_LE(rounding, 8 * largest * 0x1p-24);
+  }
+  EXPECT_GT(reported[0], 10 * reported[1]);  // 6 bits fewer: steps 64 times as large
 }
 
 TEST(PbrtcCommand, AFailedCompileLeavesTheOldArchive) {
