@@ -1,8 +1,10 @@
 #include "compiler/archive_builder.h"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 #include <unordered_map>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -346,14 +348,25 @@ class Builder {
     // own, the other meshes share chunks as before.
     std::vector<DracoMesh> draco(s.meshes.size());
     if (opt.draco_bits > 0) {
+      uint64_t triangles = 0;
+      for (const TriangleMesh& m : s.meshes)
+        if (draco_eligible(m, opt)) triangles += m.num_triangles();
       if (opt.progress) opt.progress->phase("Draco meshes", s.meshes.size());
+      std::atomic<uint64_t> encoded{0};
+      std::mutex progress_mutex;
       tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
       arena.execute([&] {
         tbb::parallel_for(size_t(0), s.meshes.size(), [&](size_t i) {
           draco[i].tried = draco_eligible(s.meshes[i], opt);
-          if (draco[i].tried) draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
+          if (!draco[i].tried) return;
+          draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
+          const uint64_t done = encoded += s.meshes[i].num_triangles();
+          // A display, not a log: a thread that finds another reporting goes on.
+          std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+          if (opt.progress && lock && done < triangles) opt.progress->encoded(done, triangles);
         });
       });
+      if (opt.progress && triangles > 0) opt.progress->encoded(triangles, triangles);
     }
     std::vector<std::vector<uint8_t>> draco_streams;  // per chunk; empty for lossless chunks
     int open_chunk = -1;  // the lossless chunk meshes are being added to

@@ -18,13 +18,15 @@
 namespace pbrtc {
 
 // Called while an archive is written, so a long compile can show where it is: phase() once
-// before each long step ("Draco meshes", "compressing"; items: meshes, sections), then
-// compressed() as sections finish compressing (raw bytes so far and in all; from the writer's
-// threads, never two calls at once; last with done == total). Must be cheap; the callee
+// before each long step ("Draco meshes", "compressing"; items: meshes, sections), then, within
+// it, encoded() as Draco meshes finish (triangles so far and in all) and compressed() as
+// sections finish compressing (raw bytes so far and in all). Those two come from worker
+// threads, never two calls at once, and end with done == total. Must be cheap; the callee
 // throttles by time.
 struct ArchiveProgress {
   virtual ~ArchiveProgress() = default;
   virtual void phase(const char* name, size_t items) = 0;
+  virtual void encoded(uint64_t done, uint64_t total) = 0;
   virtual void compressed(uint64_t done, uint64_t total) = 0;
 };
 

@@ -99,11 +99,24 @@ class Progress : public pbrtc::BuildProgress, public pbrtc::ArchiveProgress {
     last_ = std::chrono::steady_clock::now();
     show(std::string(name) + " (" + std::to_string(items) + ")");
   }
-  void compressed(uint64_t done, uint64_t total) override {
+  void encoded(uint64_t done, uint64_t total) override {
     if (!enabled_ || (done < total && !due())) return;
     char what[96];
-    std::snprintf(what, sizeof what, "compressing, %.1f of %.1f MiB", double(done) / (1 << 20),
-                  double(total) / (1 << 20));
+    if (total >= 1000000)
+      std::snprintf(what, sizeof what, "Draco meshes, %.2f of %.2f M triangles", double(done) / 1e6,
+                    double(total) / 1e6);
+    else
+      std::snprintf(what, sizeof what, "Draco meshes, %llu of %llu triangles",
+                    (unsigned long long)done, (unsigned long long)total);
+    show(what);
+  }
+  void compressed(uint64_t done, uint64_t total) override {
+    if (!enabled_ || (done < total && !due())) return;
+    const bool mib = total >= (1 << 20);
+    const double unit = mib ? 1 << 20 : 1 << 10;
+    char what[96];
+    std::snprintf(what, sizeof what, "compressing, %.1f of %.1f %s", double(done) / unit,
+                  double(total) / unit, mib ? "MiB" : "KiB");
     show(what);
   }
   void finish() {

@@ -194,9 +194,9 @@ TEST(PbrtcCommand, AForgedDracoStreamIsRefusedWithinItsBudget) {
   EXPECT_FALSE(fs::exists(dir + "/out.exr"));
 }
 
-// Progress on a terminal: each phase of the compile (here the Draco meshes, then compression
-// and its byte count) on one line rewritten in place, erased before the summary line; none of it
-// through a pipe or with --quiet.
+// Progress on a terminal: each phase of the compile (here the Draco meshes and their triangle
+// count, then compression and its byte count) on one line rewritten in place, erased before the
+// summary line; none of it through a pipe or with --quiet.
 TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
   const std::string dir = scratch_dir("pbrtc_progress");
   write_file(dir + "/grid.pbrt", uv_grid_scene(pbrta::test_forgery::uv_grid(8)));
@@ -204,19 +204,22 @@ TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
   ASSERT_EQ(t.status, 0) << t.out;
   const std::string line = "\r\033[Kgrid.pbrt: ";
   const size_t draco = t.out.find(line + "Draco meshes (2)");  // the box's 2 triangles, the grid
+  const size_t triangles = t.out.find(line + "Draco meshes, 128 of 128 triangles");
   const size_t compressing = t.out.find(line + "compressing (");
   const size_t bytes = t.out.rfind(line + "compressing, ");
   const size_t summary = t.out.find("\r\033[Kpbrtc: grid.pbrt: ");
   ASSERT_NE(draco, std::string::npos) << t.out;
   ASSERT_NE(summary, std::string::npos) << t.out;
-  EXPECT_LT(draco, compressing);
+  EXPECT_LT(draco, triangles);  // only the grid has enough triangles for Draco
+  EXPECT_LT(triangles, compressing);
   EXPECT_LT(compressing, bytes);
   EXPECT_LT(bytes, summary);
-  // The last count is the whole: "compressing, X of X MiB".
+  // The last count is the whole: "compressing, X of X KiB" (MiB from 1 MiB).
   const std::string last = t.out.substr(bytes + line.size(), summary - bytes - line.size());
   double done = -1, total = -2;
-  ASSERT_EQ(std::sscanf(last.c_str(), "compressing, %lf of %lf MiB", &done, &total), 2) << last;
+  ASSERT_EQ(std::sscanf(last.c_str(), "compressing, %lf of %lf KiB", &done, &total), 2) << last;
   EXPECT_EQ(done, total);
+  EXPECT_GT(total, 0.5);
   EXPECT_TRUE(fs::exists(dir + "/grid.pbrta"));
 
   const Outcome piped = run_in(dir, pbrtc() + " --draco-bits 14 grid.pbrt", "piped");
