@@ -95,7 +95,7 @@ class Progress : public pbrtc::BuildProgress, public pbrtc::ArchiveProgress {
     show(std::to_string(scene.shapes.size()) + " shapes");
   }
   void phase(const char* name, size_t items) override {
-    if (!enabled_) return;
+    if (!enabled_ || items == 0) return;  // a scene with no textures has no "images (0)" step
     last_ = std::chrono::steady_clock::now();
     show(std::string(name) + " (" + std::to_string(items) + ")");
   }

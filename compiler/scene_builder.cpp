@@ -979,8 +979,7 @@ bool build_scene(const std::string& path, SourceFiles* files, Diagnostics* diag,
     scene->input_files.push_back(files->display_path(uint32_t(i)));
   // Images only once the scene is sound: decoding is the slow part of a compile.
   if (diag->error_count() == before) {
-    if (progress) progress->phase("images", scene->textures.size() + scene->lights.size());
-    decode_scene_images(scene, diag);
+    decode_scene_images(scene, diag, progress);
   }
   return diag->error_count() == before;
 }

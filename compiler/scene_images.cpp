@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <unordered_map>
 
+#include "compiler/scene_builder.h"
+
 namespace pbrtc {
 
 namespace {
@@ -55,7 +57,7 @@ void set_given(Entity* e, std::string_view param, float f, int32_t i) {
 
 }  // namespace
 
-bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
+bool decode_scene_images(SceneDesc* scene, Diagnostics* diag, BuildProgress* progress) {
   std::vector<Job> jobs;
   std::unordered_map<std::string, size_t> job_of;
   int32_t next_image = int32_t(scene->images.size());
@@ -105,6 +107,7 @@ bool decode_scene_images(SceneDesc* scene, Diagnostics* diag) {
     l.image = use(std::move(j), e.loc);
   }
   if (jobs.empty()) return true;
+  if (progress) progress->phase("images", jobs.size());
 
   tbb::parallel_for(size_t(0), jobs.size(), [&](size_t i) {
     Job& j = jobs[i];

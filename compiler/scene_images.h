@@ -25,6 +25,10 @@
 
 namespace pbrtc {
 
-bool decode_scene_images(SceneDesc* scene, Diagnostics* diag);
+struct BuildProgress;  // compiler/scene_builder.h
+
+// progress, when given, hears phase("images", n) with the number of distinct images to decode,
+// when there are any.
+bool decode_scene_images(SceneDesc* scene, Diagnostics* diag, BuildProgress* progress = nullptr);
 
 }  // namespace pbrtc

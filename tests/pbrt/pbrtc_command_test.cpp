@@ -221,6 +221,26 @@ TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
   EXPECT_EQ(done, total);
   EXPECT_GT(total, 0.5);
   EXPECT_TRUE(fs::exists(dir + "/grid.pbrta"));
+  // A phase with nothing to do is not shown: the scene has no image.
+  EXPECT_EQ(t.out.find("images ("), std::string::npos) << t.out;
+  // Images count distinct files: two textures of one file decode it once.
+  std::string pfm = "PF\n2 2\n-1.0\n";
+  for (int k = 0; k < 12; ++k) {
+    const float v = 0.1f * float(k);
+    pfm.append(reinterpret_cast<const char*>(&v), 4);
+  }
+  write_file(dir + "/tex.pfm", pfm);
+  std::string textured = kScene;
+  textured.insert(textured.find("Material"),
+                  "Texture \"a\" \"spectrum\" \"imagemap\" \"string filename\" \"tex.pfm\"\n"
+                  "Texture \"b\" \"spectrum\" \"imagemap\" \"string filename\" \"tex.pfm\"\n"
+                  "Material \"matte\" \"texture Kd\" \"a\"\n"
+                  "Shape \"sphere\" \"float radius\" 0.2\n"
+                  "Material \"matte\" \"texture Kd\" \"b\"\n");
+  write_file(dir + "/textured.pbrt", textured);
+  const Outcome img = run_on_terminal(dir, pbrtc() + " textured.pbrt");
+  ASSERT_EQ(img.status, 0) << img.out;
+  EXPECT_NE(img.out.find("\r\033[Ktextured.pbrt: images (1)"), std::string::npos) << img.out;
 
   const Outcome piped = run_in(dir, pbrtc() + " --draco-bits 14 grid.pbrt", "piped");
   EXPECT_EQ(piped.status, 0);
