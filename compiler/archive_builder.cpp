@@ -349,9 +349,10 @@ class Builder {
     std::vector<DracoMesh> draco(s.meshes.size());
     if (opt.draco_bits > 0) {
       uint64_t triangles = 0;
+      size_t eligible = 0;
       for (const TriangleMesh& m : s.meshes)
-        if (draco_eligible(m, opt)) triangles += m.num_triangles();
-      if (opt.progress) opt.progress->phase("Draco meshes", s.meshes.size());
+        if (draco_eligible(m, opt)) triangles += m.num_triangles(), ++eligible;
+      if (opt.progress) opt.progress->phase("Draco meshes", eligible);
       std::atomic<uint64_t> encoded{0};
       std::mutex progress_mutex;
       tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
@@ -360,9 +361,11 @@ class Builder {
           draco[i].tried = draco_eligible(s.meshes[i], opt);
           if (!draco[i].tried) return;
           draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
-          const uint64_t done = encoded += s.meshes[i].num_triangles();
-          // A display, not a log: a thread that finds another reporting goes on.
+          encoded += s.meshes[i].num_triangles();
+          // A display, not a log: a thread that finds another reporting goes on. The count is
+          // read under the lock, so reports never go backwards.
           std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+          const uint64_t done = lock ? encoded.load() : 0;
           if (opt.progress && lock && done < triangles) opt.progress->encoded(done, triangles);
         });
       });

@@ -18,10 +18,11 @@
 namespace pbrtc {
 
 // Called while an archive is written, so a long compile can show where it is: phase() once
-// before each long step ("Draco meshes", "compressing"; items: meshes, sections), then, within
-// it, encoded() as Draco meshes finish (triangles so far and in all) and compressed() as
-// sections finish compressing (raw bytes so far and in all). Those two come from worker
-// threads, never two calls at once, and end with done == total. Must be cheap; the callee
+// before each long step ("Draco meshes": the meshes Draco will take; "compressing", or
+// "writing" for --codec none: the sections), then, within it, encoded() as Draco meshes finish
+// (triangles so far and in all) and compressed() as sections finish compressing (raw bytes so
+// far and in all). Those two come from worker threads, never two calls at once, done never
+// goes down, and the last has done == total unless the write fails. Must be cheap; the callee
 // throttles by time.
 struct ArchiveProgress {
   virtual ~ArchiveProgress() = default;
@@ -54,7 +55,7 @@ struct ArchiveOptions {
   // always wrote. write_archive refuses an image the format cannot hold (f16: a finite value
   // of magnitude 65520 or more; unorm8: anything outside [0, 1]) with an error naming it.
   pbrta::PixelFormat texture_format = pbrta::PixelFormat::kFloat32;
-  ArchiveProgress* progress = nullptr;  // none by default
+  ArchiveProgress* progress = nullptr;  // null: silent (tests, pbrtc --quiet)
 };
 
 // One mesh stored with Draco: sizes, the displacement measured against the original vertices

@@ -198,9 +198,11 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
                                                 ? frame_count(s.raw.size()) * sizeof(FrameEntry)
                                                 : e.stored_size);
             if (compresses(s.codec)) {
-              const uint64_t done = compressed += s.raw.size();
-              // A display, not a log: a thread that finds another reporting goes on.
+              compressed += s.raw.size();
+              // A display, not a log: a thread that finds another reporting goes on. The count
+              // is read under the lock, so reports never go backwards.
               std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
+              const uint64_t done = lock ? compressed.load() : 0;
               if (progress && lock && done < to_compress) progress(done, to_compress);
             }
           }

@@ -48,8 +48,9 @@ class ArchiveWriter {
 
   // Called as sections finish compressing, with the raw bytes compressed so far and the total
   // to compress (the sections whose codec is zstd), for a progress display: from the writer's
-  // threads but never two calls at once, skipped while another call runs, and always once at
-  // the end with done == total. Not called when nothing is to be compressed.
+  // threads but never two calls at once, skipped while another call runs (so done never goes
+  // down), and once at the end with done == total when every section compressed. Not called
+  // when nothing is to be compressed.
   using CompressProgress = std::function<void(uint64_t done, uint64_t total)>;
 
   // Writes the archive to path (see above). zstd_level is clamped to zstd's range; threads <= 0
