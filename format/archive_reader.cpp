@@ -1055,23 +1055,27 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
   // The Draco streams' checksums, here and before any child is forked: a damaged stream fails
   // for the price of hashing it (microseconds), not of a process (a millisecond or more). Read
-  // with pread from a file, as the frame indexes are, so a file that shrank gives an error here
-  // rather than SIGBUS.
+  // with pread from a file, as the frame indexes are, so a file that shrank since it was opened
+  // fails here with an error, not SIGBUS.
   if (!failed) {
-    std::vector<uint8_t> stored;
     for (size_t k = draco_from; k < schedule.size(); ++k) {
       const uint32_t i = tasks[schedule[k]].section;
       const SectionEntry& e = entries_[i];
       const uint8_t* at = base_ + e.offset;
       std::string why;
       if (fd_ >= 0) {
-        stored.resize(e.stored_size);
-        if (!read_at(e.offset, e.stored_size, stored.data(), &why)) {
+        uint8_t* stage = thread_decoder().stage(e.stored_size);
+        bool read = false;
+        if (stage == nullptr)
+          why = "cannot allocate " + std::to_string(e.stored_size) + " bytes to read it";
+        else
+          read = read_at(e.offset, e.stored_size, stage, &why);
+        at = stage;
+        if (!read) {
           task_errors[schedule[k]] = section_error(i, why);
           failed = true;
           continue;
         }
-        at = stored.data();
       }
       if (checksum64(at, e.stored_size) != e.checksum) {
         task_errors[schedule[k]] = section_error(i, "checksum mismatch");

@@ -23,11 +23,12 @@
 // context, scratch block and staging buffer for the next load, by any reader, as long as all
 // threads' kept buffers stay within 32 MiB: mapping and zeroing them anew was half of a repeated
 // 1 MB load (a process's first load pays for them once).
-// Draco (codec-3) sections decode last, and only when every other section decoded, in up to
-// `threads` child processes with a budget (format/isolated_jobs.h) that write into shared memory,
-// copied into place: Draco's work on a forged stream is not bounded otherwise. That costs a fork
-// per child: killeroo compiled with --draco-bits 14 loads in 38 ms instead of 28 ms in a new
-// process (archive_bench --once load, best of 10).
+// Draco (codec-3) sections decode last, and only when every other section decoded and every
+// Draco stream's checksum matched (checked in this process, before any fork), in up to `threads`
+// child processes with a budget (format/isolated_jobs.h) that write into shared memory, copied
+// into place: Draco's work on a forged stream is not bounded otherwise. That costs a fork per
+// child: killeroo compiled with --draco-bits 14 loads in 38 ms instead of 28 ms in a new process
+// (archive_bench --once load, best of 10).
 // Ownership: the reader owns the mapping and the open file (or, for open_memory, borrows the
 // caller's bytes) and the decoded buffer; every pointer it hands out lives until the reader is
 // destroyed or moved from.
@@ -115,7 +116,9 @@ class ArchiveReader {
 
   // Verifies every section's checksum and decodes it, with up to `threads` threads (<= 0: all
   // cores). Sections of kinds this reader does not know (allowed in a newer minor version) are
-  // skipped. On failure the message is that of the lowest-numbered failing section.
+  // skipped. On failure the message is that of the lowest-numbered failing section among those
+  // that failed first, in this order: the other sections, the Draco checksums, Draco decoding
+  // (later steps do not run once one fails).
   [[nodiscard]] bool load_sections(int threads, std::string* error);
 
   // A check made while a section decodes, block by block while the data is in cache: every

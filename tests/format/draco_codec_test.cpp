@@ -4,6 +4,8 @@
 // triangles up to vertex and face order), the measured position error against the bound the
 // bits imply, determinism, garbage, truncated and bit-flipped streams, hostile headers, limits,
 // and the reader's checks on Draco sections with their exact messages.
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
@@ -556,6 +558,39 @@ TEST(DracoSection, TheSectionThatStopsTheDecoderIsTheOneReported) {
   EXPECT_EQ(error, path +
                        ": section 'geometry' (#1): draco: decoding ran past its budget of 1 s "
                        "of CPU time (a forged or damaged stream)");
+}
+
+// The Draco streams' checksums are read with pread before any child is forked, so a mapped file
+// that shrank since it was opened is an error naming the section. Read through the mapping (in a
+// child, as before), the cut pages raised SIGBUS there: "the decoder crashed (signal 7)". The
+// file is over 64 KiB and mostly compressed, so the reader maps it; the big zstd section before
+// the stream is read with pread, and the small one before it lies wholly before the cut.
+TEST(DracoSection, AFileThatShrinksAfterOpenIsAnErrorBeforeAnyDecode) {
+  const TestMesh m = torus(20, 12);
+  const std::vector<uint8_t> stream = encode(m.view(), 14, false);
+  DecodedMesh d;
+  std::string error;
+  ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
+  MeshRecord rec;
+  std::vector<uint8_t> raw;
+  draco_geometry_section(d, &rec, &raw);
+  std::mt19937 rng(5);
+  std::vector<uint8_t> noise(200000);
+  for (uint8_t& b : noise) b = uint8_t(rng());
+  ArchiveWriter w;
+  w.add_section(SectionKind::kStrings, std::vector<uint8_t>(100, 'x'), 1, Codec::kZstd);
+  w.add_section(SectionKind::kTexels, noise, 1, Codec::kZstd);
+  w.add_encoded_section(SectionKind::kGeometry, raw, stream, 1, Codec::kDraco);
+  const std::string path = testing_support::scratch_dir("DracoSectionShrinks") + "/a.pbrta";
+  ASSERT_TRUE(w.write(path, 0, 3, 1, &error)) << error;
+  ASSERT_EQ(w.table()[2].codec, uint32_t(Codec::kDraco));
+  ArchiveReader r;
+  ASSERT_TRUE(r.open(path, &error)) << error;
+  ASSERT_EQ(::truncate(path.c_str(), off_t(w.table()[2].offset + 10)), 0);
+  EXPECT_FALSE(r.load_sections(2, &error));
+  EXPECT_EQ(error, path +
+                       ": section 'geometry' (#2): truncated while loading: the file shrank after "
+                       "it was opened");
 }
 
 // A .drc file a user names goes through the same budget (plymesh, pbrt-mesh): the isolated
