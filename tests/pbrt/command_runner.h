@@ -46,12 +46,16 @@ inline Outcome run_in(const std::string& dir, const std::string& command,
 
 inline Outcome run_on_terminal(const std::string& dir, const std::string& command) {
   Outcome r;
+  // Built before the fork: the child of a threaded process may only exec.
+  const std::string line = "cd '" + dir + "' && XDG_CACHE_HOME='" + dir + "/cache' " + command;
   auto t0 = std::chrono::steady_clock::now();
   int master = -1;
   const pid_t pid = forkpty(&master, nullptr, nullptr, nullptr);
-  if (pid < 0) return r;
+  if (pid < 0) {
+    r.out = "run_on_terminal: cannot open a pseudo-terminal (forkpty failed)";
+    return r;
+  }
   if (pid == 0) {
-    const std::string line = "cd '" + dir + "' && XDG_CACHE_HOME='" + dir + "/cache' " + command;
     execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -61,7 +65,7 @@ inline Outcome run_on_terminal(const std::string& dir, const std::string& comman
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (elapsed > 60) {
-      kill(pid, SIGKILL);
+      kill(-pid, SIGKILL);  // the shell's whole process group: forkpty made it a session leader
       break;
     }
     pollfd p{master, POLLIN, 0};
