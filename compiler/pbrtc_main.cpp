@@ -22,6 +22,7 @@
 #include "compiler/archive_builder.h"
 #include "compiler/archive_dump.h"
 #include "compiler/archive_info.h"
+#include "compiler/compile_progress.h"
 #include "compiler/diagnostics.h"
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
@@ -79,68 +80,6 @@ void print_draco_report(const std::string& path, int bits, const pbrtc::ArchiveS
                double(raw) / (1 << 20), double(stored) / (1 << 20), worst->displacement,
                worst->mesh, worst->bound, worst->slack, verdict);
 }
-
-// Progress of a long compile on stderr, only when stderr is a terminal: the shape count, each
-// loading and writing phase, and the bytes compressed, on one line rewritten in place (counts at
-// most 4 times a second), erased when each stage is done so the summary line stands alone.
-// One phase() overrides both interfaces' (the same signature).
-class Progress : public pbrtc::BuildProgress, public pbrtc::ArchiveProgress {
- public:
-  explicit Progress(std::string path)
-      : path_(std::move(path)),
-        enabled_(isatty(STDERR_FILENO) == 1),
-        last_(std::chrono::steady_clock::now()) {}
-  void shapes(const pbrtc::SceneDesc& scene) override {
-    if (!enabled_ || !due()) return;
-    show(std::to_string(scene.shapes.size()) + " shapes");
-  }
-  void phase(const char* name, size_t items) override {
-    if (!enabled_ || items == 0) return;  // a scene with no textures has no "images (0)" step
-    last_ = std::chrono::steady_clock::now();
-    show(std::string(name) + " (" + std::to_string(items) + ")");
-  }
-  void encoded(uint64_t done, uint64_t total) override {
-    if (!enabled_ || (done < total && !due())) return;
-    char what[96];
-    if (total >= 1000000)
-      std::snprintf(what, sizeof what, "Draco meshes, %.2f of %.2f M triangles", double(done) / 1e6,
-                    double(total) / 1e6);
-    else
-      std::snprintf(what, sizeof what, "Draco meshes, %llu of %llu triangles",
-                    (unsigned long long)done, (unsigned long long)total);
-    show(what);
-  }
-  void compressed(uint64_t done, uint64_t total) override {
-    if (!enabled_ || (done < total && !due())) return;
-    const bool mib = total >= (1 << 20);
-    const double unit = mib ? 1 << 20 : 1 << 10;
-    char what[96];
-    std::snprintf(what, sizeof what, "compressing, %.1f of %.1f %s", double(done) / unit,
-                  double(total) / unit, mib ? "MiB" : "KiB");
-    show(what);
-  }
-  void finish() {
-    if (enabled_ && shown_) std::fprintf(stderr, "\r\033[K");
-    shown_ = false;
-  }
-
- private:
-  bool due() {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < std::chrono::milliseconds(250)) return false;
-    last_ = now;
-    return true;
-  }
-  void show(const std::string& what) {
-    std::fprintf(stderr, "\r\033[K%s: %s", path_.c_str(), what.c_str());
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  std::string path_;
-  bool enabled_;
-  bool shown_ = false;
-  std::chrono::steady_clock::time_point last_;
-};
 
 }  // namespace
 
@@ -266,7 +205,7 @@ int main(int argc, char** argv) {
     diag.werror = werror;
     diag.max_errors = max_errors;
     pbrtc::SceneDesc scene;
-    Progress progress(path);
+    pbrtc::TerminalProgress progress(path);
     bool ok = pbrtc::build_scene(path, &files, &diag, &scene, quiet ? nullptr : &progress);
     progress.finish();
     if (diag.should_stop())

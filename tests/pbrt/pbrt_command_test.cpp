@@ -29,6 +29,7 @@ using testing_support::kBin;
 using testing_support::Outcome;
 using testing_support::read_file;
 using testing_support::run_in;
+using testing_support::run_on_terminal;
 using testing_support::scratch_dir;
 using testing_support::write_file;
 
@@ -170,6 +171,36 @@ TEST(PbrtCommand, SecondRunHitsTheCache) {
   EXPECT_NE(third.err.find("cache: hit"), std::string::npos) << third.err;
   std::printf("[ timing ] miss %.3f s, hit %.3f s (whole command)\n", first.seconds,
               second.seconds);
+}
+
+// On a terminal a compile shows pbrtc's progress line (its PLY, image and compressing phases),
+// erased before the render's progress bar; a cache hit compiles nothing and shows none of it,
+// and --quiet shows neither.
+TEST(PbrtCommand, ACompileShowsItsProgressOnATerminal) {
+  std::string dir = make_scene("progress");
+  const Outcome miss = run_on_terminal(dir, pbrt() + " scene.pbrt --outfile a.exr");
+  ASSERT_EQ(miss.status, 0) << miss.out;
+  const std::string line = "\r\033[Kscene.pbrt: ";
+  const size_t ply = miss.out.find(line + "PLY meshes (1)");
+  const size_t images = miss.out.find(line + "images (1)");
+  const size_t compressing = miss.out.find(line + "compressing (");
+  const size_t rendering = miss.out.find("Rendering: [");
+  ASSERT_NE(ply, std::string::npos) << miss.out;
+  ASSERT_NE(rendering, std::string::npos) << miss.out;
+  EXPECT_LT(ply, images);
+  EXPECT_LT(images, compressing);
+  // The last line drawn before the bar is an erase, not a compile count.
+  const size_t last = miss.out.rfind("\r\033[K", rendering);
+  EXPECT_GT(last, compressing);
+  EXPECT_NE(miss.out.compare(last, line.size(), line), 0) << miss.out;
+  const Outcome hit = run_on_terminal(dir, pbrt() + " scene.pbrt --outfile b.exr");
+  ASSERT_EQ(hit.status, 0) << hit.out;
+  EXPECT_EQ(hit.out.find(line), std::string::npos) << hit.out;
+  EXPECT_NE(hit.out.find("Rendering: ["), std::string::npos) << hit.out;
+  const Outcome quiet =
+      run_on_terminal(dir, pbrt() + " --quiet --no-cache scene.pbrt --outfile c.exr");
+  ASSERT_EQ(quiet.status, 0) << quiet.out;
+  EXPECT_EQ(quiet.out, "");
 }
 
 // Edits one input, then expects a recompile and a different image.

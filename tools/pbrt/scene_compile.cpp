@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "compiler/archive_builder.h"
+#include "compiler/compile_progress.h"
 #include "compiler/diagnostics.h"
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
@@ -49,9 +50,12 @@ bool compile_scene(const SceneSource& source, const std::string& archive_path, i
   pbrtc::SourceFiles files;
   pbrtc::Diagnostics diag(&files, quiet ? nullptr : &std::cerr);
   pbrtc::SceneDesc scene;
-  bool ok = source.is_stdin()
-                ? pbrtc::build_scene_from_string("<stdin>", source.text, "", &files, &diag, &scene)
-                : pbrtc::build_scene(source.path, &files, &diag, &scene, nullptr);
+  pbrtc::TerminalProgress progress(source.display());
+  bool ok =
+      source.is_stdin()
+          ? pbrtc::build_scene_from_string("<stdin>", source.text, "", &files, &diag, &scene)
+          : pbrtc::build_scene(source.path, &files, &diag, &scene, quiet ? nullptr : &progress);
+  progress.finish();
   if (quiet)  // pbrt-v3's --quiet keeps error messages
     for (const pbrtc::Diagnostic& d : diag.all())
       if (d.severity == pbrtc::Severity::kError) std::cerr << d.text << "\n";
@@ -63,8 +67,12 @@ bool compile_scene(const SceneSource& source, const std::string& archive_path, i
   pbrtc::ArchiveStats stats;
   std::string error;
   std::string base = source.is_stdin() ? "" : pbrtc::directory_of(source.path);
-  if (!pbrtc::write_archive(scene, files, base, archive_path, archive_options(threads), &stats,
-                            &error)) {
+  pbrtc::ArchiveOptions options = archive_options(threads);
+  if (!quiet) options.progress = &progress;
+  const bool written =
+      pbrtc::write_archive(scene, files, base, archive_path, options, &stats, &error);
+  progress.finish();
+  if (!written) {
     std::cerr << "pbrt: error: " << error << "\n";
     return false;
   }

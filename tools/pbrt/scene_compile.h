@@ -4,7 +4,9 @@
 // resolve against the working directory, as pbrtc's "-" does). Diagnostics go to stderr
 // in pbrtc's "path:line:col: error: message" form (with quiet, errors only). On success
 // *inputs lists every file the compile read (scene files, Includes, meshes, images,
-// spectra, lens files) as absolute paths, for the cache's manifest. The archive options
+// spectra, lens files) as absolute paths, for the cache's manifest. Unless quiet, a long
+// compile shows pbrtc's progress line on a terminal (compiler/compile_progress.h), erased
+// before the render's own progress bar. The archive options
 // are pbrtc's defaults (zstd level 6, no Draco, f32 texels); compile_options_key() names them for
 // cache keys.
 #pragma once
