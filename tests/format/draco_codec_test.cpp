@@ -432,16 +432,22 @@ TEST(DracoSection, ReaderDecodesToTheWritersLayout) {
   for (int k = 0; k < 16; ++k) EXPECT_EQ(r.section_data(0)[raw.size() + k], 0);
 }
 
-// An archive whose section 0 is this Draco stream, laid out as the reader will decode it (its
-// raw bytes in *raw when asked).
-std::string archive_of_stream(const std::vector<uint8_t>& stream, const std::string& name,
-                              std::vector<uint8_t>* raw = nullptr) {
+// The geometry section a Draco stream decodes to: what the writer stores as its raw bytes.
+std::vector<uint8_t> geometry_of(const std::vector<uint8_t>& stream) {
   DecodedMesh d;
   std::string error;
   EXPECT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
   MeshRecord rec;
   std::vector<uint8_t> bytes;
   draco_geometry_section(d, &rec, &bytes);
+  return bytes;
+}
+
+// An archive whose section 0 is this Draco stream, laid out as the reader will decode it (its
+// raw bytes in *raw when asked).
+std::string archive_of_stream(const std::vector<uint8_t>& stream, const std::string& name,
+                              std::vector<uint8_t>* raw = nullptr) {
+  const std::vector<uint8_t> bytes = geometry_of(stream);
   if (raw != nullptr) *raw = bytes;
   return archive_with(bytes, stream, name);
 }
@@ -538,16 +544,9 @@ TEST(DracoSection, TheSectionThatStopsTheDecoderIsTheOneReported) {
   const std::vector<uint8_t> sound = encode(small.view(false, false, false), 11, false);
   ASSERT_LT(sound.size(), forged.size());
   ArchiveWriter w;
-  for (const std::vector<uint8_t>* s : {&sound, &stream}) {
-    DecodedMesh d;
-    std::string error;
-    ASSERT_TRUE(draco_decode(s->data(), s->size(), &d, &error)) << error;
-    MeshRecord rec;
-    std::vector<uint8_t> raw;
-    draco_geometry_section(d, &rec, &raw);
-    w.add_encoded_section(SectionKind::kGeometry, raw, s == &stream ? forged : *s, 1,
+  for (const std::vector<uint8_t>* s : {&sound, &stream})
+    w.add_encoded_section(SectionKind::kGeometry, geometry_of(*s), s == &stream ? forged : *s, 1,
                           Codec::kDraco);
-  }
   w.add_section(SectionKind::kStrings, std::vector<uint8_t>(100, 'x'), 1, Codec::kZstd);
   const std::string path = testing_support::scratch_dir("DracoSectionOrder") + "/a.pbrta";
   std::string error;
@@ -568,20 +567,15 @@ TEST(DracoSection, TheSectionThatStopsTheDecoderIsTheOneReported) {
 TEST(DracoSection, AFileThatShrinksAfterOpenIsAnErrorBeforeAnyDecode) {
   const TestMesh m = torus(20, 12);
   const std::vector<uint8_t> stream = encode(m.view(), 14, false);
-  DecodedMesh d;
-  std::string error;
-  ASSERT_TRUE(draco_decode(stream.data(), stream.size(), &d, &error)) << error;
-  MeshRecord rec;
-  std::vector<uint8_t> raw;
-  draco_geometry_section(d, &rec, &raw);
   std::mt19937 rng(5);
   std::vector<uint8_t> noise(200000);
   for (uint8_t& b : noise) b = uint8_t(rng());
   ArchiveWriter w;
   w.add_section(SectionKind::kStrings, std::vector<uint8_t>(100, 'x'), 1, Codec::kZstd);
   w.add_section(SectionKind::kTexels, noise, 1, Codec::kZstd);
-  w.add_encoded_section(SectionKind::kGeometry, raw, stream, 1, Codec::kDraco);
+  w.add_encoded_section(SectionKind::kGeometry, geometry_of(stream), stream, 1, Codec::kDraco);
   const std::string path = testing_support::scratch_dir("DracoSectionShrinks") + "/a.pbrta";
+  std::string error;
   ASSERT_TRUE(w.write(path, 0, 3, 1, &error)) << error;
   ASSERT_EQ(w.table()[2].codec, uint32_t(Codec::kDraco));
   ArchiveReader r;

@@ -5,6 +5,7 @@
 // e.g. it crashed), its stdout and stderr, and how long it took. run_on_terminal does the same
 // with stdout and stderr on a pseudo-terminal (what programs that draw progress only on a
 // terminal show a user), both in `out`; a command still running after 60 s is killed.
+// find_in_order checks that a program printed some lines in a given order.
 #pragma once
 
 #include <poll.h>
@@ -13,9 +14,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <chrono>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "test_support.h"
 
@@ -80,6 +84,24 @@ inline Outcome run_on_terminal(const std::string& dir, const std::string& comman
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return r;
+}
+
+// Finds each of `parts` in `text`, each after the one before, and returns where; an empty vector,
+// with a test failure naming the part, when one is missing or out of order.
+inline std::vector<size_t> find_in_order(const std::string& text,
+                                         const std::vector<std::string>& parts) {
+  std::vector<size_t> at;
+  size_t from = 0;
+  for (const std::string& part : parts) {
+    const size_t k = text.find(part, from);
+    if (k == std::string::npos) {
+      ADD_FAILURE() << "missing, or not after the part before it: \"" << part << "\" in\n" << text;
+      return {};
+    }
+    at.push_back(k);
+    from = k + part.size();
+  }
+  return at;
 }
 
 }  // namespace testing_support

@@ -25,6 +25,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::find_in_order;
 using testing_support::kBin;
 using testing_support::Outcome;
 using testing_support::read_file;
@@ -181,17 +182,13 @@ TEST(PbrtCommand, ACompileShowsItsProgressOnATerminal) {
   const Outcome miss = run_on_terminal(dir, pbrt() + " scene.pbrt --outfile a.exr");
   ASSERT_EQ(miss.status, 0) << miss.out;
   const std::string line = "\r\033[Kscene.pbrt: ";
-  const size_t ply = miss.out.find(line + "PLY meshes (1)");
-  const size_t images = miss.out.find(line + "images (1)");
-  const size_t compressing = miss.out.find(line + "compressing (");
-  const size_t rendering = miss.out.find("Rendering: [");
-  ASSERT_NE(ply, std::string::npos) << miss.out;
-  ASSERT_NE(rendering, std::string::npos) << miss.out;
-  EXPECT_LT(ply, images);
-  EXPECT_LT(images, compressing);
+  const std::vector<size_t> at = find_in_order(
+      miss.out,
+      {line + "PLY meshes (1)", line + "images (1)", line + "compressing (", "Rendering: ["});
+  ASSERT_EQ(at.size(), 4u);
   // The last line drawn before the bar is an erase, not a compile count.
-  const size_t last = miss.out.rfind("\r\033[K", rendering);
-  EXPECT_GT(last, compressing);
+  const size_t last = miss.out.rfind("\r\033[K", at[3]);
+  EXPECT_GT(last, at[2]);
   EXPECT_NE(miss.out.compare(last, line.size(), line), 0) << miss.out;
   const Outcome hit = run_on_terminal(dir, pbrt() + " scene.pbrt --outfile b.exr");
   ASSERT_EQ(hit.status, 0) << hit.out;

@@ -27,6 +27,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using testing_support::find_in_order;
 using testing_support::kBin;
 using testing_support::Outcome;
 using testing_support::read_file;
@@ -204,17 +205,12 @@ TEST(PbrtcCommand, ShowsProgressOnlyOnATerminal) {
   ASSERT_EQ(t.status, 0) << t.out;
   const std::string line = "\r\033[Kgrid.pbrt: ";
   // The grid alone has the 64 triangles Draco needs; the box's 2 stay lossless.
-  const size_t draco = t.out.find(line + "Draco meshes (1)");
-  const size_t triangles = t.out.find(line + "Draco meshes, 128 of 128 triangles");
-  const size_t compressing = t.out.find(line + "compressing (");
-  const size_t bytes = t.out.rfind(line + "compressing, ");
-  const size_t summary = t.out.find("\r\033[Kpbrtc: grid.pbrt: ");
-  ASSERT_NE(draco, std::string::npos) << t.out;
-  ASSERT_NE(summary, std::string::npos) << t.out;
-  EXPECT_LT(draco, triangles);
-  EXPECT_LT(triangles, compressing);
-  EXPECT_LT(compressing, bytes);
-  EXPECT_LT(bytes, summary);
+  const std::vector<size_t> at = find_in_order(
+      t.out, {line + "Draco meshes (1)", line + "Draco meshes, 128 of 128 triangles",
+              line + "compressing (", line + "compressing, ", "\r\033[Kpbrtc: grid.pbrt: "});
+  ASSERT_EQ(at.size(), 5u);
+  const size_t summary = at[4];
+  const size_t bytes = t.out.rfind(line + "compressing, ", summary);
   // The last count is the whole: "compressing, X of X KiB" (MiB from 1 MiB).
   const std::string last = t.out.substr(bytes + line.size(), summary - bytes - line.size());
   double done = -1, total = -2;
