@@ -1,11 +1,10 @@
 #include "compiler/archive_builder.h"
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <mutex>
 #include <unordered_map>
+#include <utility>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -15,6 +14,7 @@
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
+#include "format/progress_count.h"
 #include "format/texel_format.h"
 #include "format/zstd_frames.h"
 
@@ -353,23 +353,20 @@ class Builder {
       for (const TriangleMesh& m : s.meshes)
         if (draco_eligible(m, opt)) triangles += m.num_triangles(), ++eligible;
       if (opt.progress) opt.progress->phase("Draco meshes", eligible);
-      std::atomic<uint64_t> encoded{0};
-      std::mutex progress_mutex;
+      pbrta::ProgressCount::Report report;
+      if (opt.progress)
+        report = [p = opt.progress](uint64_t done, uint64_t total) { p->encoded(done, total); };
+      pbrta::ProgressCount encoded(triangles, std::move(report));
       tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
       arena.execute([&] {
         tbb::parallel_for(size_t(0), s.meshes.size(), [&](size_t i) {
           draco[i].tried = draco_eligible(s.meshes[i], opt);
           if (!draco[i].tried) return;
           draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
-          encoded += s.meshes[i].num_triangles();
-          // A display, not a log: a thread that finds another reporting goes on. The count is
-          // read under the lock, so reports never go backwards.
-          std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
-          const uint64_t done = lock ? encoded.load() : 0;
-          if (opt.progress && lock && done < triangles) opt.progress->encoded(done, triangles);
+          encoded.add(s.meshes[i].num_triangles());
         });
       });
-      if (opt.progress && triangles > 0) opt.progress->encoded(triangles, triangles);
+      encoded.finish();
     }
     std::vector<std::vector<uint8_t>> draco_streams;  // per chunk; empty for lossless chunks
     int open_chunk = -1;  // the lossless chunk meshes are being added to

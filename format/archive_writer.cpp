@@ -5,10 +5,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <mutex>
 #include <system_error>
 
 #include <oneapi/tbb/blocked_range.h>
@@ -19,6 +17,7 @@
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
 #include "format/checksum.h"
+#include "format/progress_count.h"
 #include "format/zstd_frames.h"
 
 namespace pbrta {
@@ -154,8 +153,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
   uint64_t to_compress = 0;
   for (const Section& s : sections_)
     if (compresses(s.codec)) to_compress += s.raw.size();
-  std::atomic<uint64_t> compressed{0};
-  std::mutex progress_mutex;
+  ProgressCount compressed(to_compress, progress);
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(
@@ -197,14 +195,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             e.checksum = checksum64(stored, e.codec == Codec::kZstdShuffle4Frames
                                                 ? frame_count(s.raw.size()) * sizeof(FrameEntry)
                                                 : e.stored_size);
-            if (compresses(s.codec)) {
-              compressed += s.raw.size();
-              // A display, not a log: a thread that finds another reporting goes on. The count
-              // is read under the lock, so reports never go backwards.
-              std::unique_lock<std::mutex> lock(progress_mutex, std::try_to_lock);
-              const uint64_t done = lock ? compressed.load() : 0;
-              if (progress && lock && done < to_compress) progress(done, to_compress);
-            }
+            if (compresses(s.codec)) compressed.add(s.raw.size());
           }
         });
   });
@@ -215,7 +206,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
       return false;
     }
   }
-  if (progress && to_compress > 0) progress(to_compress, to_compress);
+  compressed.finish();
 
   std::vector<SectionEntry> table(n);
   auto fill_table = [&] {

@@ -48,7 +48,7 @@ class ArchiveWriter {
 
   // Called as sections finish compressing, with the raw bytes compressed so far and the total
   // to compress (the sections whose codec is zstd), for a progress display: from the writer's
-  // threads but never two calls at once, skipped while another call runs (so done never goes
+  // threads as format/progress_count.h describes (never two calls at once, done never goes
   // down), and once at the end with done == total when every section compressed. Not called
   // when nothing is to be compressed.
   using CompressProgress = std::function<void(uint64_t done, uint64_t total)>;
