@@ -198,6 +198,10 @@ class ArchiveReader {
                   WordBound* bounds, uint64_t num_bounds, std::string* error);
   // pread of exactly size bytes at offset, or false with the reason.
   bool read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const;
+  // The same into the decoder's staging buffer, which it returns; nullptr with the reason when
+  // the buffer cannot be had or the read fails.
+  const uint8_t* read_staged(uint64_t offset, uint64_t size, archive_detail::Decoder* decoder,
+                             std::string* why) const;
   bool typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align, const void** out,
                          uint32_t* count, std::string* error) const;
   std::string fail(std::string_view reason) const;
