@@ -73,6 +73,7 @@ bool draco_decode_isolated(const uint8_t* data, size_t size, DecodedMesh* out, s
   *out = DecodedMesh{};
   std::vector<std::vector<uint8_t>> outputs;
   std::vector<std::string> errors;
+  std::vector<char> by_job;
   run_isolated_blobs(
       {uint64_t(size)}, 1, IsolationBudget{},
       [&](size_t, std::vector<uint8_t>* bytes, std::string* why) {
@@ -81,10 +82,10 @@ bool draco_decode_isolated(const uint8_t* data, size_t size, DecodedMesh* out, s
         to_bytes(m, bytes);
         return true;
       },
-      &outputs, &errors);
+      &outputs, &errors, &by_job);
   if (!errors[0].empty()) {
     // draco_decode's messages say "draco:" already; the budget's do not.
-    *error = errors[0].rfind("draco: ", 0) == 0 ? errors[0] : "draco: " + errors[0];
+    *error = by_job[0] ? errors[0] : "draco: " + errors[0];
     return false;
   }
   if (!from_bytes(outputs[0], draco_limits_for(size), out)) {

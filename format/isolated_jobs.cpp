@@ -337,11 +337,13 @@ bool transfer_all(Transfer io, size_t n) {
 void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
                         const IsolationBudget& budget, const IsolatedBlobWork& work,
                         std::vector<std::vector<uint8_t>>* outputs,
-                        std::vector<std::string>* errors) {
+                        std::vector<std::string>* errors, std::vector<char>* by_job) {
   const size_t n = input_bytes.size();
   errors->assign(n, std::string());
   outputs->assign(n, std::vector<uint8_t>());
-  std::vector<char> by_job(n, 0);
+  std::vector<char> own;
+  if (by_job == nullptr) by_job = &own;
+  by_job->assign(n, 0);
   if (n == 0) return;
   const Groups groups = make_groups(input_bytes, processes);
   const Job here = [&](size_t k, std::string* why) { return work(k, &(*outputs)[k], why); };
@@ -406,7 +408,7 @@ void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
         next[g] += slot.blob_size;
         return true;
       },
-      here, errors, &by_job);
+      here, errors, by_job);
   for (int fd : file_of_group)
     if (fd >= 0) close(fd);
 }

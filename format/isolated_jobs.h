@@ -72,10 +72,11 @@ using IsolatedBlobWork =
 // (what its budget grows with); each child appends its jobs' outputs to a memory file (memfd) of
 // its own, within its memory budget, and (*outputs)[k] receives job k's bytes. The caller checks
 // them as it would any untrusted input: a child may have been subverted by what it decoded.
+// errors and by_job as for run_isolated.
 void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
                         const IsolationBudget& budget, const IsolatedBlobWork& work,
                         std::vector<std::vector<uint8_t>>* outputs,
-                        std::vector<std::string>* errors);
+                        std::vector<std::string>* errors, std::vector<char>* by_job = nullptr);
 
 // Process-wide switch (default true); see above.
 void set_isolation_enabled(bool enabled);

@@ -166,6 +166,7 @@ TEST(IsolatedJobs, BlobsComeBackWhateverTheirSize) {
   budget.seconds_per_byte = 0;
   std::vector<std::vector<uint8_t>> outputs;
   std::vector<std::string> errors;
+  std::vector<char> by_job;
   run_isolated_blobs(
       input, 2, budget,
       [&](size_t k, std::vector<uint8_t>* out, std::string* error) {
@@ -184,11 +185,12 @@ TEST(IsolatedJobs, BlobsComeBackWhateverTheirSize) {
         if (k != 4) std::memcpy(out->data(), &pid, sizeof pid);
         return true;
       },
-      &outputs, &errors);
+      &outputs, &errors, &by_job);
   // Children: jobs 0, 3 and 4 (40 + 10 + 5 bytes); jobs 1, 2 and 5 (30 + 20 + 1).
   EXPECT_EQ(errors[2], "job 2 refuses");
   EXPECT_EQ(errors[5],
             "decoding ran past its budget of 0.3 s of CPU time (a forged or damaged stream)");
+  EXPECT_EQ(by_job, std::vector<char>({0, 0, 1, 0, 0, 0}));  // job 5's message is the runner's
   for (size_t k : {size_t(0), size_t(1), size_t(3)}) {
     SCOPED_TRACE(k);
     EXPECT_EQ(errors[k], "");
