@@ -12,7 +12,6 @@
 #include <CLI/CLI.hpp>
 
 #include <tbb/global_control.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>

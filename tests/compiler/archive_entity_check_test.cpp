@@ -214,12 +214,6 @@ TEST_F(EntityCheck, FirstBadMeshLayoutInOrder) {
       "mesh 20000: section 999 is not a geometry section");
 }
 
-}  // namespace
-}  // namespace pbrtc
-
-namespace pbrtc {
-namespace {
-
 // The counts format/entity_rules.h ties together are checked by the reader too: a curve whose
 // degree, or a heterogeneous medium whose grid size, an archive was edited to break is refused,
 // so a renderer may index control points and density grids by them.
