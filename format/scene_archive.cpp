@@ -12,6 +12,7 @@
 #include "format/draco_codec.h"
 #include "format/entity_rules.h"
 #include "format/fourier_table.h"
+#include "format/schema_digest.h"
 #include "format/texel_format.h"
 
 namespace pbrta {
@@ -106,6 +107,35 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
   const uint32_t bad = first_bad.load();
   if (bad < n) check(bad, c);
   return bad;
+}
+
+// The same for the record kinds a large scene has most of, with two checks of each record:
+// sound(i), branch-light and message-free, decides; explain(i, checker) is the readable check
+// that names what is wrong, run only on the record sound() refused. The two must judge every
+// record alike. The fuzz tree (PBRTA_CROSSCHECK_VALIDATION) runs both on every record and stops
+// on any disagreement; should explain() find nothing, the load still fails.
+template <class Sound, class Explain>
+uint32_t first_failure(uint32_t n, int threads, Checker& c, const char* record, Sound sound,
+                       Explain explain) {
+#if defined(PBRTA_CROSSCHECK_VALIDATION)
+  (void)record;
+  auto both = [&](uint32_t i, Checker& local) {
+    Checker scratch = local.blank();
+    const bool verdict = sound(i);
+    if (verdict != explain(i, scratch)) __builtin_trap();
+    return verdict || explain(i, local);
+  };
+  return first_failure(n, threads, c, both);
+#else
+  if (c.failed()) return 0;
+  auto sound_in = [&](uint32_t i, Checker&) { return sound(i); };
+  Checker quiet = c.blank();
+  const uint32_t bad = first_failure(n, threads, quiet, sound_in);
+  if (bad < n && explain(bad, c))
+    c.fail(std::string(record) + " " + std::to_string(bad) +
+           ": refused by a check that names no reason");
+  return bad;
+#endif
 }
 
 }  // namespace
@@ -444,6 +474,19 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     return false;
   }
 
+  // Textures first: an entity's texture bindings, checked with its values, read them.
+  c.in(sec(SectionKind::kTextures));
+  first_failure(textures.size, threads, c, [&](uint32_t i, Checker& c) {
+    const TextureRecord& t = textures[i];
+    if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) return false;
+    uint8_t cat = entities[t.entity].category;
+    if (cat != uint8_t(Category::kFloatTexture) && cat != uint8_t(Category::kSpectrumTexture))
+      return c.fail("texture " + std::to_string(i) + ": entity is not a texture");
+    return (t.reserved == 0 ||
+            c.fail("texture " + std::to_string(i) + ": reserved field is not zero")) &&
+           c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
+           c.index(t.image, images.size, "texture", i, "image", "images", true);
+  });
   // Entities and their values: one entity's checks, false (with the reason in c) on failure.
   const uint16_t minor = r.header().minor;
   const int curve_type = find_type(Category::kShape, "curve");
@@ -543,8 +586,76 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     }
     return true;
   };
+  // Texture bindings must match the parameter's class (after check_entity: the indices are in
+  // range).
+  auto check_bindings = [&](uint32_t i, Checker& c) {
+    const EntityRecord& e = entities[i];
+    const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
+    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
+    for (uint32_t p = 0; p < known; ++p) {
+      const ValueRecord& v = values[e.first_value + p];
+      if (v.texture == kNoIndex) continue;
+      Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
+                                                           : Category::kSpectrumTexture;
+      if (entities[textures[v.texture].entity].category != uint8_t(want))
+        return c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
+                      "\": texture " + std::to_string(v.texture) + " is not a " +
+                      std::string(category_name(want)));
+    }
+    return true;
+  };
+  const SchemaDigest& digest = schema_digest();
+  const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
+  const uint32_t num_strings = num_strings_;
+  auto entity_sound = [&](uint32_t i) -> bool {
+    const EntityRecord& e = entities[i];
+    if (e.type >= digest.num_types(e.category)) return false;
+    const TypeDigest& t = digest.type(e.category, e.type);
+    if (t.has_rules) {
+      Checker scratch = c.blank();
+      return check_entity(i, scratch) && check_bindings(i, scratch);
+    }
+    const bool count_bad = minor == kMinorVersion  ? e.num_values != t.num_params
+                           : minor > kMinorVersion ? e.num_values < t.num_params
+                                                   : e.num_values > t.num_params;
+    if ((e.reserved0 | e.reserved1) != 0 || count_bad ||
+        uint64_t(e.first_value) + e.num_values > num_values)
+      return false;
+    const uint32_t known = std::min<uint32_t>(e.num_values, t.num_params);
+    const ValueRecord* v = values.data + e.first_value;
+    uint32_t bad = 0;
+    for (uint32_t p = 0; p < known; ++p) {
+      const ParamDigest& pd = t.params[p];
+      bad |= v[p].flags & ~uint32_t(kValueGiven);
+      bad |= uint64_t(v[p].offset) + uint64_t(v[p].count) * pd.width > num_words;
+      bad |= (pd.arity != 0) & (v[p].count != 0) & (v[p].count != pd.arity);
+      if (v[p].texture != kNoIndex &&
+          (pd.texture == kNoTextureCategory || v[p].texture >= num_textures ||
+           entities[textures[v[p].texture].entity].category != pd.texture))
+        return false;
+    }
+    if (bad) return false;
+    if (t.has_strings)
+      for (uint32_t p = 0; p < known; ++p)
+        if (t.params[p].is_string)
+          for (uint32_t k = 0; k < v[p].count; ++k)
+            if (words[v[p].offset + k] >= num_strings) return false;
+    return true;
+  };
   c.in(sec(SectionKind::kEntities));
-  first_failure(entities.size, threads, c, check_entity);
+  first_failure(entities.size, threads, c, "entity", entity_sound, [&](uint32_t i, Checker& c) {
+    if (!check_entity(i, c)) return false;
+    c.in(sec(SectionKind::kValues));  // a binding is a value's fault
+    const bool ok = check_bindings(i, c);
+    c.in(sec(SectionKind::kEntities));
+    return ok;
+  });
+  // Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
+  auto index_bad = [](uint32_t i, uint32_t count) { return i >= count; };
+  auto optional_bad = [](uint32_t i, uint32_t count) { return (i >= count) & (i != kNoIndex); };
+  auto entity_is = [&](uint32_t e, Category cat) {
+    return e < entities.size && entities[e].category == uint8_t(cat);
+  };
   // Render options point at entities of the right category.
   c.in(sec(SectionKind::kScene));
   auto entity_of = [&](Checker& c, uint32_t e, Category cat, const char* record, uint32_t at,
@@ -568,37 +679,6 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
                 false) &&
         c.index(sr.camera_medium, media.size, "scene", 0, "camera medium", "media", true);
   }
-  c.in(sec(SectionKind::kTextures));
-  first_failure(textures.size, threads, c, [&](uint32_t i, Checker& c) {
-    const TextureRecord& t = textures[i];
-    if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) return false;
-    uint8_t cat = entities[t.entity].category;
-    if (cat != uint8_t(Category::kFloatTexture) && cat != uint8_t(Category::kSpectrumTexture))
-      return c.fail("texture " + std::to_string(i) + ": entity is not a texture");
-    return (t.reserved == 0 ||
-            c.fail("texture " + std::to_string(i) + ": reserved field is not zero")) &&
-           c.index(t.transform, transforms.size, "texture", i, "transform", "transforms", false) &&
-           c.index(t.image, images.size, "texture", i, "image", "images", true);
-  });
-  // Texture bindings must match the parameter's class.
-  c.in(sec(SectionKind::kValues));
-  auto check_bindings = [&](uint32_t i, Checker& c) {
-    const EntityRecord& e = entities[i];
-    const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
-    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
-    for (uint32_t p = 0; p < known; ++p) {
-      const ValueRecord& v = values[e.first_value + p];
-      if (v.texture == kNoIndex) continue;
-      Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
-                                                           : Category::kSpectrumTexture;
-      if (entities[textures[v.texture].entity].category != uint8_t(want))
-        return c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
-                      "\": texture " + std::to_string(v.texture) + " is not a " +
-                      std::string(category_name(want)));
-    }
-    return true;
-  };
-  first_failure(entities.size, threads, c, check_bindings);
   c.in(sec(SectionKind::kMaterials));
   auto check_material = [&](uint32_t i, Checker& c) {
     const MaterialRecord& m = materials[i];
@@ -608,7 +688,15 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
            c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   };
-  first_failure(materials.size, threads, c, check_material);
+  first_failure(
+      materials.size, threads, c, "material",
+      [&](uint32_t i) {
+        const MaterialRecord& m = materials[i];
+        return !((m.reserved != 0) | optional_bad(m.mix[0], materials.size) |
+                 optional_bad(m.mix[1], materials.size)) &&
+               entity_is(m.entity, Category::kMaterial);
+      },
+      check_material);
   // A fourier material's table (derived from its file) is indexed by the renderer without
   // checks: its arrays must agree. One written before version 1.1 has none (the renderer
   // reports that); one that has a table must have a consistent one.
@@ -660,7 +748,20 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            (s.reserved == 0 ||
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
-  first_failure(shapes.size, threads, c, check_shape);
+  first_failure(
+      shapes.size, threads, c, "shape",
+      [&](uint32_t i) {
+        const ShapeRecord& s = shapes[i];
+        const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
+        return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
+                 optional_bad(s.area_light, area_lights.size) |
+                 optional_bad(s.inside_medium, media.size) |
+                 optional_bad(s.outside_medium, media.size) |
+                 index_bad(s.transform, transforms.size) | optional_bad(s.object, objects.size) |
+                 ((s.flags & ~known) != 0) | (s.reserved != 0)) &&
+               entity_is(s.entity, Category::kShape);
+      },
+      check_shape);
   c.in(sec(SectionKind::kObjects));
   first_failure(objects.size, threads, c, [&](uint32_t i, Checker& c) {
     const ObjectRecord& o = objects[i];
@@ -722,7 +823,31 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
            c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true);
   };
-  const uint32_t laid_out = first_failure(meshes.size, threads, c, check_mesh);
+  auto mesh_sound = [&](uint32_t i) {
+    const MeshRecord& m = meshes[i];
+    const uint32_t known = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
+    if (m.section >= r.section_count() ||
+        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry) || (m.flags & ~known) != 0)
+      return false;
+    if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
+      Checker scratch = c.blank();
+      return check_mesh(i, scratch);
+    }
+    const uint64_t size = r.section_size(m.section);
+    // A missing array has offset 0; a present one is aligned and inside the section. (Each
+    // term is computed whole: size - offset may wrap, but then offset > size says so.)
+    auto array_bad = [size](bool present, uint64_t offset, uint64_t bytes) {
+      return present ? (offset % 16 != 0) | (offset > size) | (bytes > size - offset) : offset != 0;
+    };
+    const uint64_t nv = m.num_vertices, nt = m.num_triangles;
+    return !(array_bad(true, m.positions, nv * 12) |
+             array_bad(m.flags & kMeshNormals, m.normals, nv * 12) |
+             array_bad(m.flags & kMeshTangents, m.tangents, nv * 12) |
+             array_bad(m.flags & kMeshUV, m.uv, nv * 8) | array_bad(true, m.indices, nt * 12) |
+             array_bad(m.flags & kMeshFaceIndices, m.face_indices, nt * 4) |
+             optional_bad(m.source_shape, shapes.size));
+  };
+  const uint32_t laid_out = first_failure(meshes.size, threads, c, "mesh", mesh_sound, check_mesh);
   if (laid_out > 0) {
     // Every laid-out mesh's triangle indices against its vertex count: a large mesh's were
     // checked as they decoded, a small one's are read back now. The reported index is the first

@@ -2,7 +2,8 @@
 // enough that they run in blocks on several threads: whatever the thread count, the error names
 // the first bad record in order (the one a serial check finds), and a damaged record in an early
 // block wins over one in a later block. Entities (damage in the record itself and in one of its
-// values, a texture index among them), texture bindings, materials, shapes and mesh layouts.
+// values, a texture index among them), texture bindings (checked with their entity), materials,
+// shapes and mesh layouts.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -159,7 +160,43 @@ TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
                          std::to_string(float_tex) + " is not a"),
               std::string::npos)
         << error;
+    EXPECT_NE(error.find("section 'values'"), std::string::npos) << error;
   }
+}
+
+// Bindings are checked with the rest of each entity, so the first bad entity in order is named
+// whichever of its checks it fails: a wrong binding before a bad record, and a bad record before
+// a wrong binding.
+TEST_F(EntityCheck, ABindingAndARecordFaultReportTheEarlierEntity) {
+  uint32_t float_tex = pbrta::kNoIndex;
+  for (uint32_t t = 0; t < archive_.textures.size; ++t)
+    if (archive_.entities[archive_.textures[t].entity].category ==
+        uint8_t(pbrta::Category::kFloatTexture))
+      float_tex = t;
+  ASSERT_NE(float_tex, pbrta::kNoIndex);
+  auto bind_wrong = [&](std::string* b, uint32_t material) {
+    const uint32_t e = archive_.materials[material].entity;
+    const pbrta::ValueRecord* kd = archive_.value(e, "Kd");
+    ASSERT_NE(kd, nullptr);
+    edit<pbrta::ValueRecord>(b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
+                             [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
+  };
+  const uint32_t early = archive_.materials[3000].entity, late = archive_.materials[36000].entity;
+  std::string b = good_;
+  bind_wrong(&b, 3000);
+  set_entity_byte(&b, late, offsetof(pbrta::EntityRecord, reserved1), 1);
+  std::string error = error_of(b);
+  EXPECT_NE(error.find("section 'values'"), std::string::npos) << error;
+  EXPECT_NE(error.find("entity " + std::to_string(early) + " \"Kd\": texture"), std::string::npos)
+      << error;
+  b = good_;
+  bind_wrong(&b, 36000);
+  set_entity_byte(&b, early, offsetof(pbrta::EntityRecord, reserved1), 1);
+  error = error_of(b);
+  EXPECT_NE(error.find("section 'entities'"), std::string::npos) << error;
+  EXPECT_NE(error.find("entity " + std::to_string(early) + ": reserved field is not zero"),
+            std::string::npos)
+      << error;
 }
 
 // A texture index past the textures, then (earlier, so it wins) a texture on a parameter that

@@ -1,0 +1,50 @@
+#include "format/schema_digest.h"
+
+#include <string_view>
+
+namespace pbrta {
+
+SchemaDigest::SchemaDigest() {
+  uint32_t total_types = 0, total_params = 0;
+  for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
+    const CategorySpec& cs = category_spec(Category(c));
+    first_type_[c] = total_types;
+    num_types_[c] = cs.num_types;
+    total_types += cs.num_types;
+    for (uint32_t t = 0; t < cs.num_types; ++t) total_params += cs.types[t].num_params;
+  }
+  // Allocated once and never freed: the digest lives as long as the process, like the schema.
+  types_ = new TypeDigest[total_types];
+  params_ = new ParamDigest[total_params];
+  ParamDigest* p = params_;
+  for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
+    const CategorySpec& cs = category_spec(Category(c));
+    for (uint32_t t = 0; t < cs.num_types; ++t) {
+      const TypeSpec& ts = cs.types[t];
+      TypeDigest& td = types_[first_type_[c] + t];
+      td.params = p;
+      td.num_params = ts.num_params;
+      td.has_strings = 0;
+      td.has_rules = (Category(c) == Category::kShape && ts.name == "curve") ||
+                     (Category(c) == Category::kMedium && ts.name == "heterogeneous");
+      for (uint32_t k = 0; k < ts.num_params; ++k, ++p) {
+        const ParamSpec& ps = ts.params[k];
+        p->arity = ps.arity;
+        p->width = uint8_t(kind_width(ps.kind));
+        p->texture = ps.kind == Kind::kFloatTex      ? uint8_t(Category::kFloatTexture)
+                     : ps.kind == Kind::kSpectrumTex ? uint8_t(Category::kSpectrumTexture)
+                                                     : kNoTextureCategory;
+        p->is_string = ps.kind == Kind::kString;
+        p->reserved = 0;
+        td.has_strings |= p->is_string;
+      }
+    }
+  }
+}
+
+const SchemaDigest& schema_digest() {
+  static const SchemaDigest digest;
+  return digest;
+}
+
+}  // namespace pbrta
