@@ -5,6 +5,14 @@
 
 namespace pbrta {
 
+CountRule count_rule_of(Category category, uint32_t type) {
+  static const int curve = find_type(Category::kShape, "curve");
+  static const int heterogeneous = find_type(Category::kMedium, "heterogeneous");
+  if (category == Category::kShape && int64_t(type) == curve) return CountRule::kCurve;
+  if (category == Category::kMedium && int64_t(type) == heterogeneous) return CountRule::kDensity;
+  return CountRule::kNone;
+}
+
 bool check_curve_rules(const CurveCounts& c, RuleViolation* v) {
   auto fail = [&](const char* param, std::string message) {
     v->param = param;

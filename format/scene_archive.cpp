@@ -489,8 +489,6 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   });
   // Entities and their values: one entity's checks, false (with the reason in c) on failure.
   const uint16_t minor = r.header().minor;
-  const int curve_type = find_type(Category::kShape, "curve");
-  const int heterogeneous_type = find_type(Category::kMedium, "heterogeneous");
   auto check_entity = [&](uint32_t i, Checker& c) -> bool {
     const EntityRecord& e = entities[i];
     // Messages are built only on failure: this loop runs once per entity.
@@ -567,7 +565,8 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     }
     // Counts tied to other parameters (format/entity_rules.h), now that every value is sound.
     RuleViolation rule;
-    if (e.category == uint8_t(Category::kShape) && int(e.type) == curve_type) {
+    const CountRule count_rule = count_rule_of(Category(e.category), e.type);
+    if (count_rule == CountRule::kCurve) {
       CurveCounts cc;
       cc.degree = get_int(i, "degree", 3);
       cc.basis = get_string(i, "basis");
@@ -578,7 +577,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       cc.normals_given = given(i, "N");
       cc.normals = N ? N->count : 0;
       if (!check_curve_rules(cc, &rule)) return c.fail(at() + rule.message);
-    } else if (e.category == uint8_t(Category::kMedium) && int(e.type) == heterogeneous_type) {
+    } else if (count_rule == CountRule::kDensity) {
       const ValueRecord* d = value(i, "density");
       if (!check_density_rule(get_int(i, "nx", 1), get_int(i, "ny", 1), get_int(i, "nz", 1),
                               d ? d->count : 0, &rule))
@@ -607,12 +606,13 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
   const SchemaDigest& digest = schema_digest();
   const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
   const uint32_t num_strings = num_strings_;
+  const Checker unreported = c.blank();  // for sound()'s fallbacks, whose messages are dropped
   auto entity_sound = [&](uint32_t i) -> bool {
     const EntityRecord& e = entities[i];
     if (e.type >= digest.num_types(e.category)) return false;
     const TypeDigest& t = digest.type(e.category, e.type);
     if (t.has_rules) {
-      Checker scratch = c.blank();
+      Checker scratch = unreported;
       return check_entity(i, scratch) && check_bindings(i, scratch);
     }
     const bool count_bad = minor == kMinorVersion  ? e.num_values != t.num_params
@@ -830,7 +830,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
         r.entry(m.section).kind != uint32_t(SectionKind::kGeometry) || (m.flags & ~known) != 0)
       return false;
     if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
-      Checker scratch = c.blank();
+      Checker scratch = unreported;
       return check_mesh(i, scratch);
     }
     const uint64_t size = r.section_size(m.section);

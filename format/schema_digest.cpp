@@ -1,6 +1,6 @@
 #include "format/schema_digest.h"
 
-#include <string_view>
+#include "format/entity_rules.h"
 
 namespace pbrta {
 
@@ -13,7 +13,8 @@ SchemaDigest::SchemaDigest() {
     total_types += cs.num_types;
     for (uint32_t t = 0; t < cs.num_types; ++t) total_params += cs.types[t].num_params;
   }
-  // Allocated once and never freed: the digest lives as long as the process, like the schema.
+  // Allocated once and never freed, like the schema it digests: loads on other threads may still
+  // read it while the process exits, after a static destructor would have run.
   types_ = new TypeDigest[total_types];
   params_ = new ParamDigest[total_params];
   ParamDigest* p = params_;
@@ -25,8 +26,7 @@ SchemaDigest::SchemaDigest() {
       td.params = p;
       td.num_params = ts.num_params;
       td.has_strings = 0;
-      td.has_rules = (Category(c) == Category::kShape && ts.name == "curve") ||
-                     (Category(c) == Category::kMedium && ts.name == "heterogeneous");
+      td.has_rules = count_rule_of(Category(c), t) != CountRule::kNone;
       for (uint32_t k = 0; k < ts.num_params; ++k, ++p) {
         const ParamSpec& ps = ts.params[k];
         p->arity = ps.arity;

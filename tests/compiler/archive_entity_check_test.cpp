@@ -174,23 +174,30 @@ TEST_F(EntityCheck, ABindingAndARecordFaultReportTheEarlierEntity) {
         uint8_t(pbrta::Category::kFloatTexture))
       float_tex = t;
   ASSERT_NE(float_tex, pbrta::kNoIndex);
-  auto bind_wrong = [&](std::string* b, uint32_t material) {
-    const uint32_t e = archive_.materials[material].entity;
-    const pbrta::ValueRecord* kd = archive_.value(e, "Kd");
+  const uint32_t early = archive_.materials[3000].entity, late = archive_.materials[36000].entity;
+  ASSERT_LT(early / 8192, late / 8192);  // different blocks, the early one first
+  // The two materials' "Kd" values, bound to the spectrum texture; bind_wrong binds one to the
+  // float texture instead.
+  uint32_t kd_value[2];
+  for (int k = 0; k < 2; ++k) {
+    const pbrta::ValueRecord* kd = archive_.value(k == 0 ? early : late, "Kd");
     ASSERT_NE(kd, nullptr);
-    edit<pbrta::ValueRecord>(b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
+    ASSERT_NE(kd->texture, pbrta::kNoIndex);
+    kd_value[k] = uint32_t(kd - archive_.values.data);
+  }
+  auto bind_wrong = [&](std::string* b, uint32_t value) {
+    edit<pbrta::ValueRecord>(b, pbrta::SectionKind::kValues, value,
                              [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
   };
-  const uint32_t early = archive_.materials[3000].entity, late = archive_.materials[36000].entity;
   std::string b = good_;
-  bind_wrong(&b, 3000);
+  bind_wrong(&b, kd_value[0]);
   set_entity_byte(&b, late, offsetof(pbrta::EntityRecord, reserved1), 1);
   std::string error = error_of(b);
   EXPECT_NE(error.find("section 'values'"), std::string::npos) << error;
   EXPECT_NE(error.find("entity " + std::to_string(early) + " \"Kd\": texture"), std::string::npos)
       << error;
   b = good_;
-  bind_wrong(&b, 36000);
+  bind_wrong(&b, kd_value[1]);
   set_entity_byte(&b, early, offsetof(pbrta::EntityRecord, reserved1), 1);
   error = error_of(b);
   EXPECT_NE(error.find("section 'entities'"), std::string::npos) << error;
