@@ -91,6 +91,22 @@ class EntityCheck : public ::testing::Test {
     error = error_of(b);
     EXPECT_NE(error.find(early_error), std::string::npos) << error;
   }
+  // The float texture: bound where a spectrum texture belongs, it is the wrong class.
+  uint32_t float_texture() const {
+    for (uint32_t t = 0; t < archive_.textures.size; ++t)
+      if (archive_.entities[archive_.textures[t].entity].category ==
+          uint8_t(pbrta::Category::kFloatTexture))
+        return t;
+    return pbrta::kNoIndex;
+  }
+  // Entity e's "Kd", bound to the spectrum texture, bound to texture t instead, in b.
+  void rebind_kd(std::string* b, uint32_t e, uint32_t t) const {
+    const pbrta::ValueRecord* kd = archive_.value(e, "Kd");
+    ASSERT_NE(kd, nullptr);
+    ASSERT_NE(kd->texture, pbrta::kNoIndex);
+    edit<pbrta::ValueRecord>(b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
+                             [&](pbrta::ValueRecord* v) { v->texture = t; });
+  }
   // The same error on 1 and 2 threads (after resealing the edited sections).
   std::string error_of(const std::string& bytes) {
     const std::string path = dir_ + "/bad.pbrta";
@@ -141,20 +157,12 @@ TEST_F(EntityCheck, BadValueNamesItsEntity) {
 
 // A material's "Kd" bound to the float texture instead of the spectrum one.
 TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
-  uint32_t float_tex = pbrta::kNoIndex;
-  for (uint32_t t = 0; t < archive_.textures.size; ++t)
-    if (archive_.entities[archive_.textures[t].entity].category ==
-        uint8_t(pbrta::Category::kFloatTexture))
-      float_tex = t;
+  const uint32_t float_tex = float_texture();
   ASSERT_NE(float_tex, pbrta::kNoIndex);
   const uint32_t early = archive_.materials[2000].entity, late = archive_.materials[39000].entity;
   std::string b = good_;
   for (uint32_t e : {late, early}) {
-    const pbrta::ValueRecord* kd = archive_.value(e, "Kd");
-    ASSERT_NE(kd, nullptr);
-    ASSERT_NE(kd->texture, pbrta::kNoIndex);
-    edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, uint32_t(kd - archive_.values.data),
-                             [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
+    ASSERT_NO_FATAL_FAILURE(rebind_kd(&b, e, float_tex));
     const std::string error = error_of(b);
     EXPECT_NE(error.find("entity " + std::to_string(e) + " \"Kd\": texture " +
                          std::to_string(float_tex) + " is not a"),
@@ -168,36 +176,19 @@ TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
 // whichever of its checks it fails: a wrong binding before a bad record, and a bad record before
 // a wrong binding.
 TEST_F(EntityCheck, ABindingAndARecordFaultReportTheEarlierEntity) {
-  uint32_t float_tex = pbrta::kNoIndex;
-  for (uint32_t t = 0; t < archive_.textures.size; ++t)
-    if (archive_.entities[archive_.textures[t].entity].category ==
-        uint8_t(pbrta::Category::kFloatTexture))
-      float_tex = t;
+  const uint32_t float_tex = float_texture();
   ASSERT_NE(float_tex, pbrta::kNoIndex);
   const uint32_t early = archive_.materials[3000].entity, late = archive_.materials[36000].entity;
   ASSERT_LT(early / 8192, late / 8192);  // different blocks, the early one first
-  // The two materials' "Kd" values, bound to the spectrum texture; bind_wrong binds one to the
-  // float texture instead.
-  uint32_t kd_value[2];
-  for (int k = 0; k < 2; ++k) {
-    const pbrta::ValueRecord* kd = archive_.value(k == 0 ? early : late, "Kd");
-    ASSERT_NE(kd, nullptr);
-    ASSERT_NE(kd->texture, pbrta::kNoIndex);
-    kd_value[k] = uint32_t(kd - archive_.values.data);
-  }
-  auto bind_wrong = [&](std::string* b, uint32_t value) {
-    edit<pbrta::ValueRecord>(b, pbrta::SectionKind::kValues, value,
-                             [&](pbrta::ValueRecord* v) { v->texture = float_tex; });
-  };
   std::string b = good_;
-  bind_wrong(&b, kd_value[0]);
+  ASSERT_NO_FATAL_FAILURE(rebind_kd(&b, early, float_tex));
   set_entity_byte(&b, late, offsetof(pbrta::EntityRecord, reserved1), 1);
   std::string error = error_of(b);
   EXPECT_NE(error.find("section 'values'"), std::string::npos) << error;
   EXPECT_NE(error.find("entity " + std::to_string(early) + " \"Kd\": texture"), std::string::npos)
       << error;
   b = good_;
-  bind_wrong(&b, kd_value[1]);
+  ASSERT_NO_FATAL_FAILURE(rebind_kd(&b, late, float_tex));
   set_entity_byte(&b, early, offsetof(pbrta::EntityRecord, reserved1), 1);
   error = error_of(b);
   EXPECT_NE(error.find("section 'entities'"), std::string::npos) << error;
