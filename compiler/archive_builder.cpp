@@ -350,8 +350,10 @@ class Builder {
     if (opt.draco_bits > 0) {
       uint64_t triangles = 0;
       size_t eligible = 0;
-      for (const TriangleMesh& m : s.meshes)
-        if (draco_eligible(m, opt)) triangles += m.num_triangles(), ++eligible;
+      for (size_t i = 0; i < s.meshes.size(); ++i) {
+        draco[i].tried = draco_eligible(s.meshes[i], opt);
+        if (draco[i].tried) triangles += s.meshes[i].num_triangles(), ++eligible;
+      }
       if (opt.progress) opt.progress->phase("Draco meshes", eligible);
       pbrta::ProgressCount::Report report;
       if (opt.progress)
@@ -360,7 +362,6 @@ class Builder {
       tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
       arena.execute([&] {
         tbb::parallel_for(size_t(0), s.meshes.size(), [&](size_t i) {
-          draco[i].tried = draco_eligible(s.meshes[i], opt);
           if (!draco[i].tried) return;
           draco_compress(s.meshes[i], uint32_t(i), opt, &draco[i]);
           encoded.add(s.meshes[i].num_triangles());

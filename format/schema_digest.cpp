@@ -16,8 +16,7 @@ SchemaDigest::SchemaDigest() {
   // Allocated once and never freed, like the schema it digests: loads on other threads may still
   // read it while the process exits, after a static destructor would have run.
   types_ = new TypeDigest[total_types];
-  params_ = new ParamDigest[total_params];
-  ParamDigest* p = params_;
+  ParamDigest* p = new ParamDigest[total_params];
   for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
     const CategorySpec& cs = category_spec(Category(c));
     for (uint32_t t = 0; t < cs.num_types; ++t) {

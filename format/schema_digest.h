@@ -46,7 +46,6 @@ class SchemaDigest {
   uint32_t first_type_[uint32_t(Category::kCount)];
   uint32_t num_types_[uint32_t(Category::kCount)];
   TypeDigest* types_;
-  ParamDigest* params_;
 };
 
 const SchemaDigest& schema_digest();
