@@ -8,7 +8,8 @@
 // and decodes it, in parallel over sections. Uncompressed (kNone) sections are used in place from
 // the mapping (or the copy), 16-byte aligned and followed by 16 bytes of padding; compressed ones
 // are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero bytes after its
-// data. What the sections mean is the caller's business.
+// data. What the sections mean is the caller's business. Opening and the table checks are in
+// archive_reader.cpp, the decoding in section_loading.cpp (threads' buffers: thread_decoder.h).
 //
 // Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
 // and 4 KiB page faults are very slow under virtualization, so everything large the load writes
@@ -93,7 +94,7 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
-struct Decoder;  // one loading thread's zstd context and unshuffle scratch
+struct Decoder;  // one loading thread's zstd context and buffers (format/thread_decoder.h)
 }  // namespace archive_detail
 
 class ArchiveReader {

@@ -1,0 +1,541 @@
+// ArchiveReader's section loading: load_sections and the per-section and per-frame work it
+// schedules on the loading threads (format/archive_reader.h). Opening a file and checking its
+// header and table are in format/archive_reader.cpp.
+#include "format/archive_reader.h"
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+#include <zstd.h>
+
+#include "format/byte_shuffle.h"
+#include "format/checksum.h"
+#include "format/draco_codec.h"
+#include "format/fresh_memory.h"
+#include "format/isolated_jobs.h"
+#include "format/thread_decoder.h"
+#include "format/zstd_frames.h"
+
+namespace pbrta {
+
+namespace {
+
+using archive_detail::kBufferAlignment;
+using archive_detail::kMadvPopulateRead;
+using archive_detail::thread_decoder;
+
+// Compressed sections from this size on are read with pread (see load_one); smaller ones, the
+// records, are decoded from the mapping, whose pages around them validate() has mostly touched.
+constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
+// Uncompressed sections from this size on have their pages mapped in one madvise call before
+// they are read (MADV_POPULATE_READ, Linux 5.14; older kernels refuse it and fault as before).
+// Small: teapot's 13 sections of 0.9 MB, most under 256 KiB, loaded in 0.31-0.33 ms against
+// 0.38-0.39 ms with only the 256 KiB ones mapped ahead.
+constexpr uint64_t kPopulateThreshold = uint64_t{16} << 10;
+// Codec-4 sections from this size on are unshuffled with non-temporal stores (unshuffle4_block):
+// far larger than the cache, so ordinary stores would read in every line only to overwrite it
+// and see it evicted before the renderer reads it. mesh200 (109 MB, 2 threads, paired best of
+// 15): 16.8-18.8 -> 15.6-16.6 ms; f10-1ac (40 MB): 8.5-8.9 -> 7.8-8.5 ms.
+constexpr uint64_t kStreamSectionSize = uint64_t{8} << 20;
+// Loads that read and write fewer bytes than this (stored plus decoded) run on the calling
+// thread. Both count: a flat texture's pyramid stores 0.5% of the 18 MB it decodes to, and
+// writing those fresh pages is most of its load (f3-18: 5.1 ms on one thread, 3.6 on two).
+constexpr uint64_t kSerialLoadBytes = uint64_t{1} << 20;
+// An uncompressed section is only checksummed in place, which costs far less a byte than
+// decoding: its bytes count 1/kChecksumOnlyWeight as much. The --codec none archives of teapot,
+// caustic glass, killeroo and 2d-mappings (0.9-4.2 MB) loaded no faster on two threads than on
+// one in a process that loads repeatedly, and in a new process, where the second thread meant
+// starting oneTBB's workers, took 1.1-1.6 ms against 0.45-0.9 ms on one; mesh200's 109 MB (8
+// geometry sections) loads in 8.1 ms on two, 10.7 on one.
+constexpr uint64_t kChecksumOnlyWeight = 8;
+
+bool add_overflows(uint64_t a, uint64_t b, uint64_t* sum) {
+  return __builtin_add_overflow(a, b, sum);
+}
+
+}  // namespace
+
+bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
+                             std::string* reason) {
+  const SectionEntry& e = entries_[index];
+  Section& s = sections_[index];
+  auto bad = [&](const std::string& why) {
+    *reason = why;
+    return false;
+  };
+  const Codec codec = static_cast<Codec>(e.codec);
+  const uint8_t* src = base_ + e.offset;
+  if (codec != Codec::kNone && fd_ >= 0 && e.stored_size >= kReadThreshold) {
+    // The stored bytes of a compressed section are read once and decoded once, so they are read
+    // with pread into this thread's huge-page staging buffer instead of through the mapping:
+    // faulting page-cache pages into the mapping 4 KiB at a time cost twice as much as the copy
+    // (measured on a 23 MB archive: 10.6 ms against 5.2 ms of CPU for mapping + checksum).
+    std::string why;
+    src = read_staged(e.offset, e.stored_size, decoder, &why);
+    if (src == nullptr) return bad(why);
+  }
+  if (codec == Codec::kNone && map_ != nullptr && e.stored_size >= kPopulateThreshold) {
+    // Used in place: map all its pages in one call before the checksum reads them, instead of
+    // one fault per 64 KiB (shapes100k uncompressed, 55 MB: 21.5 -> 19.5 ms; cloud 3.0 -> 2.4).
+    // A file that shrank since open fails here (EFAULT) rather than with SIGBUS below.
+    const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+    const uintptr_t begin = reinterpret_cast<uintptr_t>(src) / page * page;
+    const uintptr_t end = reinterpret_cast<uintptr_t>(src) + e.stored_size + kSectionPadding;
+    if (madvise(reinterpret_cast<void*>(begin), end - begin, kMadvPopulateRead) != 0 &&
+        errno == EFAULT)
+      return bad("truncated while loading: the file shrank after it was opened");
+  }
+  // Before anything decodes these bytes.
+  if (checksum64(src, e.stored_size) != e.checksum) return bad("checksum mismatch");
+  if (codec == Codec::kNone) {
+    // validate() guarantees 16 bytes of (zero) padding after it inside the file.
+    s.data = src;
+    s.in_place = true;
+    return true;
+  }
+  const uint64_t raw = e.raw_size;
+  std::memset(out + raw, 0, kSectionPadding);
+  if (codec == Codec::kDraco) {
+    // validate() bounds raw_size; draco_decode_section checks the mesh lays out to exactly it.
+    std::string why;
+    if (!draco_decode_section(src, e.stored_size, raw, out, &why)) return bad(why);
+    s.data = out;
+    return true;
+  }
+  std::string why;
+  if (!is_one_zstd_frame(src, e.stored_size, raw, "the table says " + std::to_string(raw), &why))
+    return bad(why);
+  ZSTD_DCtx* dctx = decoder->context();
+  if (dctx == nullptr) return bad("zstd: cannot create a decompression context");
+  auto decoded_to = [&](uint64_t got) {
+    return bad("zstd frame decoded to " + std::to_string(got) + " bytes but the table says " +
+               std::to_string(raw));
+  };
+
+  if (codec == Codec::kZstd) {
+    const size_t got = ZSTD_decompressDCtx(dctx, out, raw, src, e.stored_size);
+    if (ZSTD_isError(got)) return bad(std::string("zstd: ") + ZSTD_getErrorName(got));
+    if (got != raw) return decoded_to(got);
+    s.data = out;
+    return true;
+  }
+
+  // Shuffled: stream one shuffle block at a time into the scratch block, which stays in cache,
+  // and unshuffle it from there into its place. Decoding into `out` and unshuffling there would
+  // write the section twice and read it back once; zstd's window buffer, reused across the
+  // section, is small enough to stay in cache too.
+  uint8_t* scratch = decoder->block(kShuffleBlock);
+  if (scratch == nullptr) return bad("cannot allocate a block to decode it through");
+  ZSTD_DCtx_reset(dctx, ZSTD_reset_session_only);
+  ZSTD_inBuffer in{src, static_cast<size_t>(e.stored_size), 0};
+  size_t hint = 1;  // ZSTD_decompressStream's result: 0 once the frame is complete and flushed
+  for (uint64_t at = 0; at < raw; at += kShuffleBlock) {
+    const size_t n = static_cast<size_t>(std::min(kShuffleBlock, raw - at));
+    ZSTD_outBuffer block{scratch, n, 0};
+    while (block.pos < n) {
+      const size_t in_before = in.pos, out_before = block.pos;
+      hint = ZSTD_decompressStream(dctx, &block, &in);
+      if (ZSTD_isError(hint)) return bad(std::string("zstd: ") + ZSTD_getErrorName(hint));
+      if (block.pos < n && (hint == 0 || (in.pos == in_before && block.pos == out_before)))
+        return decoded_to(at + block.pos);  // ended (or stalled) short of raw_size
+    }
+    unshuffle4_block(scratch, out + at, n);
+  }
+  if (hint != 0) {
+    // The output ended where the frame should: zstd must agree that nothing is left.
+    uint8_t extra = 0;
+    ZSTD_outBuffer probe{&extra, 1, 0};
+    hint = ZSTD_decompressStream(dctx, &probe, &in);
+    if (ZSTD_isError(hint)) return bad(std::string("zstd: ") + ZSTD_getErrorName(hint));
+    if (probe.pos != 0 || hint != 0) return decoded_to(raw + probe.pos);
+  }
+  s.data = out;
+  return true;
+}
+
+// Branch-free within blocks of 1024 so the compiler vectorizes it (with plain SSE2 too, which has
+// no unsigned compare).
+uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
+  constexpr uint64_t kBlock = 1024;
+  for (uint64_t at = 0; at < n; at += kBlock) {
+    const uint64_t end = std::min(n, at + kBlock);
+    uint32_t any = 0;
+    for (uint64_t k = at; k < end; ++k) any |= static_cast<uint32_t>(v[k] >= limit);
+    if (any != 0)
+      for (uint64_t k = at; k < end; ++k)
+        if (v[k] >= limit) return k;
+  }
+  return n;
+}
+
+// One unit of parallel loading: a whole section, or one frame of a codec-4 section.
+struct ArchiveReader::LoadTask {
+  uint32_t section;
+  uint32_t frame;       // kWholeSection, or the frame's index
+  uint64_t raw_offset;  // of the block within the section
+  uint64_t raw_size;
+  FrameRef ref;  // codec 4 only
+};
+
+bool ArchiveReader::load_frame(const LoadTask& t, uint8_t* out, archive_detail::Decoder* decoder,
+                               WordBound* bounds, uint64_t num_bounds, std::string* error) {
+  const SectionEntry& e = entries_[t.section];
+  auto bad = [&](const std::string& reason) {
+    *error = section_error(t.section, "frame " + std::to_string(t.frame) + ": " + reason);
+    return false;
+  };
+  ZSTD_DCtx* dctx = decoder->context();
+  uint8_t* scratch = decoder->block(t.raw_size);
+  if (dctx == nullptr || scratch == nullptr)
+    return bad("zstd: cannot allocate a decompression context");
+  const uint8_t* src = base_ + e.offset + t.ref.offset;  // validate(): inside the file
+  if (fd_ >= 0 && t.ref.size >= kReadThreshold) {
+    // Read, not mapped: see load_one (and like load_one, a small one is decoded from the
+    // mapping). A frame is small, so it stays in cache from the read through the checksum to the
+    // decoder.
+    std::string why;
+    src = read_staged(e.offset + t.ref.offset, t.ref.size, decoder, &why);
+    if (src == nullptr) return bad(why);
+  }
+  std::string why;
+  if (!decode_frame(dctx, src, t.ref, t.raw_size, scratch, out + t.raw_offset, bounds, num_bounds,
+                    e.raw_size >= kStreamSectionSize, &why))
+    return bad(why);
+  return true;
+}
+
+const uint8_t* ArchiveReader::read_staged(uint64_t offset, uint64_t size,
+                                          archive_detail::Decoder* decoder,
+                                          std::string* why) const {
+  uint8_t* stage = decoder->stage(size);
+  if (stage == nullptr) {
+    *why = "cannot allocate " + std::to_string(size) + " bytes to read it";
+    return nullptr;
+  }
+  return read_at(offset, size, stage, why) ? stage : nullptr;
+}
+
+bool ArchiveReader::load_sections(int threads, std::string* error) {
+  std::vector<uint32_t> all(section_count());
+  for (uint32_t i = 0; i < section_count(); ++i) all[i] = i;
+  std::vector<uint64_t> unused;
+  return load_sections(threads, all, {}, &unused, error);
+}
+
+bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& which,
+                                  const std::vector<U32Bound>& bounds,
+                                  std::vector<uint64_t>* first_out, std::string* error) {
+  if (base_ == nullptr) {
+    *error = fail("no archive is open");
+    return false;
+  }
+  const uint32_t n = section_count();
+  std::vector<uint32_t> order;
+  std::vector<uint8_t> wanted(n, 0);
+  for (uint32_t i : which)
+    if (i < n && !wanted[i] && !sections_[i].skipped && sections_[i].data == nullptr) {
+      wanted[i] = 1;
+      order.push_back(i);
+    }
+  std::sort(order.begin(), order.end());
+  // The bounds, by section; each must lie inside a section loaded here, on 4-byte boundaries.
+  std::vector<std::vector<uint32_t>> bounds_of(n);
+  for (uint32_t b = 0; b < bounds.size(); ++b) {
+    const U32Bound& u = bounds[b];
+    if (u.section >= n || !wanted[u.section] || u.begin > u.end ||
+        u.end > entries_[u.section].raw_size || u.begin % 4 != 0 || u.end % 4 != 0) {
+      *error = fail("internal error: bound " + std::to_string(b) +
+                    " does not lie in a section loaded here");
+      return false;
+    }
+    if (u.begin < u.end) bounds_of[u.section].push_back(b);  // an empty one holds nothing to check
+  }
+  for (std::vector<uint32_t>& list : bounds_of)  // decode_frame wants them sorted by begin
+    std::sort(list.begin(), list.end(),
+              [&](uint32_t a, uint32_t b) { return bounds[a].begin < bounds[b].begin; });
+  std::vector<std::atomic<uint64_t>> first(bounds.size());
+  for (uint32_t b = 0; b < bounds.size(); ++b) first[b].store(bounds[b].end);
+
+  // Every decoded section in one buffer, in table order, each at a 64-byte boundary (no two
+  // threads write one cache line) and followed by its padding. validate() bounded the sizes;
+  // the sum is checked anyway.
+  std::vector<uint64_t> slot(n, 0);
+  uint64_t total = 0;
+  for (uint32_t i : order) {
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kNone)) continue;
+    slot[i] = total;
+    uint64_t end = 0;
+    if (add_overflows(total, entries_[i].raw_size, &end) ||
+        add_overflows(end, kSectionPadding + kBufferAlignment, &end)) {
+      *error = fail("the sections' decoded sizes overflow");
+      return false;
+    }
+    total = end / kBufferAlignment * kBufferAlignment;
+  }
+  uint8_t* decoded = nullptr;
+  if (total > 0) {
+    Buffer buffer = allocate(total);
+    if (!buffer) {
+      *error = fail("cannot allocate " + std::to_string(total) + " bytes to decode the sections");
+      return false;
+    }
+    decoded = buffer.get();
+    decoded_.push_back(std::move(buffer));
+  }
+
+  // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
+  // 16 bytes per 4 MiB frame), every other section whole.
+  std::vector<std::string> errors(n);
+  std::vector<LoadTask> tasks;
+  for (uint32_t i : order) {
+    const SectionEntry& e = entries_[i];
+    if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
+      tasks.push_back(LoadTask{i, kWholeSection, 0, e.raw_size, {}});
+      continue;
+    }
+    const uint64_t index_bytes = frame_count(e.raw_size) * sizeof(FrameEntry);
+    std::vector<uint8_t> index;
+    const uint8_t* at = base_ + e.offset;
+    std::string why;
+    if (fd_ >= 0 && index_bytes > 0) {
+      index.resize(index_bytes);  // validate(): index_bytes <= stored_size
+      if (!read_at(e.offset, index_bytes, index.data(), &why)) {
+        errors[i] = section_error(i, why);
+        continue;
+      }
+      at = index.data();
+    }
+    std::vector<FrameRef> frames;
+    if (checksum64(at, index_bytes) != e.checksum) {
+      errors[i] = section_error(i, "checksum mismatch");
+    } else if (!read_frame_index(at, e.raw_size, e.stored_size, &frames, &why)) {
+      errors[i] = section_error(i, why);
+    } else {
+      // The last frame's task zeroes the padding: here it would fault in a fresh page for each
+      // section, on this thread alone, before any work is shared.
+      if (frames.empty()) std::memset(decoded + slot[i] + e.raw_size, 0, kSectionPadding);
+      for (uint32_t k = 0; k < frames.size(); ++k) {
+        const uint64_t begin = uint64_t{k} * kFrameBlock;
+        tasks.push_back(
+            LoadTask{i, k, begin, std::min(kFrameBlock, e.raw_size - begin), frames[k]});
+      }
+    }
+  }
+
+  // Largest first, so one big section does not start last and leave the other threads idle.
+  std::vector<uint32_t> schedule(tasks.size());
+  for (uint32_t k = 0; k < tasks.size(); ++k) schedule[k] = k;
+  std::stable_sort(schedule.begin(), schedule.end(),
+                   [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; });
+  std::vector<std::string> task_errors(tasks.size());
+  // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
+  auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
+    const uint64_t k4 = first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo),
+                                          (hi - lo) / 4, bounds[b].limit);
+    if (k4 == (hi - lo) / 4) return;
+    const uint64_t found = lo + 4 * k4;
+    uint64_t seen = first[b].load(std::memory_order_relaxed);
+    while (found < seen && !first[b].compare_exchange_weak(seen, found)) {
+    }
+  };
+  auto run = [&](uint32_t k) {
+    const LoadTask& t = tasks[k];
+    uint8_t* out = decoded + slot[t.section];
+    archive_detail::Decoder& decoder = thread_decoder();
+    if (t.frame == kWholeSection) {
+      if (!load_one(t.section, out, &decoder, &task_errors[k])) {
+        task_errors[k] = section_error(t.section, task_errors[k]);
+        return;
+      }
+      const uint8_t* data = sections_[t.section].data;
+      for (uint32_t b : bounds_of[t.section]) scan(b, data, bounds[b].begin, bounds[b].end);
+      return;
+    }
+    // The bounds over this frame's block, relative to it: checked as the block unshuffles, and
+    // searched for the first offender only when one is exceeded.
+    std::vector<WordBound>& local = decoder.bounds;
+    std::vector<uint32_t>& which_bound = decoder.bound_ids;
+    local.clear();
+    which_bound.clear();
+    const uint64_t block_end = t.raw_offset + t.raw_size;
+    for (uint32_t b : bounds_of[t.section]) {
+      const uint64_t lo = std::max(bounds[b].begin, t.raw_offset);
+      const uint64_t hi = std::min(bounds[b].end, block_end);
+      if (lo >= hi) continue;
+      local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, bounds[b].limit, false});
+      which_bound.push_back(b);
+    }
+    if (!load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) return;
+    const uint64_t section_size = entries_[t.section].raw_size;
+    if (block_end == section_size) std::memset(out + section_size, 0, kSectionPadding);
+    for (size_t j = 0; j < local.size(); ++j)
+      if (local[j].exceeded)
+        scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
+  };
+  // Draco sections go last, and only when every other section decoded: Draco's own work on a
+  // forged stream is not bounded (format/draco_codec.h: seconds from a few KB), so a file with
+  // any other fault fails without running it.
+  const size_t draco_from =
+      size_t(std::stable_partition(schedule.begin(), schedule.end(),
+                                   [&](uint32_t k) {
+                                     return entries_[tasks[k].section].codec !=
+                                            static_cast<uint32_t>(Codec::kDraco);
+                                   }) -
+             schedule.begin());
+  // A small load (the records of a scene) runs on this thread: waking the workers costs more.
+  uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
+  for (uint32_t i : order)
+    work_bytes += entries_[i].codec == static_cast<uint32_t>(Codec::kNone)
+                      ? entries_[i].raw_size / kChecksumOnlyWeight
+                      : entries_[i].stored_size + entries_[i].raw_size;
+  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2;
+  std::optional<tbb::task_arena> arena;
+  // int(): a value, not a reference to the constant (which has no definition to link to).
+  if (!serial) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  auto run_all = [&](size_t begin, size_t end) {
+    if (serial) {
+      for (size_t k = begin; k < end; ++k) run(schedule[k]);
+      thread_decoder().trim();
+      return;
+    }
+    // Each thread takes the next task in schedule order until none is left.
+    std::atomic<size_t> next{begin};
+    arena->execute([&] {
+      tbb::parallel_for(0, arena->max_concurrency(), [&](int) {
+        for (size_t k = next++; k < end; k = next++) run(schedule[k]);
+        thread_decoder().trim();
+      });
+    });
+  };
+  run_all(0, draco_from);
+  bool failed = false;
+  for (uint32_t i : order) failed |= !errors[i].empty();
+  for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
+  // The Draco streams' checksums, here and before any child is forked: a damaged stream fails
+  // for the price of hashing it (microseconds), not of a process (a millisecond or more). Read
+  // with pread from a file, as the frame indexes are, so a file that shrank since it was opened
+  // fails here with an error, not SIGBUS.
+  if (!failed) {
+    for (size_t k = draco_from; k < schedule.size(); ++k) {
+      const uint32_t i = tasks[schedule[k]].section;
+      const SectionEntry& e = entries_[i];
+      std::string why;
+      const uint8_t* at = fd_ >= 0 ? read_staged(e.offset, e.stored_size, &thread_decoder(), &why)
+                                   : base_ + e.offset;
+      if (at == nullptr) {
+        task_errors[schedule[k]] = section_error(i, why);
+        failed = true;
+        continue;
+      }
+      if (checksum64(at, e.stored_size) != e.checksum) {
+        task_errors[schedule[k]] = section_error(i, "checksum mismatch");
+        failed = true;
+      }
+    }
+  }
+  if (!failed && draco_from < schedule.size()) {
+    if (isolation_enabled()) {
+      // In child processes with a budget (format/isolated_jobs.h), each decoding into shared
+      // memory that is then copied into place: Draco never runs in this process. Jobs go in
+      // section order, so the section that stops a child is reported before those it left.
+      std::vector<uint32_t> job_task(schedule.begin() + std::ptrdiff_t(draco_from), schedule.end());
+      std::sort(job_task.begin(), job_task.end(),
+                [&](uint32_t a, uint32_t b) { return tasks[a].section < tasks[b].section; });
+      std::vector<IsolatedJob> jobs;
+      std::vector<uint8_t*> dst;
+      for (uint32_t k : job_task) {
+        const uint32_t i = tasks[k].section;
+        jobs.push_back(
+            IsolatedJob{entries_[i].raw_size + kSectionPadding, entries_[i].stored_size});
+        dst.push_back(decoded + slot[i]);
+      }
+      std::vector<std::string> job_errors;
+      std::vector<char> by_job;
+      const int processes = threads > 0 ? threads : int(std::thread::hardware_concurrency());
+      run_isolated(
+          jobs, dst, processes, IsolationBudget{},
+          [&](size_t j, uint8_t* out, std::string* why) {
+            return load_one(tasks[job_task[j]].section, out, &thread_decoder(), why);
+          },
+          &job_errors, &by_job);
+      for (size_t j = 0; j < jobs.size(); ++j) {
+        const uint32_t i = tasks[job_task[j]].section;
+        if (!job_errors[j].empty()) {
+          task_errors[job_task[j]] =
+              section_error(i, by_job[j] ? job_errors[j] : "draco: " + job_errors[j]);
+          continue;
+        }
+        // The child may have been subverted by its stream: the padding is this process's to set,
+        // and what validate() checks is checked here as for any section.
+        std::memset(decoded + slot[i] + entries_[i].raw_size, 0, kSectionPadding);
+        sections_[i].data = decoded + slot[i];
+        sections_[i].in_place = false;
+        for (uint32_t b : bounds_of[i]) scan(b, sections_[i].data, bounds[b].begin, bounds[b].end);
+      }
+    } else {
+      run_all(draco_from, schedule.size());
+    }
+  }
+  // The lowest-numbered failing section's first failure (tasks are in section, frame order).
+  for (uint32_t k = 0; k < tasks.size(); ++k) {
+    const uint32_t i = tasks[k].section;
+    if (!task_errors[k].empty() && (errors[i].empty())) errors[i] = task_errors[k];
+  }
+  for (uint32_t i : order) {
+    if (errors[i].empty()) continue;
+    *error = errors[i];
+    for (uint32_t j : order) {  // all or nothing
+      sections_[j].data = nullptr;
+      sections_[j].in_place = false;
+    }
+    if (decoded != nullptr) decoded_.pop_back();
+    return false;
+  }
+  for (uint32_t i : order)
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames))
+      sections_[i].data = decoded + slot[i];
+  first_out->resize(bounds.size());
+  for (uint32_t b = 0; b < bounds.size(); ++b) (*first_out)[b] = first[b].load();
+  return true;
+}
+
+bool ArchiveReader::typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align,
+                                      const void** out, uint32_t* count, std::string* error) const {
+  if (section >= entries_.size()) {
+    *error = fail("section #" + std::to_string(section) + " does not exist (the archive has " +
+                  std::to_string(entries_.size()) + ")");
+    return false;
+  }
+  const SectionEntry& e = entries_[section];
+  const uint8_t* data = sections_[section].data;
+  if (data == nullptr) {
+    *error = section_error(section, "not loaded");
+    return false;
+  }
+  if (e.raw_size != uint64_t{e.count} * elem_size) {
+    *error = section_error(section, std::to_string(e.raw_size) + " bytes is not " +
+                                        std::to_string(e.count) + " records of " +
+                                        std::to_string(elem_size) + " bytes");
+    return false;
+  }
+  if (reinterpret_cast<uintptr_t>(data) % elem_align != 0) {
+    *error =
+        section_error(section, "data is not aligned to " + std::to_string(elem_align) + " bytes");
+    return false;
+  }
+  *out = data;
+  *count = e.count;
+  return true;
+}
+
+}  // namespace pbrta
