@@ -23,7 +23,7 @@
 namespace pbrta {
 
 // Which of the rules below an entity type is held to: the one list of the types that have them,
-// for the reader's checks (format/scene_archive.cpp) and the schema digest alike.
+// for the reader's checks (format/scene_validation.cpp) and the schema digest alike.
 enum class CountRule : uint8_t { kNone, kCurve, kDensity };
 CountRule count_rule_of(Category category, uint32_t type);
 
