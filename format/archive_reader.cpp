@@ -28,10 +28,12 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 
 namespace {
 
+using archive_detail::add_overflows;
 using archive_detail::kBufferAlignment;
 using archive_detail::kHugeBufferThreshold;
 using archive_detail::kMadvPopulateRead;
 using archive_detail::map_fresh;
+using archive_detail::mul_overflows;
 
 // Files up to this size are read whole into memory when opened instead of mapped.
 constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
@@ -46,13 +48,6 @@ constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
 // (4.2 MB) 0.30-0.96 -> 0.36-0.40 ms, a generated 5.7 MB mesh file 0.82-0.89 -> 0.72-0.78 ms.
 // Larger files lose by the copy as often as they win (projection's 16 MB: 1.2 -> 2.0 ms).
 constexpr uint64_t kReadWholeSize = uint64_t{8} << 20;
-
-bool add_overflows(uint64_t a, uint64_t b, uint64_t* sum) {
-  return __builtin_add_overflow(a, b, sum);
-}
-bool mul_overflows(uint64_t a, uint64_t b, uint64_t* p) {
-  return __builtin_mul_overflow(a, b, p);
-}
 
 std::string errno_text(int err) {
   return std::error_code(err, std::generic_category()).message();

@@ -89,6 +89,13 @@ uint64_t max_total_raw_size(uint64_t file_size);
 uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit);
 
 namespace archive_detail {
+// Size arithmetic on numbers read from the file: true when a + b (a * b) does not fit in uint64.
+inline bool add_overflows(uint64_t a, uint64_t b, uint64_t* sum) {
+  return __builtin_add_overflow(a, b, sum);
+}
+inline bool mul_overflows(uint64_t a, uint64_t b, uint64_t* product) {
+  return __builtin_mul_overflow(a, b, product);
+}
 // Frees a decode buffer: munmap for the large ones (mapped_size > 0), aligned delete else.
 struct BufferFree {
   uint64_t mapped_size = 0;
