@@ -2,6 +2,7 @@
 // format/scene_validation.cpp) and reading its records (format/scene_archive.h).
 #include "format/scene_archive.h"
 
+#include <chrono>
 #include <cstring>
 
 namespace pbrta {
@@ -121,20 +122,42 @@ namespace {
 // per shuffle block) outweighs reading a few hundred bytes again. 50k one-triangle meshes spent
 // 10 ms of a 26 ms load building, growing and faulting in their bound lists.
 constexpr uint64_t kBoundIndexBytes = 4096;
+
+// Adds the seconds since the previous lap to one of phases' fields; does nothing without phases.
+class PhaseClock {
+ public:
+  explicit PhaseClock(LoadPhases* phases) : phases_(phases) {
+    if (phases_ != nullptr) last_ = std::chrono::steady_clock::now();
+  }
+  void lap(double LoadPhases::*field) {
+    if (phases_ == nullptr) return;
+    const auto now = std::chrono::steady_clock::now();
+    phases_->*field += std::chrono::duration<double>(now - last_).count();
+    last_ = now;
+  }
+
+ private:
+  LoadPhases* phases_;
+  std::chrono::steady_clock::time_point last_;
+};
 }  // namespace
 
-bool SceneArchive::load(const std::string& path, int threads, std::string* error) {
+bool SceneArchive::load(const std::string& path, int threads, std::string* error,
+                        LoadPhases* phases) {
   path_ = path;
-  return reader_.open(path, error) && load_opened(threads, error);
+  PhaseClock clock(phases);
+  if (!reader_.open(path, error)) return false;
+  clock.lap(&LoadPhases::open);
+  return load_opened(threads, error, phases);
 }
 
 bool SceneArchive::load_memory(std::string_view bytes, std::string_view name, int threads,
                                std::string* error) {
   path_ = std::string(name);
-  return reader_.open_memory(bytes, name, error) && load_opened(threads, error);
+  return reader_.open_memory(bytes, name, error) && load_opened(threads, error, nullptr);
 }
 
-bool SceneArchive::load_opened(int threads, std::string* error) {
+bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phases) {
   // The mesh records first, alone: they say which triangle indices the geometry must keep within
   // which vertex counts, checked as the geometry decodes. Then every other section in one
   // parallel pass (records and bulk data together: a barrier between them left a thread idle
@@ -142,12 +165,18 @@ bool SceneArchive::load_opened(int threads, std::string* error) {
   std::vector<uint32_t> meshes_first, rest;
   for (uint32_t i = 0; i < reader_.section_count(); ++i)
     (reader_.entry(i).kind == uint32_t(SectionKind::kMeshes) ? meshes_first : rest).push_back(i);
+  PhaseClock clock(phases);
   std::vector<uint64_t> unused;
   if (!reader_.load_sections(threads, meshes_first, {}, &unused, error)) return false;
+  clock.lap(&LoadPhases::meshes);
   IndexChecks checks;
   plan_index_checks(&checks);
+  clock.lap(&LoadPhases::plan);
   if (!reader_.load_sections(threads, rest, checks.bounds, &checks.first, error)) return false;
-  return validate(threads, checks, error);
+  clock.lap(&LoadPhases::sections);
+  const bool ok = validate(threads, checks, error);
+  clock.lap(&LoadPhases::validate);
+  return ok;
 }
 
 // From the mesh records as they are, unvalidated: a mesh whose indices do not lie on 4-byte

@@ -36,9 +36,18 @@ struct Span {
   const T* end() const { return data + size; }
 };
 
+// Where one load()'s time went, in seconds, for benchmarks (archive_bench --phases): reading the
+// file with its header and table checks; loading the mesh records, which come first; planning the
+// triangle-index checks from them; loading every other section (checksums, decoding, the planned
+// checks); and validate(). Timing costs two clock reads a phase, and only when asked for.
+struct LoadPhases {
+  double open = 0, meshes = 0, plan = 0, sections = 0, validate = 0;
+};
+
 class SceneArchive {
  public:
-  [[nodiscard]] bool load(const std::string& path, int threads, std::string* error);
+  [[nodiscard]] bool load(const std::string& path, int threads, std::string* error,
+                          LoadPhases* phases = nullptr);
   // The same checks on an archive already in memory (tests, fuzzing), named `name` in errors.
   // The bytes must outlive this object: a 16-byte aligned image is used in place.
   [[nodiscard]] bool load_memory(std::string_view bytes, std::string_view name, int threads,
@@ -104,7 +113,7 @@ class SceneArchive {
 
  private:
   // load()'s work once the reader has opened the archive.
-  bool load_opened(int threads, std::string* error);
+  bool load_opened(int threads, std::string* error, LoadPhases* phases);
   // The triangle indices load() has the reader check as the geometry decodes: bound b covers
   // mesh[b]'s indices (ascending mesh order), and first[b] is what load_sections found.
   struct IndexChecks {

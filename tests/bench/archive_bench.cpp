@@ -3,6 +3,8 @@
 //   archive_bench [--repeat N] [--threads T] SCENE.pbrt...
 //   archive_bench [--repeat N] [--threads T] --load ARCHIVE   (load only, for profiling;
 //   ARCHIVE_BENCH_LOAD_ONLY=1 leaves out the baselines too)
+//   archive_bench [--repeat N] [--threads T] --phases ARCHIVE   (where a load's time goes:
+//   SceneArchive's LoadPhases, each phase's best of N loads)
 //   ARCHIVE_BENCH_DRACO_IN_PROCESS=1 decodes Draco sections in this process instead of in
 //   budgeted children (format/isolated_jobs.h), to measure what the isolation costs.
 //
@@ -308,6 +310,34 @@ int run_once(const std::string& what, const std::string& path, int threads) {
   return 0;
 }
 
+// --phases ARCHIVE: each phase's best over n loads, in microseconds, and the best whole load.
+// The phases' bests may come from different loads, so their sum can fall below the best load.
+int print_phases(const std::string& path, int n, int threads) {
+  pbrta::LoadPhases best{1e30, 1e30, 1e30, 1e30, 1e30};
+  double wall = 1e30;
+  for (int i = 0; i < n; ++i) {
+    auto a = std::make_unique<pbrta::SceneArchive>();
+    pbrta::LoadPhases p;
+    std::string error;
+    const auto t = Clock::now();
+    if (!a->load(path, threads, &error, &p)) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      return 1;
+    }
+    wall = std::min(wall, since(t));
+    for (double pbrta::LoadPhases::*f :
+         {&pbrta::LoadPhases::open, &pbrta::LoadPhases::meshes, &pbrta::LoadPhases::plan,
+          &pbrta::LoadPhases::sections, &pbrta::LoadPhases::validate})
+      best.*f = std::min(best.*f, p.*f);
+  }
+  std::printf(
+      "%s, %d threads, best of %d loads (us): open %.1f, meshes %.1f, plan %.1f, sections %.1f, "
+      "validate %.1f; whole load %.1f\n",
+      path.c_str(), threads, n, best.open * 1e6, best.meshes * 1e6, best.plan * 1e6,
+      best.sections * 1e6, best.validate * 1e6, wall * 1e6);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -318,9 +348,10 @@ int main(int argc, char** argv) {
   int repeat = 5, threads = 2;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--load") && i + 1 < argc)
-      scenes = {"--load", argv[++i]};
-    else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc)
+    if ((!std::strcmp(argv[i], "--load") || !std::strcmp(argv[i], "--phases")) && i + 1 < argc) {
+      scenes = {argv[i], argv[i + 1]};
+      ++i;
+    } else if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc)
       repeat = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc)
       threads = std::atoi(argv[++i]);
@@ -347,6 +378,8 @@ int main(int argc, char** argv) {
         fresh > 0 ? wall / fresh : 0, floor0);
     return 0;
   }
+  if (scenes.size() == 2 && scenes[0] == "--phases")
+    return print_phases(scenes[1], repeat, threads);
   if (scenes.empty()) {
     std::fprintf(stderr, "usage: archive_bench [--repeat N] [--threads T] SCENE.pbrt...\n");
     return 2;
