@@ -43,6 +43,7 @@
 #include "compiler/parser.h"
 #include "format/archive_reader.h"
 #include "format/checksum.h"
+#include "format/fresh_memory.h"
 #include "format/huge_page_heap.h"
 #include "format/isolated_jobs.h"
 #include "format/scene_archive.h"
@@ -109,8 +110,9 @@ constexpr const char* kBaselineLegend =
     "uncompressed: load 0 is the --codec none load (T threads); parse/0 = parse s / load 0, whose\n"
     "target is >= 20.\n"
     "  floor0: one thread getting the --codec none file's bytes and checksumming them, nothing\n"
-    "          else: open, fstat, pread into fresh huge pages (or new[] for files up to 64 KiB,\n"
-    "          as the loader does) or mmap with MAP_POPULATE (whichever is fastest),\n"
+    "          else: open, fstat, pread into fresh memory as the loader maps it (huge pages,\n"
+    "          a short tail in base pages; new[] for files up to 64 KiB) or mmap with\n"
+    "          MAP_POPULATE (whichever is fastest),\n"
     "          checksum64 of every byte, free, close. Best of N.\n"
     "  parse/f: parse s / floor0, the most parse/0 a checked one-thread load can reach.\n"
     "first in a new process (1: parse, load 0, parse/0): the same parse and --codec none load,\n"
@@ -209,15 +211,16 @@ double time_floor(const std::string& path, int n) {
       return -1.0;
     }
     const size_t size = size_t(st.st_size);
-    const size_t huge = size_t{2} << 20, mapped = (size + huge - 1) / huge * huge;
+    uint64_t mapped = 0;
     std::unique_ptr<uint8_t[]> heap;
     void* p = MAP_FAILED;
     if (way == kHeap) {
       heap.reset(new uint8_t[size]);
       p = heap.get();
     } else if (way == kHugePages) {
-      p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-      if (p != MAP_FAILED) madvise(p, mapped, MADV_HUGEPAGE);
+      // The loader's own buffers, its huge pages and base-page tails.
+      p = pbrta::archive_detail::map_fresh(size, &mapped);
+      if (p == nullptr) p = MAP_FAILED;
     } else {
       p = mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
     }
