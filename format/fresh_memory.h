@@ -33,8 +33,8 @@ inline constexpr int kMadvPopulateRead = 22;
 // A buffer's last, partial huge page is given as base pages instead when it would hold less than
 // this: the kernel zeroes the whole 2 MiB of a huge page however little of it is used. Measured
 // (pread of a file into the buffer, then its checksum, best of 1500): with a 20 KiB tail, 2.12 MB
-// took 202 us against 233 in whole huge pages; tails of 64, 128 and 160 KiB took 224/241,
-// 245/247 and 257/246 us.
+// took 202 us against 233 in whole huge pages; with tails of 64, 128 and 160 KiB, base-page tails
+// took 224, 245 and 257 us against 241, 247 and 246.
 inline constexpr uint64_t kHugeTailThreshold = uint64_t{64} << 10;
 
 // Fresh zeroed memory in its own mapping of *mapped bytes, nullptr when out of memory; freed with
