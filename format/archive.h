@@ -61,7 +61,7 @@ enum class Codec : uint32_t {
   kZstd = 1,                // one zstd frame
   kZstdShuffle4 = 2,        // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
   kDraco = 3,               // a Draco mesh stream (lossy); only a geometry section of one mesh
-  kZstdShuffle4Frames = 4,  // a FrameEntry index, then one zstd frame per shuffled 256 KiB block
+  kZstdShuffle4Frames = 4,  // a FrameEntry index, then one zstd frame per 4 MiB block (shuffled)
   kCount
 };
 

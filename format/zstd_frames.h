@@ -1,10 +1,10 @@
 // format/zstd_frames.h — codec 4 (kZstdShuffle4Frames): a section as independent zstd frames.
 //
-// The raw bytes are cut into blocks of kShuffleBlock bytes (the last shorter; none when empty),
-// each block is byte-shuffled on its own (format/byte_shuffle.h) and compressed into its own zstd
-// frame, which records its content size. The stored bytes are a FrameEntry index (format/
-// archive.h), one entry per block, then the frames back to back in block order. The section
-// table's checksum covers the index, each entry's checksum its frame.
+// The raw bytes are cut into blocks of kFrameBlock bytes (4 MiB; the last shorter; none when
+// empty), each block is byte-shuffled on its own in kShuffleBlock pieces (format/byte_shuffle.h)
+// and compressed into its own zstd frame, which records its content size. The stored bytes are a
+// FrameEntry index (format/ archive.h), one entry per block, then the frames back to back in block
+// order. The section table's checksum covers the index, each entry's checksum its frame.
 //
 // Why: a block is then read, verified, decoded and unshuffled while it sits in cache, one-shot
 // (no streaming window to copy through), and the blocks of one large section decode on every

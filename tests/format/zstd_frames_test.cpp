@@ -77,6 +77,19 @@ TEST(ZstdFrames, StoredLayoutIsAnIndexThenOnePlainZstdFramePerShuffledBlock) {
   EXPECT_EQ(at, e.offset + e.stored_size);  // the frames tile the rest exactly
 }
 
+// ARCHIVE.md asks for a zstd frame that records its content size: a skippable frame, which zstd
+// reports as holding 0 bytes, is not one, even where the section is empty.
+TEST(ZstdFrames, ASkippableFrameIsNotAFrame) {
+  const uint8_t skippable[8] = {0x50, 0x2A, 0x4D, 0x18, 0, 0, 0, 0};
+  std::string why;
+  EXPECT_FALSE(is_one_zstd_frame(skippable, sizeof skippable, 0, "empty", &why));
+  EXPECT_EQ(why, "zstd: not a zstd frame");
+  std::vector<uint8_t> empty(ZSTD_compressBound(0));
+  const size_t n = ZSTD_compress(empty.data(), empty.size(), nullptr, 0, 3);
+  ASSERT_FALSE(ZSTD_isError(n));
+  EXPECT_TRUE(is_one_zstd_frame(empty.data(), n, 0, "empty", &why)) << why;
+}
+
 TEST(ZstdFrames, EverySizeAroundTheBlocksDecodesExactly) {
   const std::string dir = testing_support::scratch_dir("ZstdFrames.EverySize");
   const uint64_t s = kShuffleBlock, f = kFrameBlock;
