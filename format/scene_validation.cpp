@@ -296,6 +296,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
             ok = c.fail("string offsets decrease at string " + std::to_string(i));
         if (ok && pstring_offsets_[nstr] != size - head)
           ok = c.fail("string data size does not match its offsets");
+        if (ok && pstring_offsets_[1] != 0) ok = c.fail("string 0 is not empty");
         for (uint32_t i = 0; i < nrec && ok; ++i) {
           const ProvenanceRecord& p = provenance[i];
           if (p.file >= nstr || p.name >= nstr || p.path >= nstr)

@@ -155,5 +155,25 @@ TEST_F(RecordCheck, Instances) {
       "instance 1: reserved field is not zero", "instance 0: reserved field is not zero");
 }
 
+// ARCHIVE.md: the provenance strings' string 0 is empty, as the main table's is. Moving string
+// 1's start onto its end makes string 0 hold string 1's bytes, all else still in order.
+TEST_F(RecordCheck, ProvenanceStringZeroIsEmpty) {
+  const uint32_t s = testing_support::section_entry(archive_, pbrta::SectionKind::kProvenance);
+  ASSERT_NE(s, pbrta::kNoIndex);
+  const uint64_t at = archive_.reader().entry(s).offset;
+  uint32_t nrec = 0, nstr = 0;
+  std::memcpy(&nrec, good_.data() + at, 4);
+  std::memcpy(&nstr, good_.data() + at + 4, 4);
+  ASSERT_GE(nstr, 3u);
+  const uint64_t offsets = at + 8 + uint64_t(nrec) * sizeof(pbrta::ProvenanceRecord);
+  uint32_t end_of_1 = 0;
+  std::memcpy(&end_of_1, good_.data() + offsets + 8, 4);
+  ASSERT_GT(end_of_1, 0u);
+  std::string b = good_;
+  std::memcpy(&b[offsets + 4], &end_of_1, 4);
+  EXPECT_EQ(error_of(b), dir_ + "/bad.pbrta: section 'provenance' (#" + std::to_string(s) +
+                             "): string 0 is not empty");
+}
+
 }  // namespace
 }  // namespace pbrtc
