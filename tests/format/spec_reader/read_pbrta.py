@@ -188,7 +188,7 @@ Image = namedtuple("Image", "width height channels levels format section offset 
 MESH_ARRAYS = (("positions", None, 12, False), ("normals", 1, 12, False), ("tangents", 2, 12, False),
                ("uv", 4, 8, False), ("indices", None, 12, True), ("face_indices", 8, 4, True))
 TEXEL_BYTES = {0: 4, 1: 2, 2: 1}
-# Bit names as `pbrtc --info` prints them (ARCHIVE.md section 4 calls bit 7 "alpha").
+# Bit names as `pbrtc --info` prints them (ARCHIVE.md section 4 calls bit 7 "alpha masks").
 EFFECTS = ["media", "motion blur", "textures", "area lights", "infinite lights",
            "subsurface", "instancing", "alpha masks"]
 
@@ -407,6 +407,8 @@ class Archive:
     def read_strings(self):
         s = self.sections_of.get(STRINGS, [None])[0]
         self.strings = []
+        if not s:
+            self.fail("no strings section")  # section 10: it must exist
         if s:
             if len(s.raw) < 4 or struct.unpack_from("<I", s.raw)[0] != s.count:
                 self.fail("string count differs from the section's count", s)
@@ -495,9 +497,9 @@ class Archive:
             entity(m, i, "material", MATERIALS, "material")
             if m.reserved:
                 self.fail(f"material {i}: reserved not 0", MATERIALS)
-            if self.type_name(m.entity) == "mix":  # mix[] means nothing for other types
-                self.check_index(m.mix0, len(self.materials), f"material {i} mix[0]", MATERIALS)
-                self.check_index(m.mix1, len(self.materials), f"material {i} mix[1]", MATERIALS)
+            # Range-checked whatever the type (ARCHIVE.md section 7), NONE allowed.
+            self.check_index(m.mix0, len(self.materials), f"material {i} mix[0]", MATERIALS, True)
+            self.check_index(m.mix1, len(self.materials), f"material {i} mix[1]", MATERIALS, True)
         self.media = self.records(MEDIA, Medium)
         for i, m in enumerate(self.media):
             entity(m, i, "medium", MEDIA, "medium")
@@ -594,6 +596,9 @@ class Archive:
                 self.fail(f"{where}: reserved not 0", IMAGES)
             if im.channels not in (1, 3) or im.format not in TEXEL_BYTES or im.wrap not in (0, 1, 2):
                 self.fail(f"{where}: channels {im.channels}, format {im.format}, wrap {im.wrap}", IMAGES)
+            if not 1 <= im.levels <= 32 or 0 in (im.width, im.height, im.source_width, im.source_height):
+                self.fail(f"{where}: {im.levels} levels, {im.width}x{im.height} "
+                          f"from {im.source_width}x{im.source_height}", IMAGES)
             if im.section >= len(self.sections) or self.sections[im.section].kind != TEXELS:
                 self.fail(f"{where}: section {im.section} is not a texels section", IMAGES)
             offset = im.offset
@@ -612,6 +617,8 @@ class Archive:
                 if dist.format != 0 or dist.levels != 1:
                     self.fail(f"{where}: distribution {im.distribution} not f32 with one level", IMAGES)
             if im.source_image != NONE:
+                if (im.width, im.height) == (im.source_width, im.source_height):
+                    self.fail(f"{where}: level 0 is the source size, yet it names a source image", IMAGES)
                 self.check_index(im.source_image, n, f"{where} source_image", IMAGES)
                 src = self.images[im.source_image]
                 if (im.source_image == i or src.levels != 1
@@ -631,6 +638,8 @@ class Archive:
             self.fail(f"{n} records, {n_strings} strings in a section counting {s.count}", s)
         self.provenance = list(struct.iter_unpack("<4I", s.raw[8:8 + 16 * n]))
         self.provenance_strings = self.read_string_table(s.raw, 8 + 16 * n, n_strings, s)
+        if self.provenance_strings[0]:
+            self.fail("string 0 is not the empty string", s)
         for i, (file, _, name, path) in enumerate(self.provenance):
             if max(file, name, path) >= n_strings:
                 self.fail(f"record {i}: string out of range ({n_strings})", s)
@@ -696,7 +705,9 @@ class Archive:
         elif ok:
             ok, segments = points >= degree + 1, points - degree
         if ok and kind == "ribbon":
-            ok = normals == segments + 1
+            j = [p.name for p in self.schema.types[self.entities[e][0]][self.entities[e][1]][1]].index("N")
+            _, v = self.param(e, j)
+            ok = normals == segments + 1 and v is not None and v[3] & 1  # given by the scene
         if not ok:
             self.fail(f"entity {e}: curve counts break the rules", VALUES)
 
