@@ -166,6 +166,10 @@ class ArchiveReader {
 
   // True when section_data points into the mapped file (kNone sections), not into a copy.
   bool in_place(uint32_t index) const { return sections_[index].in_place; }
+  // After load_sections, for a Draco (codec 3) section: the vertex and triangle counts its stream
+  // decoded to (ARCHIVE.md: the mesh record must carry them); 0 and 0 for any other section.
+  uint32_t decoded_vertices(uint32_t index) const { return sections_[index].decoded_counts[0]; }
+  uint32_t decoded_triangles(uint32_t index) const { return sections_[index].decoded_counts[1]; }
 
   // The section as an array of entry(section).count elements of T: checks that the section
   // exists and is loaded, that raw_size == count * sizeof(T) and that the data is aligned for T.
@@ -189,6 +193,7 @@ class ArchiveReader {
     const uint8_t* data = nullptr;
     bool in_place = false;
     bool skipped = false;
+    uint32_t decoded_counts[2] = {0, 0};  // a Draco section's decoded vertices and triangles
   };
 
   static constexpr uint32_t kWholeSection = 0xFFFFFFFFu;

@@ -662,7 +662,7 @@ void draco_geometry_section(const DecodedMesh& mesh, MeshRecord* r, std::vector<
 }
 
 bool draco_decode_section(const uint8_t* data, size_t size, uint64_t raw_size, uint8_t* dst,
-                          std::string* error) {
+                          uint32_t counts[2], std::string* error) {
   // Positions take 12 bytes a vertex and indices 12 a triangle: raw_size bounds both.
   DracoLimits limits;
   limits.max_vertices = raw_size / 12;
@@ -678,6 +678,8 @@ bool draco_decode_section(const uint8_t* data, size_t size, uint64_t raw_size, u
                            std::to_string(layout) + " bytes but the table says " +
                            std::to_string(raw_size));
   write_arrays(mesh, r, dst, layout);
+  counts[0] = r.num_vertices;
+  counts[1] = r.num_triangles;
   return true;
 }
 

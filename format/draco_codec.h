@@ -155,8 +155,9 @@ void draco_geometry_section(const DecodedMesh& mesh, MeshRecord* r, std::vector<
 
 // Decodes a codec-3 geometry section's stored bytes into dst, which has room for raw_size
 // bytes: the layout single_mesh_layout gives for the decoded mesh, which must be raw_size bytes
-// long. The vertex and triangle limits follow from raw_size.
+// long. The vertex and triangle limits follow from raw_size. counts[0] and counts[1] receive the
+// decoded vertex and triangle counts, for the reader to hold the mesh's record to.
 [[nodiscard]] bool draco_decode_section(const uint8_t* data, size_t size, uint64_t raw_size,
-                                        uint8_t* dst, std::string* error);
+                                        uint8_t* dst, uint32_t counts[2], std::string* error);
 
 }  // namespace pbrta

@@ -639,6 +639,14 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       if ((m.flags & kMeshTangents) || single_mesh_layout(&expect) != r.section_size(m.section) ||
           std::memcmp(&expect, &m, sizeof m) != 0)
         return c.fail(at() + "does not match the layout of its draco section");
+      // Other counts may lay out alike (8 vertices and 4 triangles, 4 and 8): only the stream's
+      // own say what the bytes are.
+      const uint32_t dv = r.decoded_vertices(m.section), dt = r.decoded_triangles(m.section);
+      if (m.num_vertices != dv || m.num_triangles != dt)
+        return c.fail(at() + std::to_string(m.num_vertices) + " vertices and " +
+                      std::to_string(m.num_triangles) + " triangles, but its draco section (#" +
+                      std::to_string(m.section) + ") decodes to " + std::to_string(dv) + " and " +
+                      std::to_string(dt));
     }
     uint64_t size = r.section_size(m.section);
     auto array_ok = [&](bool present, uint64_t offset, uint64_t elems, uint64_t elem_bytes,
@@ -714,6 +722,24 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
                      std::to_string(bad_at / 3) + " has vertex index " +
                      std::to_string(indices(bad_mesh)[bad_at]) + " (" +
                      std::to_string(meshes[bad_mesh].num_vertices) + " vertices)");
+  }
+  // A Draco section holds one mesh (ARCHIVE.md section 8): no two records may name it. Only
+  // archives with Draco sections pay for the pass.
+  bool any_draco = false;
+  for (uint32_t s = 0; s < r.section_count(); ++s)
+    any_draco |= r.entry(s).codec == uint32_t(Codec::kDraco);
+  if (any_draco && !c.failed()) {
+    std::vector<uint32_t> owner(r.section_count(), kNoIndex);
+    for (uint32_t i = 0; i < meshes.size; ++i) {
+      const uint32_t s = meshes[i].section;  // checked above: a geometry section
+      if (r.entry(s).codec != uint32_t(Codec::kDraco)) continue;
+      if (owner[s] != kNoIndex) {
+        c.fail("mesh " + std::to_string(i) + ": its draco section (#" + std::to_string(s) +
+               ") holds mesh " + std::to_string(owner[s]) + " already");
+        break;
+      }
+      owner[s] = i;
+    }
   }
   c.in(sec(SectionKind::kImages));
   for (uint32_t i = 0; i < images.size && !c.failed(); ++i) {

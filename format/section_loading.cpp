@@ -59,6 +59,10 @@ constexpr uint64_t kSerialLoadBytes = uint64_t{1} << 20;
 // starting oneTBB's workers, took 1.1-1.6 ms against 0.45-0.9 ms on one; mesh200's 109 MB (8
 // geometry sections) loads in 8.1 ms on two, 10.7 on one.
 constexpr uint64_t kChecksumOnlyWeight = 8;
+// A Draco section's slot has this much more room after its padding, where load_one leaves the
+// vertex and triangle counts the stream decoded to (two u32): in a child process (format/
+// isolated_jobs.h) that is the only way back, and the in-process path does the same.
+constexpr uint64_t kDracoCountsBytes = 16;
 
 }  // namespace
 
@@ -105,7 +109,9 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
   if (codec == Codec::kDraco) {
     // validate() bounds raw_size; draco_decode_section checks the mesh lays out to exactly it.
     std::string why;
-    if (!draco_decode_section(src, e.stored_size, raw, out, &why)) return bad(why);
+    uint32_t counts[2] = {0, 0};
+    if (!draco_decode_section(src, e.stored_size, raw, out, counts, &why)) return bad(why);
+    std::memcpy(out + raw + kSectionPadding, counts, sizeof counts);
     s.data = out;
     return true;
   }
@@ -272,8 +278,11 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     if (entries_[i].codec == static_cast<uint32_t>(Codec::kNone)) continue;
     slot[i] = total;
     uint64_t end = 0;
+    const uint64_t after = entries_[i].codec == static_cast<uint32_t>(Codec::kDraco)
+                               ? kSectionPadding + kDracoCountsBytes
+                               : kSectionPadding;
     if (add_overflows(total, entries_[i].raw_size, &end) ||
-        add_overflows(end, kSectionPadding + kBufferAlignment, &end)) {
+        add_overflows(end, after + kBufferAlignment, &end)) {
       *error = fail("the sections' decoded sizes overflow");
       return false;
     }
@@ -452,8 +461,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       std::vector<uint8_t*> dst;
       for (uint32_t k : job_task) {
         const uint32_t i = tasks[k].section;
-        jobs.push_back(
-            IsolatedJob{entries_[i].raw_size + kSectionPadding, entries_[i].stored_size});
+        jobs.push_back(IsolatedJob{entries_[i].raw_size + kSectionPadding + kDracoCountsBytes,
+                                   entries_[i].stored_size});
         dst.push_back(decoded + slot[i]);
       }
       std::vector<std::string> job_errors;
@@ -482,6 +491,13 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     } else {
       run_all(draco_from, schedule.size());
     }
+    for (size_t k = draco_from; k < schedule.size(); ++k) {
+      const uint32_t i = tasks[schedule[k]].section;
+      if (sections_[i].data != nullptr)
+        std::memcpy(sections_[i].decoded_counts,
+                    decoded + slot[i] + entries_[i].raw_size + kSectionPadding,
+                    sizeof sections_[i].decoded_counts);
+    }
   }
   // The lowest-numbered failing section's first failure (tasks are in section, frame order).
   for (uint32_t k = 0; k < tasks.size(); ++k) {
@@ -494,6 +510,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     for (uint32_t j : order) {  // all or nothing
       sections_[j].data = nullptr;
       sections_[j].in_place = false;
+      sections_[j].decoded_counts[0] = sections_[j].decoded_counts[1] = 0;
     }
     if (decoded != nullptr) decoded_.pop_back();
     return false;

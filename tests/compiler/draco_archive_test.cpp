@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@
 #include "compiler/scene_builder.h"
 #include "format/archive_bytes.h"
 #include "format/archive_names.h"
+#include "format/archive_reader.h"
+#include "format/archive_writer.h"
 #include "format/draco_codec.h"
 #include "format/draco_forgery.h"
 #include "format/ply_reader.h"
@@ -249,6 +252,106 @@ TEST(DracoArchive, WhatDracoCannotCarryStaysLossless) {
   EXPECT_EQ(stats.draco[0].mesh, 2u);
   EXPECT_NE(a.tangents(0), nullptr);
   EXPECT_EQ(expect_meshes_match(c.scene, a, 11, false), 1);
+}
+
+// Rewrites the archive at `from` to `to` with every section but the Draco ones uncompressed,
+// after edit() has seen (and may have changed) each section's raw bytes and count.
+using SectionEdit = std::function<void(pbrta::SectionKind, std::vector<uint8_t>*, uint32_t*)>;
+void rewrite_archive(const std::string& from, const std::string& to, const SectionEdit& edit) {
+  pbrta::ArchiveReader r;
+  std::string error;
+  ASSERT_TRUE(r.open(from, &error) && r.load_sections(1, &error)) << error;
+  const std::string file = testing_support::read_file(from);
+  pbrta::ArchiveWriter w;
+  for (uint32_t i = 0; i < r.section_count(); ++i) {
+    const pbrta::SectionEntry& e = r.entry(i);
+    std::vector<uint8_t> raw(r.section_data(i), r.section_data(i) + e.raw_size);
+    uint32_t count = e.count;
+    edit(pbrta::SectionKind(e.kind), &raw, &count);
+    if (e.codec == uint32_t(pbrta::Codec::kDraco)) {
+      std::vector<uint8_t> stored(file.begin() + std::ptrdiff_t(e.offset),
+                                  file.begin() + std::ptrdiff_t(e.offset + e.stored_size));
+      w.add_encoded_section(pbrta::SectionKind(e.kind), std::move(raw), std::move(stored), count,
+                            pbrta::Codec::kDraco);
+    } else {
+      w.add_section(pbrta::SectionKind(e.kind), std::move(raw), count, pbrta::Codec::kNone);
+    }
+  }
+  ASSERT_TRUE(w.write(to, r.header().effects, 3, 1, &error)) << error;
+}
+
+// ARCHIVE.md section 5: a Draco section's mesh record carries the counts its stream decodes to,
+// and no other record names that section. Counts that lay out to the same bytes (4 more
+// vertices, 4 fewer triangles, positions only) pass every layout check and are refused all the
+// same; so is a second record naming the section.
+TEST(DracoArchive, TheRecordCarriesTheStreamsCounts) {
+  const std::string dir = testing_support::scratch_dir("draco_counts");
+  const std::string path =
+      testing_support::write_file(dir + "/s.pbrt", scene_text(grid_mesh(8, false)));
+  CompiledScene c;
+  compile_scene(path, &c);
+  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
+  ArchiveOptions opt;
+  opt.draco_bits = 12;
+  write(c, dir + "/good.pbrta", opt);
+  pbrta::SceneArchive good;
+  std::string error;
+  ASSERT_TRUE(good.load(dir + "/good.pbrta", 2, &error)) << error;
+  ASSERT_EQ(good.meshes.size, 1u);
+  ASSERT_TRUE(is_draco(good, 0));
+  const pbrta::MeshRecord m = good.meshes[0];
+  ASSERT_EQ(good.reader().decoded_vertices(m.section), m.num_vertices);
+  ASSERT_EQ(good.reader().decoded_triangles(m.section), m.num_triangles);
+  const std::string prefix = dir + "/bad.pbrta: section 'meshes' (#";
+
+  // The rewrite alone loads: only the edits below are at fault.
+  rewrite_archive(dir + "/good.pbrta", dir + "/same.pbrta",
+                  [](pbrta::SectionKind, std::vector<uint8_t>*, uint32_t*) {});
+  pbrta::SceneArchive same;
+  EXPECT_TRUE(same.load(dir + "/same.pbrta", 2, &error)) << error;
+
+  pbrta::MeshRecord forged = m;
+  forged.num_vertices += 4;
+  forged.num_triangles -= 4;
+  ASSERT_EQ(pbrta::single_mesh_layout(&forged), good.reader().section_size(m.section));
+  rewrite_archive(dir + "/good.pbrta", dir + "/bad.pbrta",
+                  [&](pbrta::SectionKind kind, std::vector<uint8_t>* raw, uint32_t*) {
+                    if (kind == pbrta::SectionKind::kMeshes)
+                      std::memcpy(raw->data(), &forged, sizeof forged);
+                  });
+  for (int threads : {1, 2}) {
+    pbrta::SceneArchive bad;
+    EXPECT_FALSE(bad.load(dir + "/bad.pbrta", threads, &error));
+    EXPECT_NE(
+        error.find("mesh 0: " + std::to_string(forged.num_vertices) + " vertices and " +
+                   std::to_string(forged.num_triangles) + " triangles, but its draco " +
+                   "section (#" + std::to_string(m.section) + ") decodes to " +
+                   std::to_string(m.num_vertices) + " and " + std::to_string(m.num_triangles)),
+        std::string::npos)
+        << error;
+    EXPECT_EQ(error.rfind(prefix, 0), 0u) << error;
+  }
+
+  // A second record naming the same section (the counts of meshes raised to match).
+  rewrite_archive(dir + "/good.pbrta", dir + "/bad.pbrta",
+                  [&](pbrta::SectionKind kind, std::vector<uint8_t>* raw, uint32_t* count) {
+                    if (kind == pbrta::SectionKind::kMeshes) {
+                      raw->resize(2 * sizeof m);
+                      std::memcpy(raw->data() + sizeof m, &m, sizeof m);
+                      *count = 2;
+                    } else if (kind == pbrta::SectionKind::kScene) {
+                      pbrta::SceneRecord sr;
+                      std::memcpy(&sr, raw->data(), sizeof sr);
+                      sr.num_meshes = 2;
+                      std::memcpy(raw->data(), &sr, sizeof sr);
+                    }
+                  });
+  pbrta::SceneArchive twice;
+  EXPECT_FALSE(twice.load(dir + "/bad.pbrta", 2, &error));
+  EXPECT_NE(error.find("mesh 1: its draco section (#" + std::to_string(m.section) +
+                       ") holds mesh 0 already"),
+            std::string::npos)
+      << error;
 }
 
 TEST(DracoArchive, PlymeshReadsDrcFiles) {

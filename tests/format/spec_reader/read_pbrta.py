@@ -553,6 +553,7 @@ class Archive:
         # Arrays may overlap, and neither the bytes between them nor those after the last are
         # checked: every array is only read, inside its section, and the checksum covers the rest.
         self.meshes = self.records(MESHES, Mesh)
+        draco_owner = {}  # a Draco section holds one mesh: its record is the only one naming it
         for i, m in enumerate(self.meshes):
             if m.flags & ~0xF:
                 self.fail(f"mesh {i}: unknown flag bits {m.flags:#x}", MESHES)
@@ -578,7 +579,12 @@ class Archive:
             if g.codec == 3:
                 if layout_end != g.raw_size:
                     self.fail(f"raw_size {g.raw_size} but mesh {i}'s arrays end at {layout_end}", g)
-                continue  # not decoded: its triangle indices cannot be checked
+                if m.section in draco_owner:
+                    self.fail(f"mesh {i}: Draco section #{m.section} holds mesh "
+                              f"{draco_owner[m.section]} already", MESHES)
+                draco_owner[m.section] = i
+                # Not decoded: its counts and triangle indices cannot be checked.
+                continue
             if m.num_triangles:
                 indices = array.array("I", g.raw[m.indices:m.indices + 12 * m.num_triangles])
                 if sys.byteorder == "big":
