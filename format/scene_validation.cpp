@@ -77,6 +77,20 @@ class Checker {
   std::string message_;
 };
 
+// A string table's n + 1 offsets (n >= 1) over data_size bytes of characters, as ARCHIVE.md
+// section 6 has both tables (strings, provenance): from 0, never decreasing, ending at the
+// data's end, and string 0 empty.
+bool check_string_offsets(const uint32_t* offsets, uint32_t n, uint64_t data_size, Checker& c) {
+  if (offsets[0] != 0) return c.fail("first string offset is not 0");
+  for (uint32_t i = 0; i < n; ++i)
+    if (offsets[i + 1] < offsets[i])
+      return c.fail("string offsets decrease at string " + std::to_string(i));
+  if (offsets[n] != data_size)
+    return c.fail("string data is " + std::to_string(data_size) + " bytes, offsets say " +
+                  std::to_string(offsets[n]));
+  return offsets[1] == 0 || c.fail("string 0 is not empty");
+}
+
 // The first i in [0, n) for which check(i, checker) fails, or n; 0, checking nothing, when c has
 // already failed. A large n is checked in blocks on the load's threads, each block stopping at its
 // first failure; the lowest failing one is then checked again on c for the message, so the error
@@ -204,15 +218,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       // at byte 4 of a 16-byte aligned section.
       string_offsets_ = reinterpret_cast<const uint32_t*>(d + 4);
       string_data_ = reinterpret_cast<const char*>(d + head);
-      uint64_t data_size = size - head;
-      if (string_offsets_[0] != 0) c.fail("first string offset is not 0");
-      for (uint32_t i = 0; i < n && !c.failed(); ++i)
-        if (string_offsets_[i + 1] < string_offsets_[i])
-          c.fail("string offsets decrease at string " + std::to_string(i));
-      if (!c.failed() && string_offsets_[n] != data_size)
-        c.fail("string data is " + std::to_string(data_size) + " bytes, offsets say " +
-               std::to_string(string_offsets_[n]));
-      if (!c.failed() && string_offsets_[1] != 0) c.fail("string 0 is not empty");
+      check_string_offsets(string_offsets_, n, size - head, c);
       num_strings_ = n;
     }
     if (c.failed()) {
@@ -290,13 +296,7 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
         pstring_offsets_ = reinterpret_cast<const uint32_t*>(d + records_end);
         pstring_data_ = reinterpret_cast<const char*>(d + head);
         num_pstrings_ = nstr;
-        if (pstring_offsets_[0] != 0) ok = c.fail("first string offset is not 0");
-        for (uint32_t i = 0; i < nstr && ok; ++i)
-          if (pstring_offsets_[i + 1] < pstring_offsets_[i])
-            ok = c.fail("string offsets decrease at string " + std::to_string(i));
-        if (ok && pstring_offsets_[nstr] != size - head)
-          ok = c.fail("string data size does not match its offsets");
-        if (ok && pstring_offsets_[1] != 0) ok = c.fail("string 0 is not empty");
+        ok = check_string_offsets(pstring_offsets_, nstr, size - head, c);
         for (uint32_t i = 0; i < nrec && ok; ++i) {
           const ProvenanceRecord& p = provenance[i];
           if (p.file >= nstr || p.name >= nstr || p.path >= nstr)

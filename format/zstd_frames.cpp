@@ -123,9 +123,8 @@ bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_s
 bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
                        const std::string& expected, std::string* why) {
   // A skippable frame (magic 0x184D2A5?) would pass as content size 0: only a data frame will do.
-  const uint32_t magic = size >= 4 ? uint32_t(src[0]) | uint32_t(src[1]) << 8 |
-                                         uint32_t(src[2]) << 16 | uint32_t(src[3]) << 24
-                                   : 0;
+  uint32_t magic = 0;
+  if (size >= 4) std::memcpy(&magic, src, 4);  // a little-endian host (archive_reader.cpp)
   const unsigned long long content =
       magic == ZSTD_MAGICNUMBER ? ZSTD_getFrameContentSize(src, size) : ZSTD_CONTENTSIZE_ERROR;
   if (content == ZSTD_CONTENTSIZE_ERROR) {

@@ -391,7 +391,7 @@ class Archive:
             self.fail(f"raw_size {s[0].raw_size}, expected {count} * {element_size}", s[0])
 
     def read_string_table(self, raw, pos, count, where):
-        """Strings (section 6); the table must end the section."""
+        """Strings (section 6); the table must end the section, and string 0 is empty."""
         if pos + 4 * (count + 1) > len(raw):
             self.fail("string offsets run past the section", where)
         offsets = struct.unpack_from(f"<{count + 1}I", raw, pos)
@@ -400,6 +400,8 @@ class Archive:
             self.fail("string offsets not non-decreasing from 0", where)
         if pos + offsets[-1] != len(raw):
             self.fail(f"string data ({offsets[-1]} bytes) does not end the section", where)
+        if count == 0 or offsets[1] != 0:
+            self.fail("string 0 is not the empty string", where)
         data = bytes(raw[pos:])
         # Strings are only printed: readers do not check their UTF-8.
         return [data[a:b].decode("utf-8", "replace") for a, b in zip(offsets, offsets[1:])]
@@ -409,13 +411,10 @@ class Archive:
         self.strings = []
         if not s:
             self.fail("no strings section")  # section 10: it must exist
-        if s:
-            if len(s.raw) < 4 or struct.unpack_from("<I", s.raw)[0] != s.count:
-                self.fail("string count differs from the section's count", s)
-            self.strings = self.read_string_table(s.raw, 4, s.count, s)
-            # Names and file names the archive does not keep are string 0, read as "".
-            if not self.strings or self.strings[0]:
-                self.fail("string 0 is not the empty string", s)
+        if len(s.raw) < 4 or struct.unpack_from("<I", s.raw)[0] != s.count:
+            self.fail("string count differs from the section's count", s)
+        # Names and file names the archive does not keep are string 0, read as "".
+        self.strings = self.read_string_table(s.raw, 4, s.count, s)
 
     def read_entities(self):
         schema, n_values = self.schema, self.counts["num_values"]
@@ -644,8 +643,6 @@ class Archive:
             self.fail(f"{n} records, {n_strings} strings in a section counting {s.count}", s)
         self.provenance = list(struct.iter_unpack("<4I", s.raw[8:8 + 16 * n]))
         self.provenance_strings = self.read_string_table(s.raw, 8 + 16 * n, n_strings, s)
-        if self.provenance_strings[0]:
-            self.fail("string 0 is not the empty string", s)
         for i, (file, _, name, path) in enumerate(self.provenance):
             if max(file, name, path) >= n_strings:
                 self.fail(f"record {i}: string out of range ({n_strings})", s)
