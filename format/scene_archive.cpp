@@ -158,30 +158,34 @@ bool SceneArchive::load_memory(std::string_view bytes, std::string_view name, in
 }
 
 bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phases) {
-  // The mesh records first, alone: they say which triangle indices the geometry must keep within
-  // which vertex counts, checked as the geometry decodes. Then every other section in one
-  // parallel pass (records and bulk data together: a barrier between them left a thread idle
-  // while the other decoded a scene's one mesh), and only then is what it all means validated.
-  std::vector<uint32_t> meshes_first, rest;
-  for (uint32_t i = 0; i < reader_.section_count(); ++i)
-    (reader_.entry(i).kind == uint32_t(SectionKind::kMeshes) ? meshes_first : rest).push_back(i);
-  PhaseClock clock(phases);
-  std::vector<uint64_t> unused;
-  if (!reader_.load_sections(threads, meshes_first, {}, &unused, error)) return false;
-  clock.lap(&LoadPhases::meshes);
+  // Every section in one parallel pass, and only then is what it all means validated. The mesh
+  // records are taken first: they say which triangle indices the geometry must keep within which
+  // vertex counts, checked as the geometry decodes, so the geometry waits for them, while the
+  // other records load beside them.
+  std::vector<uint32_t> all;
+  ArchiveReader::BoundPlan plan;
+  for (uint32_t i = 0; i < reader_.section_count(); ++i) {
+    all.push_back(i);
+    const uint32_t kind = reader_.entry(i).kind;
+    if (kind == uint32_t(SectionKind::kMeshes)) plan.first.push_back(i);
+    if (kind == uint32_t(SectionKind::kGeometry)) plan.gated.push_back(i);
+  }
   IndexChecks checks;
-  plan_index_checks(&checks);
-  clock.lap(&LoadPhases::plan);
-  if (!reader_.load_sections(threads, rest, checks.bounds, &checks.first, error)) return false;
+  plan.plan = [&]() -> const std::vector<ArchiveReader::U32Bound>& {
+    plan_index_checks(&checks);
+    return checks.bounds;
+  };
+  PhaseClock clock(phases);
+  if (!reader_.load_sections(threads, all, plan, &checks.first, error)) return false;
   clock.lap(&LoadPhases::sections);
   const bool ok = validate(threads, checks, error);
   clock.lap(&LoadPhases::validate);
   return ok;
 }
 
-// From the mesh records as they are, unvalidated: a mesh whose indices do not lie on 4-byte
-// boundaries inside a geometry section gets no bound, and validate() rejects its layout before it
-// would look at its indices.
+// From the mesh records as they are, unvalidated, on a loading thread while other sections load:
+// a mesh whose indices do not lie on 4-byte boundaries inside a geometry section gets no bound,
+// and validate() rejects its layout before it would look at its indices.
 void SceneArchive::plan_index_checks(IndexChecks* checks) const {
   const int s = reader_.find_section(SectionKind::kMeshes);
   if (s < 0) return;

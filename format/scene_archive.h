@@ -1,9 +1,9 @@
 // format/scene_archive.h — a loaded, fully validated scene archive.
 //
 // SceneArchive::load() opens a .pbrta with ArchiveReader (header, table,
-// checksums, decoding, in parallel): the mesh records first, then every other
-// section in one pass, the large meshes' triangle indices bounded as they
-// decode, and then what it all means. It checks every record as
+// checksums, decoding, in parallel): every section in one pass, the mesh
+// records taken first so that the large meshes' triangle indices are bounded
+// as the geometry decodes, and then what it all means. It checks every record as
 // ARCHIVE.md section 10 requires: each index below the count of the array it
 // names, each entity's category, type and value range known to this reader's
 // schema, each value's words in range, the string table well formed, every
@@ -37,11 +37,11 @@ struct Span {
 };
 
 // Where one load()'s time went, in seconds, for benchmarks (archive_bench --phases): reading the
-// file with its header and table checks; loading the mesh records, which come first; planning the
-// triangle-index checks from them; loading every other section (checksums, decoding, the planned
-// checks); and validate(). Timing costs two clock reads a phase, and only when asked for.
+// file with its header and table checks; loading the sections (checksums, decoding, the
+// triangle-index checks planned from the mesh records); and validate(). Timing costs two clock
+// reads a phase, and only when asked for.
 struct LoadPhases {
-  double open = 0, meshes = 0, plan = 0, sections = 0, validate = 0;
+  double open = 0, sections = 0, validate = 0;
 };
 
 class SceneArchive {

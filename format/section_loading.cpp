@@ -12,6 +12,7 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <oneapi/tbb/parallel_for.h>
@@ -232,12 +233,20 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
   std::vector<uint32_t> all(section_count());
   for (uint32_t i = 0; i < section_count(); ++i) all[i] = i;
   std::vector<uint64_t> unused;
-  return load_sections(threads, all, {}, &unused, error);
+  return load_sections(threads, all, std::vector<U32Bound>{}, &unused, error);
 }
 
 bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& which,
                                   const std::vector<U32Bound>& bounds,
                                   std::vector<uint64_t>* first_out, std::string* error) {
+  // Nothing to wait for: the plan is made before any section starts.
+  const BoundPlan plan{{}, which, [&]() -> const std::vector<U32Bound>& { return bounds; }};
+  return load_sections(threads, which, plan, first_out, error);
+}
+
+bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& which,
+                                  const BoundPlan& plan, std::vector<uint64_t>* first_out,
+                                  std::string* error) {
   if (base_ == nullptr) {
     *error = fail("no archive is open");
     return false;
@@ -251,58 +260,51 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       order.push_back(i);
     }
   std::sort(order.begin(), order.end());
-  // The bounds, by section; each must lie inside a section loaded here, on 4-byte boundaries.
-  std::vector<std::vector<uint32_t>> bounds_of(n);
-  for (uint32_t b = 0; b < bounds.size(); ++b) {
-    const U32Bound& u = bounds[b];
-    if (u.section >= n || !wanted[u.section] || u.begin > u.end ||
-        u.end > entries_[u.section].raw_size || u.begin % 4 != 0 || u.end % 4 != 0) {
-      *error = fail("internal error: bound " + std::to_string(b) +
-                    " does not lie in a section loaded here");
+  // When each section may start: any time, before the plan (its tasks are taken first), or only
+  // after it.
+  enum Role : uint8_t { kAnyTime, kBeforePlan, kAfterPlan };
+  std::vector<uint8_t> role(n, kAnyTime);
+  for (uint32_t i : plan.gated)
+    if (i < n && wanted[i]) role[i] = kAfterPlan;
+  for (uint32_t i : plan.first) {
+    if (i >= n || !wanted[i]) continue;
+    // A Draco section loads after all others, so nothing could wait for it.
+    if (role[i] == kAfterPlan || entries_[i].codec == static_cast<uint32_t>(Codec::kDraco)) {
+      *error = fail("internal error: section " + std::to_string(i) +
+                    " cannot be loaded before the plan");
       return false;
     }
-    if (u.begin < u.end) bounds_of[u.section].push_back(b);  // an empty one holds nothing to check
+    role[i] = kBeforePlan;
   }
-  for (std::vector<uint32_t>& list : bounds_of)  // decode_frame wants them sorted by begin
-    std::sort(list.begin(), list.end(),
-              [&](uint32_t a, uint32_t b) { return bounds[a].begin < bounds[b].begin; });
-  std::vector<std::atomic<uint64_t>> first(bounds.size());
-  for (uint32_t b = 0; b < bounds.size(); ++b) first[b].store(bounds[b].end);
 
   // Every decoded section in one buffer, in table order, each at a 64-byte boundary (no two
-  // threads write one cache line) and followed by its padding. validate() bounded the sizes;
-  // the sum is checked anyway.
+  // threads write one cache line) and followed by its padding; but those the plan waits for in
+  // a buffer of their own, so that none of them is held up faulting in a huge page the sections
+  // after it share (killeroo: its 288 bytes of mesh records took 63 us, not 5, and the geometry
+  // waited). validate() bounded the sizes; the sums are checked anyway.
   std::vector<uint64_t> slot(n, 0);
-  uint64_t total = 0;
+  uint64_t total[2] = {0, 0};  // [0]: before the plan, [1]: the rest
   for (uint32_t i : order) {
     if (entries_[i].codec == static_cast<uint32_t>(Codec::kNone)) continue;
-    slot[i] = total;
+    uint64_t& t = total[role[i] == kBeforePlan ? 0 : 1];
+    slot[i] = t;
     uint64_t end = 0;
     const uint64_t after = entries_[i].codec == static_cast<uint32_t>(Codec::kDraco)
                                ? kSectionPadding + kDracoCountsBytes
                                : kSectionPadding;
-    if (add_overflows(total, entries_[i].raw_size, &end) ||
+    if (add_overflows(t, entries_[i].raw_size, &end) ||
         add_overflows(end, after + kBufferAlignment, &end)) {
       *error = fail("the sections' decoded sizes overflow");
       return false;
     }
-    total = end / kBufferAlignment * kBufferAlignment;
-  }
-  uint8_t* decoded = nullptr;
-  if (total > 0) {
-    Buffer buffer = allocate(total);
-    if (!buffer) {
-      *error = fail("cannot allocate " + std::to_string(total) + " bytes to decode the sections");
-      return false;
-    }
-    decoded = buffer.get();
-    decoded_.push_back(std::move(buffer));
+    t = end / kBufferAlignment * kBufferAlignment;
   }
 
   // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
   // 16 bytes per 4 MiB frame), every other section whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
+  std::vector<uint8_t> no_frames(n, 0);  // codec-4 sections whose index lists no frame
   for (uint32_t i : order) {
     const SectionEntry& e = entries_[i];
     if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
@@ -327,36 +329,99 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     } else if (!read_frame_index(at, e.raw_size, e.stored_size, &frames, &why)) {
       errors[i] = section_error(i, why);
     } else {
-      // The last frame's task zeroes the padding: here it would fault in a fresh page for each
-      // section, on this thread alone, before any work is shared.
-      if (frames.empty()) std::memset(decoded + slot[i] + e.raw_size, 0, kSectionPadding);
       for (uint32_t k = 0; k < frames.size(); ++k) {
         const uint64_t begin = uint64_t{k} * kFrameBlock;
         tasks.push_back(
             LoadTask{i, k, begin, std::min(kFrameBlock, e.raw_size - begin), frames[k]});
       }
+      no_frames[i] = frames.empty();
     }
   }
 
-  // Largest first, so one big section does not start last and leave the other threads idle.
-  std::vector<uint32_t> schedule(tasks.size());
-  for (uint32_t k = 0; k < tasks.size(); ++k) schedule[k] = k;
-  std::stable_sort(schedule.begin(), schedule.end(),
-                   [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; });
+  // The bounds, once planned: by section, each inside a gated section loaded here (any section
+  // loaded here when nothing comes before the plan), on 4-byte boundaries.
+  static const std::vector<U32Bound> kNoBounds;
+  const std::vector<U32Bound>* bounds = &kNoBounds;
+  std::vector<std::vector<uint32_t>> bounds_of(n);
+  std::unique_ptr<std::atomic<uint64_t>[]> first;
+  std::string plan_error;
+  std::atomic<bool> planned{false};
+  size_t before_plan = 0;  // tasks
+  for (const LoadTask& t : tasks) before_plan += role[t.section] == kBeforePlan;
+  const bool plan_first = before_plan == 0;
+  auto make_plan = [&] {
+    const std::vector<U32Bound>& b = plan.plan ? plan.plan() : kNoBounds;
+    for (uint32_t k = 0; k < b.size() && plan_error.empty(); ++k) {
+      const U32Bound& u = b[k];
+      if (u.section >= n || !wanted[u.section] || (!plan_first && role[u.section] != kAfterPlan) ||
+          u.begin > u.end || u.end > entries_[u.section].raw_size || u.begin % 4 != 0 ||
+          u.end % 4 != 0)
+        plan_error = fail("internal error: bound " + std::to_string(k) +
+                          " does not lie in a section loaded here after the plan");
+      else if (u.begin < u.end)  // an empty one holds nothing to check
+        bounds_of[u.section].push_back(k);
+    }
+    if (plan_error.empty()) {
+      for (std::vector<uint32_t>& list : bounds_of)  // decode_frame wants them sorted by begin
+        std::sort(list.begin(), list.end(),
+                  [&](uint32_t x, uint32_t y) { return b[x].begin < b[y].begin; });
+      first.reset(new std::atomic<uint64_t>[b.size()]);
+      for (uint32_t k = 0; k < b.size(); ++k) first[k].store(b[k].end);
+      bounds = &b;
+    } else {
+      for (std::vector<uint32_t>& list : bounds_of) list.clear();
+    }
+    planned.store(true, std::memory_order_release);
+  };
+  if (plan_first) {
+    make_plan();
+    if (!plan_error.empty()) {
+      *error = plan_error;
+      return false;
+    }
+  }
+
+  // The buffers, added to decoded_ (and taken back on failure).
+  uint8_t* buffer_of[2] = {nullptr, nullptr};
+  size_t buffers = 0;
+  for (int g = 0; g < 2; ++g) {
+    if (total[g] == 0) continue;
+    Buffer buffer = allocate(total[g]);
+    if (!buffer) {
+      for (; buffers > 0; --buffers) decoded_.pop_back();
+      *error =
+          fail("cannot allocate " + std::to_string(total[g]) + " bytes to decode the sections");
+      return false;
+    }
+    buffer_of[g] = buffer.get();
+    decoded_.push_back(std::move(buffer));
+    ++buffers;
+  }
+  std::vector<uint8_t*> out_of(n, nullptr);  // where each decoded section goes
+  for (uint32_t i : order)
+    if (entries_[i].codec != static_cast<uint32_t>(Codec::kNone))
+      out_of[i] = buffer_of[role[i] == kBeforePlan ? 0 : 1] + slot[i];
+  // An empty codec-4 section's padding is zeroed here; any other's by its last frame's task, since
+  // here it would fault in a fresh page for each section, on this thread alone, before any work
+  // is shared.
+  for (uint32_t i : order)
+    if (no_frames[i]) std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
+
   std::vector<std::string> task_errors(tasks.size());
   // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
   auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
-    const uint64_t k4 = first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo),
-                                          (hi - lo) / 4, bounds[b].limit);
+    const uint32_t limit = (*bounds)[b].limit;
+    const uint64_t k4 =
+        first_at_or_above(reinterpret_cast<const uint32_t*>(data + lo), (hi - lo) / 4, limit);
     if (k4 == (hi - lo) / 4) return;
     const uint64_t found = lo + 4 * k4;
     uint64_t seen = first[b].load(std::memory_order_relaxed);
     while (found < seen && !first[b].compare_exchange_weak(seen, found)) {
     }
   };
-  auto run = [&](uint32_t k) {
+  auto run_task = [&](uint32_t k) {
     const LoadTask& t = tasks[k];
-    uint8_t* out = decoded + slot[t.section];
+    uint8_t* out = out_of[t.section];
     archive_detail::Decoder& decoder = thread_decoder();
     if (t.frame == kWholeSection) {
       if (!load_one(t.section, out, &decoder, &task_errors[k])) {
@@ -364,7 +429,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         return;
       }
       const uint8_t* data = sections_[t.section].data;
-      for (uint32_t b : bounds_of[t.section]) scan(b, data, bounds[b].begin, bounds[b].end);
+      for (uint32_t b : bounds_of[t.section]) scan(b, data, (*bounds)[b].begin, (*bounds)[b].end);
       return;
     }
     // The bounds over this frame's block, relative to it: checked as the block unshuffles, and
@@ -375,10 +440,10 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     which_bound.clear();
     const uint64_t block_end = t.raw_offset + t.raw_size;
     for (uint32_t b : bounds_of[t.section]) {
-      const uint64_t lo = std::max(bounds[b].begin, t.raw_offset);
-      const uint64_t hi = std::min(bounds[b].end, block_end);
+      const uint64_t lo = std::max((*bounds)[b].begin, t.raw_offset);
+      const uint64_t hi = std::min((*bounds)[b].end, block_end);
       if (lo >= hi) continue;
-      local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, bounds[b].limit, false});
+      local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, (*bounds)[b].limit, false});
       which_bound.push_back(b);
     }
     if (!load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) return;
@@ -388,73 +453,116 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       if (local[j].exceeded)
         scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
   };
-  // Draco sections go last, and only when every other section decoded: Draco's own work on a
-  // forged stream is not bounded (format/draco_codec.h: seconds from a few KB), so a file with
-  // any other fault fails without running it.
-  const size_t draco_from =
-      size_t(std::stable_partition(schedule.begin(), schedule.end(),
-                                   [&](uint32_t k) {
-                                     return entries_[tasks[k].section].codec !=
-                                            static_cast<uint32_t>(Codec::kDraco);
-                                   }) -
-             schedule.begin());
+  // A gated task waits for the plan; the last task before it makes the plan.
+  std::atomic<size_t> before_left{before_plan};
+  auto run = [&](uint32_t k) {
+    const uint8_t r = role[tasks[k].section];
+    if (r == kAfterPlan)
+      while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
+    run_task(k);
+    if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
+  };
+
+  // Two queues, each largest first (so one big section does not start last and leave the other
+  // threads idle): the tasks that may start now, those the plan waits for at its head, and the
+  // gated ones, which a thread takes once the plan is made when theirs is the larger next task,
+  // or when nothing else is left (then it waits for the plan, as a barrier would have). Draco
+  // sections go last, and only when every other section decoded: Draco's own work on a forged
+  // stream is not bounded (format/draco_codec.h: seconds from a few KB), so a file with any other
+  // fault fails without running it.
+  std::vector<uint32_t> now, gated, draco;
+  for (uint32_t k = 0; k < tasks.size(); ++k)
+    (entries_[tasks[k].section].codec == static_cast<uint32_t>(Codec::kDraco) ? draco
+     : role[tasks[k].section] == kAfterPlan                                   ? gated
+                                                                              : now)
+        .push_back(k);
+  auto larger = [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; };
+  std::stable_sort(now.begin(), now.end(), [&](uint32_t a, uint32_t b) {
+    const bool fa = role[tasks[a].section] == kBeforePlan,
+               fb = role[tasks[b].section] == kBeforePlan;
+    return fa != fb ? fa : larger(a, b);
+  });
+  std::stable_sort(gated.begin(), gated.end(), larger);
+  std::stable_sort(draco.begin(), draco.end(), larger);
+  std::atomic<size_t> next_now{0}, next_gated{0};
+  auto take = [&](uint32_t* k) {
+    for (;;) {
+      const size_t a = next_now.load(std::memory_order_relaxed);
+      const size_t g = next_gated.load(std::memory_order_relaxed);
+      const bool now_left = a < now.size(), gated_left = g < gated.size();
+      if (!now_left && !gated_left) return false;
+      const bool use_gated =
+          gated_left &&
+          (!now_left || (planned.load(std::memory_order_acquire) && !larger(now[a], gated[g])));
+      std::atomic<size_t>& next = use_gated ? next_gated : next_now;
+      const std::vector<uint32_t>& queue = use_gated ? gated : now;
+      const size_t got = next.fetch_add(1);
+      if (got < queue.size()) {
+        *k = queue[got];
+        return true;
+      }
+      // Another thread took the last one of that queue: look again.
+    }
+  };
   // A small load (the records of a scene) runs on this thread: waking the workers costs more.
   uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
   for (uint32_t i : order)
     work_bytes += entries_[i].codec == static_cast<uint32_t>(Codec::kNone)
                       ? entries_[i].raw_size / kChecksumOnlyWeight
                       : entries_[i].stored_size + entries_[i].raw_size;
-  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || schedule.size() < 2;
+  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || tasks.size() < 2;
   std::optional<tbb::task_arena> arena;
   // int(): a value, not a reference to the constant (which has no definition to link to).
   if (!serial) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  auto run_all = [&](size_t begin, size_t end) {
+  // Runs on every thread: each takes the next task until none is left.
+  auto on_each_thread = [&](auto work) {
     if (serial) {
-      for (size_t k = begin; k < end; ++k) run(schedule[k]);
+      work();
       thread_decoder().trim();
       return;
     }
-    // Each thread takes the next task in schedule order until none is left.
-    std::atomic<size_t> next{begin};
     arena->execute([&] {
       tbb::parallel_for(0, arena->max_concurrency(), [&](int) {
-        for (size_t k = next++; k < end; k = next++) run(schedule[k]);
+        work();
         thread_decoder().trim();
       });
     });
   };
-  run_all(0, draco_from);
-  bool failed = false;
+  on_each_thread([&] {
+    for (uint32_t k; take(&k);) run(k);
+  });
+  bool failed = !plan_error.empty();
   for (uint32_t i : order) failed |= !errors[i].empty();
-  for (size_t k = 0; k < draco_from; ++k) failed |= !task_errors[schedule[k]].empty();
+  for (uint32_t k : now) failed |= !task_errors[k].empty();
+  for (uint32_t k : gated) failed |= !task_errors[k].empty();
   // The Draco streams' checksums, here and before any child is forked: a damaged stream fails
   // for the price of hashing it (microseconds), not of a process (a millisecond or more). Read
   // with pread from a file, as the frame indexes are, so a file that shrank since it was opened
   // fails here with an error, not SIGBUS.
   if (!failed) {
-    for (size_t k = draco_from; k < schedule.size(); ++k) {
-      const uint32_t i = tasks[schedule[k]].section;
+    for (uint32_t k : draco) {
+      const uint32_t i = tasks[k].section;
       const SectionEntry& e = entries_[i];
       std::string why;
       const uint8_t* at = fd_ >= 0 ? read_staged(e.offset, e.stored_size, &thread_decoder(), &why)
                                    : base_ + e.offset;
       if (at == nullptr) {
-        task_errors[schedule[k]] = section_error(i, why);
+        task_errors[k] = section_error(i, why);
         failed = true;
         continue;
       }
       if (checksum64(at, e.stored_size) != e.checksum) {
-        task_errors[schedule[k]] = section_error(i, "checksum mismatch");
+        task_errors[k] = section_error(i, "checksum mismatch");
         failed = true;
       }
     }
   }
-  if (!failed && draco_from < schedule.size()) {
+  if (!failed && !draco.empty()) {
     if (isolation_enabled()) {
       // In child processes with a budget (format/isolated_jobs.h), each decoding into shared
       // memory that is then copied into place: Draco never runs in this process. Jobs go in
       // section order, so the section that stops a child is reported before those it left.
-      std::vector<uint32_t> job_task(schedule.begin() + std::ptrdiff_t(draco_from), schedule.end());
+      std::vector<uint32_t> job_task = draco;
       std::sort(job_task.begin(), job_task.end(),
                 [&](uint32_t a, uint32_t b) { return tasks[a].section < tasks[b].section; });
       std::vector<IsolatedJob> jobs;
@@ -463,7 +571,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         const uint32_t i = tasks[k].section;
         jobs.push_back(IsolatedJob{entries_[i].raw_size + kSectionPadding + kDracoCountsBytes,
                                    entries_[i].stored_size});
-        dst.push_back(decoded + slot[i]);
+        dst.push_back(out_of[i]);
       }
       std::vector<std::string> job_errors;
       std::vector<char> by_job;
@@ -483,19 +591,22 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         }
         // The child may have been subverted by its stream: the padding is this process's to set,
         // and what validate() checks is checked here as for any section.
-        std::memset(decoded + slot[i] + entries_[i].raw_size, 0, kSectionPadding);
-        sections_[i].data = decoded + slot[i];
+        std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
+        sections_[i].data = out_of[i];
         sections_[i].in_place = false;
-        for (uint32_t b : bounds_of[i]) scan(b, sections_[i].data, bounds[b].begin, bounds[b].end);
+        for (uint32_t b : bounds_of[i])
+          scan(b, sections_[i].data, (*bounds)[b].begin, (*bounds)[b].end);
       }
     } else {
-      run_all(draco_from, schedule.size());
+      std::atomic<size_t> next{0};
+      on_each_thread([&] {
+        for (size_t j = next++; j < draco.size(); j = next++) run(draco[j]);
+      });
     }
-    for (size_t k = draco_from; k < schedule.size(); ++k) {
-      const uint32_t i = tasks[schedule[k]].section;
+    for (uint32_t k : draco) {
+      const uint32_t i = tasks[k].section;
       if (sections_[i].data != nullptr)
-        std::memcpy(sections_[i].decoded_counts,
-                    decoded + slot[i] + entries_[i].raw_size + kSectionPadding,
+        std::memcpy(sections_[i].decoded_counts, out_of[i] + entries_[i].raw_size + kSectionPadding,
                     sizeof sections_[i].decoded_counts);
     }
   }
@@ -504,22 +615,24 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     const uint32_t i = tasks[k].section;
     if (!task_errors[k].empty() && (errors[i].empty())) errors[i] = task_errors[k];
   }
-  for (uint32_t i : order) {
-    if (errors[i].empty()) continue;
-    *error = errors[i];
+  std::string first_error = plan_error;
+  for (uint32_t i : order)
+    if (first_error.empty() && !errors[i].empty()) first_error = errors[i];
+  if (!first_error.empty()) {
+    *error = first_error;
     for (uint32_t j : order) {  // all or nothing
       sections_[j].data = nullptr;
       sections_[j].in_place = false;
       sections_[j].decoded_counts[0] = sections_[j].decoded_counts[1] = 0;
     }
-    if (decoded != nullptr) decoded_.pop_back();
+    for (; buffers > 0; --buffers) decoded_.pop_back();
     return false;
   }
   for (uint32_t i : order)
     if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames))
-      sections_[i].data = decoded + slot[i];
-  first_out->resize(bounds.size());
-  for (uint32_t b = 0; b < bounds.size(); ++b) (*first_out)[b] = first[b].load();
+      sections_[i].data = out_of[i];
+  first_out->resize(bounds->size());
+  for (uint32_t b = 0; b < bounds->size(); ++b) (*first_out)[b] = first[b].load();
   return true;
 }
 

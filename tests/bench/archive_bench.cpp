@@ -316,7 +316,7 @@ int run_once(const std::string& what, const std::string& path, int threads) {
 // --phases ARCHIVE: each phase's best over n loads, in microseconds, and the best whole load.
 // The phases' bests may come from different loads, so their sum can fall below the best load.
 int print_phases(const std::string& path, int n, int threads) {
-  pbrta::LoadPhases best{1e30, 1e30, 1e30, 1e30, 1e30};
+  pbrta::LoadPhases best{1e30, 1e30, 1e30};
   double wall = 1e30;
   for (int i = 0; i < n; ++i) {
     auto a = std::make_unique<pbrta::SceneArchive>();
@@ -329,15 +329,14 @@ int print_phases(const std::string& path, int n, int threads) {
     }
     wall = std::min(wall, since(t));
     for (double pbrta::LoadPhases::*f :
-         {&pbrta::LoadPhases::open, &pbrta::LoadPhases::meshes, &pbrta::LoadPhases::plan,
-          &pbrta::LoadPhases::sections, &pbrta::LoadPhases::validate})
+         {&pbrta::LoadPhases::open, &pbrta::LoadPhases::sections, &pbrta::LoadPhases::validate})
       best.*f = std::min(best.*f, p.*f);
   }
   std::printf(
-      "%s, %d threads, best of %d loads (us): open %.1f, meshes %.1f, plan %.1f, sections %.1f, "
-      "validate %.1f; whole load %.1f\n",
-      path.c_str(), threads, n, best.open * 1e6, best.meshes * 1e6, best.plan * 1e6,
-      best.sections * 1e6, best.validate * 1e6, wall * 1e6);
+      "%s, %d threads, best of %d loads (us): open %.1f, sections %.1f, validate %.1f; whole load "
+      "%.1f\n",
+      path.c_str(), threads, n, best.open * 1e6, best.sections * 1e6, best.validate * 1e6,
+      wall * 1e6);
   return 0;
 }
 

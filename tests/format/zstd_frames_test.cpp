@@ -281,5 +281,94 @@ TEST(ZstdFrames, BoundsFindTheFirstOffenderWhereverItIs) {
   }
 }
 
+// Bounds planned from a section loaded first (as SceneArchive plans triangle-index bounds from
+// the mesh records): the plan runs once, after that section is loaded and before the gated one
+// starts, while an ungated section loads beside them; the bounds it returns are checked like any
+// others. A plan that breaks the contract fails the whole call and leaves nothing loaded.
+TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.PlannedBounds");
+  const uint64_t words = (kFrameBlock + 3 * kShuffleBlock + 40) / 4;
+  std::vector<uint8_t> raw(words * 4);
+  std::mt19937 rng(11);
+  for (uint64_t w = 0; w < words; ++w) {
+    const uint32_t v = rng() % 1000;
+    std::memcpy(&raw[4 * w], &v, 4);
+  }
+  const uint32_t offender = 70000;
+  std::memcpy(&raw[kFrameBlock + 8], &offender, 4);
+  // The records: (begin, end, limit) as three u32 each.
+  const std::vector<uint32_t> records = {
+      0, 4096, 1000, uint32_t(kFrameBlock), uint32_t(words * 4), 1000, 64, 128, 0};
+  std::vector<uint8_t> record_bytes(records.size() * 4);
+  std::memcpy(record_bytes.data(), records.data(), record_bytes.size());
+  const std::vector<uint8_t> beside = float_bytes(kFrameBlock + 5 * kShuffleBlock, 5);
+  ArchiveWriter w;
+  w.add_section(SectionKind::kMeshes, record_bytes, 3, Codec::kZstd);
+  w.add_section(SectionKind::kGeometry, raw, 1, Codec::kZstdShuffle4Frames);
+  w.add_section(SectionKind::kTransforms, beside, 1, Codec::kZstdShuffle4Frames);
+  const std::string path = dir + "/p.pbrta";
+  std::string error;
+  ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    ArchiveReader r;
+    ASSERT_TRUE(r.open(path, &error)) << error;
+    int calls = 0;
+    bool records_loaded = false;
+    std::vector<ArchiveReader::U32Bound> bounds;
+    ArchiveReader::BoundPlan plan{{0}, {1}, [&]() -> const std::vector<ArchiveReader::U32Bound>& {
+                                    ++calls;
+                                    records_loaded = r.section_data(0) != nullptr;
+                                    const uint8_t* d = r.section_data(0);
+                                    for (uint64_t k = 0; d != nullptr && k < 3; ++k) {
+                                      uint32_t v[3];
+                                      std::memcpy(v, d + 12 * k, 12);
+                                      bounds.push_back({1, v[0], v[1], v[2]});
+                                    }
+                                    return bounds;
+                                  }};
+    std::vector<uint64_t> first;
+    ASSERT_TRUE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error)) << error;
+    EXPECT_EQ(calls, 1);
+    EXPECT_TRUE(records_loaded);
+    ASSERT_EQ(first.size(), 3u);
+    // A gated frame decoded before the plan would have missed its bounds.
+    for (size_t b = 0; b < 3; ++b) EXPECT_EQ(first[b], plain_first(raw, bounds[b])) << b;
+    EXPECT_EQ(first[0], 4096u);  // no offender: its end
+    EXPECT_EQ(first[1], kFrameBlock + 8);
+    EXPECT_EQ(first[2], 64u);  // limit 0: its first word
+    EXPECT_EQ(std::memcmp(r.section_data(1), raw.data(), raw.size()), 0);
+    EXPECT_EQ(std::memcmp(r.section_data(2), beside.data(), beside.size()), 0);
+  }
+
+  // Contract breaches, each an internal error with nothing loaded.
+  const std::vector<ArchiveReader::U32Bound> in_ungated = {{2, 0, 64, 10}};
+  const std::vector<ArchiveReader::U32Bound> none;
+  struct Breach {
+    const char* what;
+    std::vector<uint32_t> first, gated;
+    const std::vector<ArchiveReader::U32Bound>* bounds;
+  };
+  const Breach breaches[] = {
+      {"a bound in a section that is not gated", {0}, {1}, &in_ungated},
+      {"a section both first and gated", {1}, {1}, &none},
+  };
+  for (const Breach& b : breaches) {
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE(std::string(b.what) + ", threads " + std::to_string(threads));
+      ArchiveReader r;
+      ASSERT_TRUE(r.open(path, &error)) << error;
+      ArchiveReader::BoundPlan plan{
+          b.first, b.gated,
+          [&]() -> const std::vector<ArchiveReader::U32Bound>& { return *b.bounds; }};
+      std::vector<uint64_t> first;
+      EXPECT_FALSE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error));
+      EXPECT_NE(error.find("internal error"), std::string::npos) << error;
+      for (uint32_t i = 0; i < 3; ++i) EXPECT_EQ(r.section_data(i), nullptr) << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pbrta
