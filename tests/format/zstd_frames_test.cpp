@@ -302,45 +302,50 @@ TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
   std::vector<uint8_t> record_bytes(records.size() * 4);
   std::memcpy(record_bytes.data(), records.data(), record_bytes.size());
   const std::vector<uint8_t> beside = float_bytes(kFrameBlock + 5 * kShuffleBlock, 5);
-  ArchiveWriter w;
-  w.add_section(SectionKind::kMeshes, record_bytes, 3, Codec::kZstd);
-  w.add_section(SectionKind::kGeometry, raw, 1, Codec::kZstdShuffle4Frames);
-  w.add_section(SectionKind::kTransforms, beside, 1, Codec::kZstdShuffle4Frames);
-  const std::string path = dir + "/p.pbrta";
+  // The records whole (codec 1) and by frame (codec 4, whose data is otherwise published only at
+  // the end of the call).
   std::string error;
-  ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
-
-  for (int threads : {1, 2}) {
-    SCOPED_TRACE("threads " + std::to_string(threads));
-    ArchiveReader r;
-    ASSERT_TRUE(r.open(path, &error)) << error;
-    int calls = 0;
-    bool records_loaded = false;
-    std::vector<ArchiveReader::U32Bound> bounds;
-    ArchiveReader::BoundPlan plan{{0}, {1}, [&]() -> const std::vector<ArchiveReader::U32Bound>& {
-                                    ++calls;
-                                    records_loaded = r.section_data(0) != nullptr;
-                                    const uint8_t* d = r.section_data(0);
-                                    for (uint64_t k = 0; d != nullptr && k < 3; ++k) {
-                                      uint32_t v[3];
-                                      std::memcpy(v, d + 12 * k, 12);
-                                      bounds.push_back({1, v[0], v[1], v[2]});
-                                    }
-                                    return bounds;
-                                  }};
-    std::vector<uint64_t> first;
-    ASSERT_TRUE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error)) << error;
-    EXPECT_EQ(calls, 1);
-    EXPECT_TRUE(records_loaded);
-    ASSERT_EQ(first.size(), 3u);
-    // A gated frame decoded before the plan would have missed its bounds.
-    for (size_t b = 0; b < 3; ++b) EXPECT_EQ(first[b], plain_first(raw, bounds[b])) << b;
-    EXPECT_EQ(first[0], 4096u);  // no offender: its end
-    EXPECT_EQ(first[1], kFrameBlock + 8);
-    EXPECT_EQ(first[2], 64u);  // limit 0: its first word
-    EXPECT_EQ(std::memcmp(r.section_data(1), raw.data(), raw.size()), 0);
-    EXPECT_EQ(std::memcmp(r.section_data(2), beside.data(), beside.size()), 0);
+  for (Codec records_codec : {Codec::kZstd, Codec::kZstdShuffle4Frames}) {
+    ArchiveWriter w;
+    w.add_section(SectionKind::kMeshes, record_bytes, 3, records_codec);
+    w.add_section(SectionKind::kGeometry, raw, 1, Codec::kZstdShuffle4Frames);
+    w.add_section(SectionKind::kTransforms, beside, 1, Codec::kZstdShuffle4Frames);
+    const std::string path = dir + "/p" + std::to_string(uint32_t(records_codec)) + ".pbrta";
+    ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE("records codec " + std::to_string(uint32_t(records_codec)) + ", threads " +
+                   std::to_string(threads));
+      ArchiveReader r;
+      ASSERT_TRUE(r.open(path, &error)) << error;
+      int calls = 0;
+      bool records_loaded = false;
+      std::vector<ArchiveReader::U32Bound> bounds;
+      ArchiveReader::BoundPlan plan{{0}, {1}, [&]() -> const std::vector<ArchiveReader::U32Bound>& {
+                                      ++calls;
+                                      records_loaded = r.section_data(0) != nullptr;
+                                      const uint8_t* d = r.section_data(0);
+                                      for (uint64_t k = 0; d != nullptr && k < 3; ++k) {
+                                        uint32_t v[3];
+                                        std::memcpy(v, d + 12 * k, 12);
+                                        bounds.push_back({1, v[0], v[1], v[2]});
+                                      }
+                                      return bounds;
+                                    }};
+      std::vector<uint64_t> first;
+      ASSERT_TRUE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error)) << error;
+      EXPECT_EQ(calls, 1);
+      EXPECT_TRUE(records_loaded);
+      ASSERT_EQ(first.size(), 3u);
+      // A gated frame decoded before the plan would have missed its bounds.
+      for (size_t b = 0; b < 3; ++b) EXPECT_EQ(first[b], plain_first(raw, bounds[b])) << b;
+      EXPECT_EQ(first[0], 4096u);  // no offender: its end
+      EXPECT_EQ(first[1], kFrameBlock + 8);
+      EXPECT_EQ(first[2], 64u);  // limit 0: its first word
+      EXPECT_EQ(std::memcmp(r.section_data(1), raw.data(), raw.size()), 0);
+      EXPECT_EQ(std::memcmp(r.section_data(2), beside.data(), beside.size()), 0);
+    }
   }
+  const std::string path = dir + "/p1.pbrta";
 
   // Contract breaches, each an internal error with nothing loaded.
   const std::vector<ArchiveReader::U32Bound> in_ungated = {{2, 0, 64, 10}};
