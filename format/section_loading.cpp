@@ -304,7 +304,14 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   // 16 bytes per 4 MiB frame), every other section whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
-  std::vector<uint8_t> no_frames(n, 0);  // codec-4 sections whose index lists no frame
+  // Each codec-4 section's frames still to decode: the task that finishes its last one publishes
+  // the section, as load_one publishes a whole section, unless one of its frames failed.
+  std::unique_ptr<std::atomic<uint32_t>[]> frames_left(new std::atomic<uint32_t>[n]);
+  std::unique_ptr<std::atomic<bool>[]> frame_failed(new std::atomic<bool>[n]);
+  for (uint32_t i = 0; i < n; ++i) {
+    frames_left[i].store(0);
+    frame_failed[i].store(false);
+  }
   for (uint32_t i : order) {
     const SectionEntry& e = entries_[i];
     if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
@@ -334,7 +341,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         tasks.push_back(
             LoadTask{i, k, begin, std::min(kFrameBlock, e.raw_size - begin), frames[k]});
       }
-      no_frames[i] = frames.empty();
+      frames_left[i].store(uint32_t(frames.size()));
     }
   }
 
@@ -401,11 +408,15 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order)
     if (entries_[i].codec != static_cast<uint32_t>(Codec::kNone))
       out_of[i] = buffer_of[role[i] == kBeforePlan ? 0 : 1] + slot[i];
-  // An empty codec-4 section's padding is zeroed here; any other's by its last frame's task, since
-  // here it would fault in a fresh page for each section, on this thread alone, before any work
-  // is shared.
+  // An empty codec-4 section is padded and published here; any other by its last frame's task,
+  // since here its padding would fault in a fresh page for each section, on this thread alone,
+  // before any work is shared.
   for (uint32_t i : order)
-    if (no_frames[i]) std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames) &&
+        errors[i].empty() && frames_left[i].load() == 0) {
+      std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
+      sections_[i].data = out_of[i];
+    }
 
   std::vector<std::string> task_errors(tasks.size());
   // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
@@ -446,38 +457,28 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, (*bounds)[b].limit, false});
       which_bound.push_back(b);
     }
-    if (!load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) return;
-    const uint64_t section_size = entries_[t.section].raw_size;
-    if (block_end == section_size) std::memset(out + section_size, 0, kSectionPadding);
-    for (size_t j = 0; j < local.size(); ++j)
-      if (local[j].exceeded)
-        scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
+    if (load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) {
+      const uint64_t section_size = entries_[t.section].raw_size;
+      if (block_end == section_size) std::memset(out + section_size, 0, kSectionPadding);
+      for (size_t j = 0; j < local.size(); ++j)
+        if (local[j].exceeded)
+          scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
+    } else {
+      frame_failed[t.section].store(true, std::memory_order_relaxed);
+    }
+    if (frames_left[t.section].fetch_sub(1, std::memory_order_acq_rel) == 1 &&
+        !frame_failed[t.section].load(std::memory_order_relaxed))
+      sections_[t.section].data = out;
   };
-  // A gated task waits for the plan; the last task before it makes the plan. A codec-4 section's
-  // data is otherwise published only once the whole call has succeeded, so the plan's codec-4
-  // sections (75k meshes make 5 MB of records) are published for it, each once all its frames
-  // are in.
-  auto publish_before_plan = [&] {
-    std::vector<uint8_t> frame_failed(n, 0);
-    for (uint32_t k = 0; k < tasks.size(); ++k)
-      if (role[tasks[k].section] == kBeforePlan && !task_errors[k].empty())
-        frame_failed[tasks[k].section] = 1;
-    for (uint32_t i : order)
-      if (role[i] == kBeforePlan &&
-          entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames) &&
-          errors[i].empty() && !frame_failed[i])
-        sections_[i].data = out_of[i];
-  };
+  // A gated task waits for the plan; the last task before it makes the plan, by which time every
+  // section it reads has been published (75k meshes make a codec-4 section of 5 MB of records).
   std::atomic<size_t> before_left{before_plan};
   auto run = [&](uint32_t k) {
     const uint8_t r = role[tasks[k].section];
     if (r == kAfterPlan)
       while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
     run_task(k);
-    if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      publish_before_plan();
-      make_plan();
-    }
+    if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
   };
 
   // Two queues, each largest first (so one big section does not start last and leave the other
@@ -645,9 +646,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     for (; buffers > 0; --buffers) decoded_.pop_back();
     return false;
   }
-  for (uint32_t i : order)
-    if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames))
-      sections_[i].data = out_of[i];
   first_out->resize(bounds->size());
   for (uint32_t b = 0; b < bounds->size(); ++b) (*first_out)[b] = first[b].load();
   return true;
