@@ -130,6 +130,28 @@ constexpr const char* kBaselineLegend =
     "  pbrtrun pays. Its heap is new, where repeated parses in one process reuse the pages\n"
     "  their allocator recycles (the loader maps new huge pages for every load either way).\n";
 
+// Fresh anonymous memory for a baseline to decode into: whole 2 MiB pages with transparent huge
+// pages requested, as the loader allocates, mapped and unmapped outside the timing so that only
+// the page faults fall inside it.
+struct FreshMapping {
+  explicit FreshMapping(size_t bytes)
+      : size((bytes + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20)) {
+    void* p = size == 0
+                  ? MAP_FAILED
+                  : mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) return;
+    madvise(p, size, MADV_HUGEPAGE);
+    data = static_cast<uint8_t*>(p);
+  }
+  ~FreshMapping() {
+    if (data != nullptr) munmap(data, size);
+  }
+  FreshMapping(const FreshMapping&) = delete;
+  FreshMapping& operator=(const FreshMapping&) = delete;
+  size_t size;
+  uint8_t* data = nullptr;
+};
+
 // The single-threaded ZSTD_decompress baselines of one archive (see kBaselineLegend), sampled
 // one round at a time so that rounds can be interleaved with the loads they are compared with:
 // this VM's speed wanders by a third within minutes, and a baseline timed a minute after its
@@ -188,13 +210,10 @@ class ZstdBaseline {
   // One timed parallel decode of every frame on T threads (see par T in kBaselineLegend).
   bool parallel_round(int threads) {
     if (!arena_ || arena_->max_concurrency() != threads) arena_.emplace(threads);
-    const size_t mapped =
-        (parallel_out_ + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20);
-    if (mapped == 0) return true;
-    void* p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) return false;
-    madvise(p, mapped, MADV_HUGEPAGE);
-    uint8_t* dst = static_cast<uint8_t*>(p);
+    if (parallel_out_ == 0) return true;
+    FreshMapping out(parallel_out_);
+    if (out.data == nullptr) return false;
+    uint8_t* dst = out.data;
     std::atomic<size_t> next{0};
     std::atomic<bool> ok{true};
     const auto t = Clock::now();
@@ -210,7 +229,6 @@ class ZstdBaseline {
       });
     });
     parallel_ = std::min(parallel_, since(t));
-    munmap(p, mapped);
     return ok;
   }
   double parallel() const { return parallel_; }
@@ -230,16 +248,15 @@ class ZstdBaseline {
       if (ZSTD_isError(ZSTD_decompressDCtx(ctx_, warm_out_.data(), size, src, src_size)))
         return false;
       warm_[k] = std::min(warm_[k], since(t));
-      // fresh: into a new huge-page mapping, mapped and unmapped outside the timing, so the
-      // page faults happen inside it.
-      const size_t mapped = (size + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20);
-      void* p = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-      if (p == MAP_FAILED) return false;
-      madvise(p, mapped, MADV_HUGEPAGE);
-      t = Clock::now();
-      const size_t got = ZSTD_decompressDCtx(ctx_, p, size, src, src_size);
-      fresh_[k] = std::min(fresh_[k], since(t));
-      munmap(p, mapped);
+      // fresh: into a new huge-page mapping.
+      size_t got = 0;
+      {
+        FreshMapping out(size);
+        if (out.data == nullptr) return false;
+        t = Clock::now();
+        got = ZSTD_decompressDCtx(ctx_, out.data, size, src, src_size);
+        fresh_[k] = std::min(fresh_[k], since(t));
+      }
       if (ZSTD_isError(got)) return false;
     }
     return true;
