@@ -8,8 +8,10 @@ namespace pbrta {
 CountRule count_rule_of(Category category, uint32_t type) {
   static const int curve = find_type(Category::kShape, "curve");
   static const int heterogeneous = find_type(Category::kMedium, "heterogeneous");
+  static const int fourier = find_type(Category::kMaterial, "fourier");
   if (category == Category::kShape && int64_t(type) == curve) return CountRule::kCurve;
   if (category == Category::kMedium && int64_t(type) == heterogeneous) return CountRule::kDensity;
+  if (category == Category::kMaterial && int64_t(type) == fourier) return CountRule::kFourierTable;
   return CountRule::kNone;
 }
 

@@ -23,8 +23,10 @@
 namespace pbrta {
 
 // Which of the rules below an entity type is held to: the one list of the types that have them,
-// for the reader's checks (format/scene_validation.cpp) and the schema digest alike.
-enum class CountRule : uint8_t { kNone, kCurve, kDensity };
+// for the reader's checks (format/scene_validation.cpp) and the schema digest alike. A fourier
+// material's table ties its arrays' counts together as well; its rules are in
+// format/fourier_table.h.
+enum class CountRule : uint8_t { kNone, kCurve, kDensity, kFourierTable };
 CountRule count_rule_of(Category category, uint32_t type);
 
 // A broken rule: the parameter to point at and why (empty param: the entity as a whole).

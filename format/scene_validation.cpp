@@ -55,11 +55,6 @@ class Checker {
         (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
         (i == kNoIndex ? "" : " out of range (" + std::to_string(count) + " " + array + ")"));
   }
-  // For a failure found out of order that an earlier-ordered check would have reported first.
-  void fail_instead(const std::string& what) {
-    failed_ = false;
-    fail(what);
-  }
   bool failed() const { return failed_; }
   const std::string& message() const { return message_; }
   // One for another thread: same file and section, no failure yet.
@@ -101,15 +96,22 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
   if (c.failed()) return 0;
   constexpr uint32_t kBlock = 8192;
   std::atomic<uint32_t> first_bad{n};
+  // A block gives up once an earlier one has failed, looking every kStride records: an atomic
+  // read per record would make the compiler reload everything a check reads, every time.
+  constexpr uint32_t kStride = 512;
   auto check_block = [&](uint32_t begin, uint32_t end) {
     Checker local = c.blank();
-    for (uint32_t i = begin; i < end && i < first_bad.load(std::memory_order_relaxed); ++i)
-      if (!check(i, local)) {
-        uint32_t seen = first_bad.load();
-        while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
+    for (uint32_t from = begin; from < end; from += kStride) {
+      if (from >= first_bad.load(std::memory_order_relaxed)) return;
+      const uint32_t to = std::min(end, from + kStride);
+      for (uint32_t i = from; i < to; ++i)
+        if (!check(i, local)) {
+          uint32_t seen = first_bad.load();
+          while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
+          }
+          return;
         }
-        return;
-      }
+    }
   };
   if (threads == 1 || n < 4 * kBlock) {
     check_block(0, n);
@@ -419,6 +421,15 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
       if (!check_density_rule(get_int(i, "nx", 1), get_int(i, "ny", 1), get_int(i, "nz", 1),
                               d ? d->count : 0, &rule))
         return c.fail(at() + rule.message);
+    } else if (count_rule == CountRule::kFourierTable) {
+      // The renderer indexes the table (derived from the material's file) without checks, so its
+      // arrays must agree. One written before version 1.1 has none (the renderer reports that).
+      const ValueRecord* mu = value(i, "bsdfmu");
+      FourierTableView t;
+      std::string why;
+      if (mu != nullptr && mu->count != 0 &&
+          (!fourier_table_of(*this, i, &t, &why) || !check_fourier_table(t, &why)))
+        return c.fail(at() + "fourier table " + why);
     }
     return true;
   };
@@ -534,21 +545,6 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
                entity_is(m.entity, Category::kMaterial);
       },
       check_material);
-  // A fourier material's table (derived from its file) is indexed by the renderer without
-  // checks: its arrays must agree. One written before version 1.1 has none (the renderer
-  // reports that); one that has a table must have a consistent one.
-  c.in(sec(SectionKind::kEntities));
-  const int fourier = find_type(Category::kMaterial, "fourier");
-  for (uint32_t i = 0; i < entities.size && !c.failed(); ++i) {
-    if (entities[i].category != uint8_t(Category::kMaterial) || int(entities[i].type) != fourier)
-      continue;
-    FourierTableView t;
-    std::string why;
-    const ValueRecord* mu = value(i, "bsdfmu");
-    if (!mu || mu->count == 0) continue;
-    if (!fourier_table_of(*this, i, &t, &why) || !check_fourier_table(t, &why))
-      c.fail("entity " + std::to_string(i) + ": fourier table " + why);
-  }
   c.in(sec(SectionKind::kMedia));
   first_failure(media.size, threads, c, [&](uint32_t i, Checker& c) {
     const MediumRecord& m = media[i];
@@ -692,37 +688,38 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
              array_bad(m.flags & kMeshFaceIndices, m.face_indices, nt * 4) |
              optional_bad(m.source_shape, shapes.size));
   };
-  const uint32_t laid_out = first_failure(meshes.size, threads, c, "mesh", mesh_sound, check_mesh);
-  if (laid_out > 0) {
-    // Every laid-out mesh's triangle indices against its vertex count: a large mesh's were
-    // checked as they decoded, a small one's are read back now. The reported index is the first
-    // in mesh order, as a serial check finds it, and it comes before any failure of a later
-    // mesh's layout.
-    uint32_t bad_mesh = laid_out;
-    uint64_t bad_at = 0;
-    for (size_t b = 0; b < checks.bounds.size() && checks.mesh[b] < laid_out; ++b)
-      if (checks.first[b] != checks.bounds[b].end) {
-        bad_mesh = checks.mesh[b];
-        bad_at = (checks.first[b] - checks.bounds[b].begin) / 4;
-        break;
-      }
-    size_t next_bound = 0;
-    for (uint32_t i = 0; i < bad_mesh; ++i) {
-      while (next_bound < checks.mesh.size() && checks.mesh[next_bound] < i) ++next_bound;
-      if (next_bound < checks.mesh.size() && checks.mesh[next_bound] == i) continue;
-      const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
-      const uint64_t k = first_at_or_above(indices(i), n, meshes[i].num_vertices);
-      if (k == n) continue;
-      bad_mesh = i;
-      bad_at = k;
-      break;
+  // Each laid-out mesh's triangle indices against its vertex count: a large mesh's were checked
+  // as they decoded (bound b), a small one's are read here, in the same parallel pass as the
+  // layouts. The first mesh in order with a bad layout or a bad index is the one reported.
+  auto bound_of = [&](uint32_t i) -> size_t {
+    auto it = std::lower_bound(checks.mesh.begin(), checks.mesh.end(), i);
+    return it != checks.mesh.end() && *it == i ? size_t(it - checks.mesh.begin())
+                                               : checks.mesh.size();
+  };
+  // The first bad index of a laid-out mesh i, as an element of its indices, or 3 * triangles.
+  auto first_bad_index = [&](uint32_t i) -> uint64_t {
+    const size_t b = bound_of(i);
+    if (b < checks.mesh.size()) {
+      const ArchiveReader::U32Bound& bound = checks.bounds[b];
+      return checks.first[b] == bound.end ? uint64_t(meshes[i].num_triangles) * 3
+                                          : (checks.first[b] - bound.begin) / 4;
     }
-    if (bad_mesh < laid_out)
-      c.fail_instead("mesh " + std::to_string(bad_mesh) + ": triangle " +
-                     std::to_string(bad_at / 3) + " has vertex index " +
-                     std::to_string(indices(bad_mesh)[bad_at]) + " (" +
-                     std::to_string(meshes[bad_mesh].num_vertices) + " vertices)");
-  }
+    return first_at_or_above(indices(i), uint64_t(meshes[i].num_triangles) * 3,
+                             meshes[i].num_vertices);
+  };
+  first_failure(
+      meshes.size, threads, c, "mesh",
+      [&](uint32_t i) {
+        return mesh_sound(i) && first_bad_index(i) == uint64_t(meshes[i].num_triangles) * 3;
+      },
+      [&](uint32_t i, Checker& c) {
+        if (!check_mesh(i, c)) return false;
+        const uint64_t k = first_bad_index(i);
+        return k == uint64_t(meshes[i].num_triangles) * 3 ||
+               c.fail("mesh " + std::to_string(i) + ": triangle " + std::to_string(k / 3) +
+                      " has vertex index " + std::to_string(indices(i)[k]) + " (" +
+                      std::to_string(meshes[i].num_vertices) + " vertices)");
+      });
   // A Draco section holds one mesh (ARCHIVE.md section 8): no two records may name it. Only
   // archives with Draco sections pay for the pass.
   bool any_draco = false;

@@ -3,7 +3,7 @@
 // the first bad record in order (the one a serial check finds), and a damaged record in an early
 // block wins over one in a later block. Entities (damage in the record itself and in one of its
 // values, a texture index among them), texture bindings (checked with their entity), materials,
-// shapes and mesh layouts.
+// shapes, mesh layouts and the small meshes' triangle indices.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -247,6 +247,27 @@ TEST_F(EntityCheck, FirstBadMeshLayoutInOrder) {
       "mesh 39999: indices offset is not 16-byte aligned", 20000,
       [](pbrta::MeshRecord* m) { m->section = 999; },
       "mesh 20000: section 999 is not a geometry section");
+}
+
+// A small mesh's indices are read in the same parallel pass as the layouts: the first mesh in
+// order with either fault is the one reported, on every thread count.
+TEST_F(EntityCheck, FirstBadMeshIndexOrLayoutInOrder) {
+  // Mesh i's first triangle index set to v (each mesh has 3 vertices), in b.
+  auto set_index = [&](std::string* b, uint32_t i, uint32_t v) {
+    const pbrta::MeshRecord& m = archive_.meshes[i];
+    std::memcpy(&(*b)[archive_.reader().entry(m.section).offset + m.indices], &v, 4);
+  };
+  auto bad_layout = [](pbrta::MeshRecord* m) { m->indices += 4; };
+  std::string b = good_;
+  set_index(&b, 39000, 3);
+  EXPECT_NE(error_of(b).find("mesh 39000: triangle 0 has vertex index 3 (3 vertices)"),
+            std::string::npos);
+  edit<pbrta::MeshRecord>(&b, pbrta::SectionKind::kMeshes, 20000, bad_layout);
+  EXPECT_NE(error_of(b).find("mesh 20000: indices offset is not 16-byte aligned"),
+            std::string::npos);
+  set_index(&b, 5000, 0xFFFFFFFFu);
+  EXPECT_NE(error_of(b).find("mesh 5000: triangle 0 has vertex index 4294967295 (3 vertices)"),
+            std::string::npos);
 }
 
 // The counts format/entity_rules.h ties together are checked by the reader too: a curve whose
