@@ -153,10 +153,19 @@ class ArchiveReader {
   // must stay valid until load_sections returns and must lie in `gated` sections; no gated
   // section starts before then. Every other section loads whenever a thread is free, so the plan
   // is no barrier: a separate pass for 100k shapes' mesh records kept one thread idle for 1 ms.
+  //
+  // Work that reads only some sections can run while the others load: once every section of
+  // `needs` has loaded, when_loaded() is called once, on the loading thread that finished the
+  // last of them (before any loading when none is loaded here). It is not called when one of
+  // them failed, and nothing waits for it but the end of load_sections. Those sections are taken
+  // right after `first`'s; none may be a Draco section. (The scene's record checks run there
+  // while 100k shapes' 26 MB of transforms decode.)
   struct BoundPlan {
     std::vector<uint32_t> first;
     std::vector<uint32_t> gated;
     std::function<const std::vector<U32Bound>&()> plan;
+    std::vector<uint32_t> needs;
+    std::function<void()> when_loaded;
   };
   // Loads `which` as above, with bounds from plan; first_out as above, one per planned bound.
   [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,

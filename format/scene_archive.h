@@ -38,8 +38,10 @@ struct Span {
 
 // Where one load()'s time went, in seconds, for benchmarks (archive_bench --phases): reading the
 // file with its header and table checks; loading the sections (checksums, decoding, the
-// triangle-index checks planned from the mesh records); and validate(). Timing costs two clock
-// reads a phase, and only when asked for.
+// triangle-index checks planned from the mesh records, and the record checks, which run as soon
+// as the records are in, while the transforms and geometry still load); and validating the
+// meshes and images, which needs every section. Timing costs two clock reads a phase, and only
+// when asked for.
 struct LoadPhases {
   double open = 0, sections = 0, validate = 0;
 };
@@ -122,7 +124,11 @@ class SceneArchive {
     std::vector<uint64_t> first;
   };
   void plan_index_checks(IndexChecks* checks) const;
-  bool validate(int threads, const IndexChecks& checks, std::string* error);
+  // What the records say, checked against the schema and each other: every section but the
+  // transforms, geometry and texels must be loaded (load() runs it while those load).
+  bool validate_records(int threads, std::string* error);
+  // Then, with every section loaded: the meshes' layouts and triangle indices, and the images.
+  bool validate_geometry(int threads, const IndexChecks& checks, std::string* error);
 
   ArchiveReader reader_;
   std::string path_;

@@ -1,5 +1,6 @@
-// SceneArchive::validate: every record of a loaded archive checked against the schema and
-// against every other record it names, before anything reads it (format/scene_archive.h).
+// SceneArchive::validate_records and validate_geometry: every record of a loaded archive checked
+// against the schema and against every other record it names, before anything reads it
+// (format/scene_archive.h).
 // Loading and the accessors are in format/scene_archive.cpp.
 #include "format/scene_archive.h"
 
@@ -159,7 +160,7 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, const char* record, 
 
 }  // namespace
 
-bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string* error) {
+bool SceneArchive::validate_records(int threads, std::string* error) {
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -250,7 +251,10 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
     if (r.section_size(uint32_t(s)) != uint64_t(count) * sizeof(T))
       return c.fail("size " + std::to_string(r.section_size(uint32_t(s))) + " is not " +
                     std::to_string(count) + " records of " + std::to_string(sizeof(T)) + " bytes");
-    span->data = reinterpret_cast<const T*>(r.section_data(uint32_t(s)));
+    // The transforms may still be loading: validate_geometry() points at them.
+    span->data = k == SectionKind::kTransforms
+                     ? nullptr
+                     : reinterpret_cast<const T*>(r.section_data(uint32_t(s)));
     span->size = count;
     return true;
   };
@@ -618,6 +622,22 @@ bool SceneArchive::validate(int threads, const IndexChecks& checks, std::string*
            (in.reserved == 0 ||
             c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   });
+  if (c.failed()) {
+    *error = c.message();
+    return false;
+  }
+  return true;
+}
+
+bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std::string* error) {
+  Checker c(path_, reader_);
+  const ArchiveReader& r = reader_;
+  auto sec = [&](SectionKind k) { return r.find_section(k); };  // each once: validate_records()
+  if (transforms.size > 0)
+    transforms.data = reinterpret_cast<const TransformRecord*>(
+        r.section_data(uint32_t(sec(SectionKind::kTransforms))));
+  const Checker unreported = c.blank();
+  auto optional_bad = [](uint32_t i, uint32_t count) { return (i >= count) & (i != kNoIndex); };
   c.in(sec(SectionKind::kMeshes));
   // Meshes [0, laid_out) passed their layout checks; their indices are checked after them
   // (the largest part of validation: every index of every mesh is read).

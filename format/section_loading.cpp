@@ -240,7 +240,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
                                   const std::vector<U32Bound>& bounds,
                                   std::vector<uint64_t>* first_out, std::string* error) {
   // Nothing to wait for: the plan is made before any section starts.
-  const BoundPlan plan{{}, which, [&]() -> const std::vector<U32Bound>& { return bounds; }};
+  const BoundPlan plan{{}, which, [&]() -> const std::vector<U32Bound>& { return bounds; }, {}, {}};
   return load_sections(threads, which, plan, first_out, error);
 }
 
@@ -275,6 +275,16 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       return false;
     }
     role[i] = kBeforePlan;
+  }
+  std::vector<uint8_t> needed(n, 0);  // read by when_loaded()
+  for (uint32_t i : plan.needs) {
+    if (i >= n || !wanted[i]) continue;
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kDraco)) {
+      *error = fail("internal error: section " + std::to_string(i) +
+                    " cannot be loaded before when_loaded()");
+      return false;
+    }
+    needed[i] = 1;
   }
 
   // Every decoded section in one buffer, in table order, each at a 64-byte boundary (no two
@@ -472,14 +482,27 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   };
   // A gated task waits for the plan; the last task before it makes the plan, by which time every
   // section it reads has been published (75k meshes make a codec-4 section of 5 MB of records).
+  // The last task of the needed sections calls when_loaded() likewise, unless one of them failed.
   std::atomic<size_t> before_left{before_plan};
+  size_t needed_tasks = 0;
+  bool needs_failed = false;
+  for (const LoadTask& t : tasks) needed_tasks += needed[t.section];
+  for (uint32_t i : order) needs_failed |= needed[i] && !errors[i].empty();
+  std::atomic<size_t> needed_left{needed_tasks};
+  std::atomic<bool> needed_failed{needs_failed};
   auto run = [&](uint32_t k) {
     const uint8_t r = role[tasks[k].section];
     if (r == kAfterPlan)
       while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
     run_task(k);
     if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
+    if (!needed[tasks[k].section]) return;
+    if (!task_errors[k].empty()) needed_failed.store(true, std::memory_order_relaxed);
+    if (needed_left.fetch_sub(1, std::memory_order_acq_rel) == 1 &&
+        !needed_failed.load(std::memory_order_relaxed) && plan.when_loaded)
+      plan.when_loaded();
   };
+  if (needed_tasks == 0 && !needs_failed && plan.when_loaded) plan.when_loaded();
 
   // Two queues, each largest first (so one big section does not start last and leave the other
   // threads idle): the tasks that may start now, those the plan waits for at its head, and the
@@ -495,10 +518,12 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
                                                                               : now)
         .push_back(k);
   auto larger = [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; };
+  // Those the plan waits for, then those when_loaded() reads, then the rest.
+  auto rank = [&](uint32_t k) {
+    return role[tasks[k].section] == kBeforePlan ? 0 : needed[tasks[k].section] ? 1 : 2;
+  };
   std::stable_sort(now.begin(), now.end(), [&](uint32_t a, uint32_t b) {
-    const bool fa = role[tasks[a].section] == kBeforePlan,
-               fb = role[tasks[b].section] == kBeforePlan;
-    return fa != fb ? fa : larger(a, b);
+    return rank(a) != rank(b) ? rank(a) < rank(b) : larger(a, b);
   });
   std::stable_sort(gated.begin(), gated.end(), larger);
   std::stable_sort(draco.begin(), draco.end(), larger);

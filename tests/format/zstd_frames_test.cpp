@@ -320,7 +320,9 @@ TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
       int calls = 0;
       bool records_loaded = false;
       std::vector<ArchiveReader::U32Bound> bounds;
-      ArchiveReader::BoundPlan plan{{0}, {1}, [&]() -> const std::vector<ArchiveReader::U32Bound>& {
+      ArchiveReader::BoundPlan plan{{0},
+                                    {1},
+                                    [&]() -> const std::vector<ArchiveReader::U32Bound>& {
                                       ++calls;
                                       records_loaded = r.section_data(0) != nullptr;
                                       const uint8_t* d = r.section_data(0);
@@ -330,7 +332,9 @@ TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
                                         bounds.push_back({1, v[0], v[1], v[2]});
                                       }
                                       return bounds;
-                                    }};
+                                    },
+                                    {},
+                                    {}};
       std::vector<uint64_t> first;
       ASSERT_TRUE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error)) << error;
       EXPECT_EQ(calls, 1);
@@ -365,13 +369,88 @@ TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
       ArchiveReader r;
       ASSERT_TRUE(r.open(path, &error)) << error;
       ArchiveReader::BoundPlan plan{
-          b.first, b.gated,
-          [&]() -> const std::vector<ArchiveReader::U32Bound>& { return *b.bounds; }};
+          b.first,
+          b.gated,
+          [&]() -> const std::vector<ArchiveReader::U32Bound>& { return *b.bounds; },
+          {},
+          {}};
       std::vector<uint64_t> first;
       EXPECT_FALSE(r.load_sections(threads, {0, 1, 2}, plan, &first, &error));
       EXPECT_NE(error.find("internal error"), std::string::npos) << error;
       for (uint32_t i = 0; i < 3; ++i) EXPECT_EQ(r.section_data(i), nullptr) << i;
     }
+  }
+}
+
+// Work on some sections while the others load (as SceneArchive checks the records while the
+// transforms decode): when_loaded() runs once, when every section it needs is in whole, whatever
+// the thread count; first thing when it needs none; and not at all when one of them failed.
+TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.WhenLoaded");
+  const std::vector<uint8_t> records = float_bytes(3000, 2);
+  const std::vector<uint8_t> values = float_bytes(kFrameBlock + 7 * kShuffleBlock, 3);
+  const std::vector<uint8_t> beside = float_bytes(2 * kFrameBlock + 5 * kShuffleBlock, 4);
+  ArchiveWriter w;
+  w.add_section(SectionKind::kEntities, records, 1, Codec::kZstd);
+  w.add_section(SectionKind::kValues, values, 1, Codec::kZstdShuffle4Frames);
+  w.add_section(SectionKind::kTransforms, beside, 1, Codec::kZstdShuffle4Frames);
+  const std::string path = dir + "/w.pbrta";
+  std::string error;
+  ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+  auto no_bounds = []() -> const std::vector<ArchiveReader::U32Bound>& {
+    static const std::vector<ArchiveReader::U32Bound> none;
+    return none;
+  };
+  // Loads `file` with when_loaded() needing `needs`: its calls, and whether at the (last) call
+  // sections 0 and 1 were whole and section 2 not yet published.
+  struct Seen {
+    int calls = 0;
+    bool whole[2] = {false, false};
+    bool beside_published = false;
+    bool loaded = false;
+  };
+  auto load = [&](const std::string& file, const std::vector<uint32_t>& needs, int threads) {
+    Seen seen;
+    ArchiveReader r;
+    EXPECT_TRUE(r.open(file, &error)) << error;
+    ArchiveReader::BoundPlan plan{
+        {}, {}, no_bounds, needs, [&] {
+          ++seen.calls;
+          const uint8_t* d0 = r.section_data(0);
+          const uint8_t* d1 = r.section_data(1);
+          seen.whole[0] = d0 && std::memcmp(d0, records.data(), records.size()) == 0;
+          seen.whole[1] = d1 && std::memcmp(d1, values.data(), values.size()) == 0;
+          seen.beside_published = r.section_data(2) != nullptr;
+        }};
+    std::vector<uint64_t> first;
+    seen.loaded = r.load_sections(threads, {0, 1, 2}, plan, &first, &error);
+    return seen;
+  };
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    Seen s = load(path, {0, 1}, threads);
+    EXPECT_TRUE(s.loaded) << error;
+    EXPECT_EQ(s.calls, 1);
+    EXPECT_TRUE(s.whole[0]);
+    EXPECT_TRUE(s.whole[1]);
+    s = load(path, {}, threads);
+    EXPECT_TRUE(s.loaded) << error;
+    EXPECT_EQ(s.calls, 1);
+    EXPECT_FALSE(s.whole[0] || s.whole[1] || s.beside_published);  // before anything loaded
+  }
+  // A damaged frame of a needed section: the load fails, and the work never runs.
+  std::string bytes = testing_support::read_file(path);
+  ArchiveReader r;
+  ASSERT_TRUE(r.open(path, &error)) << error;
+  const SectionEntry values_entry = r.entry(1);
+  bytes[values_entry.offset + values_entry.stored_size - 10] ^= 0x5A;
+  const std::string damaged = testing_support::write_file(dir + "/damaged.pbrta", bytes);
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("damaged, threads " + std::to_string(threads));
+    const Seen s = load(damaged, {0, 1}, threads);
+    EXPECT_FALSE(s.loaded);
+    EXPECT_NE(error.find("section 'values' (#1)"), std::string::npos) << error;
+    EXPECT_EQ(s.calls, 0);
   }
 }
 
