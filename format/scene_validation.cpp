@@ -459,31 +459,46 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
   const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
   const uint32_t num_strings = num_strings_;
   const Checker unreported = c.blank();  // for sound()'s fallbacks, whose messages are dropped
-  auto entity_sound = [&](uint32_t i) -> bool {
-    const EntityRecord& e = entities[i];
-    if (e.type >= digest.num_types(e.category)) return false;
-    const TypeDigest& t = digest.type(e.category, e.type);
-    if (t.has_rules) {
-      Checker scratch = unreported;
-      return check_entity(i, scratch) && check_bindings(i, scratch);
-    }
-    const bool count_bad = minor == kMinorVersion  ? e.num_values != t.num_params
-                           : minor > kMinorVersion ? e.num_values < t.num_params
-                                                   : e.num_values > t.num_params;
+  // What the common case reads, captured by value: by reference, each entity would first walk
+  // from the closure to this object to the span (the rare checks' calls keep the compiler from
+  // hoisting those loads out of the loop).
+  struct Hot {
+    const EntityRecord* entities;
+    const ValueRecord* values;
+    const uint32_t* words;
+    const TextureRecord* textures;
+    const SchemaDigest* digest;
+    uint32_t num_textures, num_words, num_values, num_strings;
+    uint16_t minor;
+  };
+  const Hot hot{entities.data, values.data, words.data, textures.data, &digest,
+                num_textures,  num_words,   num_values, num_strings,   minor};
+  auto slow_sound = [&](uint32_t i) {
+    Checker scratch = unreported;
+    return check_entity(i, scratch) && check_bindings(i, scratch);
+  };
+  auto entity_sound = [hot, &slow_sound](uint32_t i) -> bool {
+    const EntityRecord& e = hot.entities[i];
+    if (e.type >= hot.digest->num_types(e.category)) return false;
+    const TypeDigest& t = hot.digest->type(e.category, e.type);
+    if (t.has_rules) return slow_sound(i);
+    const bool count_bad = hot.minor == kMinorVersion  ? e.num_values != t.num_params
+                           : hot.minor > kMinorVersion ? e.num_values < t.num_params
+                                                       : e.num_values > t.num_params;
     if ((e.reserved0 | e.reserved1) != 0 || count_bad ||
-        uint64_t(e.first_value) + e.num_values > num_values)
+        uint64_t(e.first_value) + e.num_values > hot.num_values)
       return false;
     const uint32_t known = std::min<uint32_t>(e.num_values, t.num_params);
-    const ValueRecord* v = values.data + e.first_value;
+    const ValueRecord* v = hot.values + e.first_value;
     uint32_t bad = 0;
     for (uint32_t p = 0; p < known; ++p) {
       const ParamDigest& pd = t.params[p];
       bad |= v[p].flags & ~uint32_t(kValueGiven);
-      bad |= uint64_t(v[p].offset) + uint64_t(v[p].count) * pd.width > num_words;
+      bad |= uint64_t(v[p].offset) + uint64_t(v[p].count) * pd.width > hot.num_words;
       bad |= (pd.arity != 0) & (v[p].count != 0) & (v[p].count != pd.arity);
       if (v[p].texture != kNoIndex &&
-          (pd.texture == kNoTextureCategory || v[p].texture >= num_textures ||
-           entities[textures[v[p].texture].entity].category != pd.texture))
+          (pd.texture == kNoTextureCategory || v[p].texture >= hot.num_textures ||
+           hot.entities[hot.textures[v[p].texture].entity].category != pd.texture))
         return false;
     }
     if (bad) return false;
@@ -491,7 +506,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
       for (uint32_t p = 0; p < known; ++p)
         if (t.params[p].is_string)
           for (uint32_t k = 0; k < v[p].count; ++k)
-            if (words[v[p].offset + k] >= num_strings) return false;
+            if (hot.words[v[p].offset + k] >= hot.num_strings) return false;
     return true;
   };
   c.in(sec(SectionKind::kEntities));
@@ -712,6 +727,7 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
   // as they decoded (bound b), a small one's are read here, in the same parallel pass as the
   // layouts. The first mesh in order with a bad layout or a bad index is the one reported.
   auto bound_of = [&](uint32_t i) -> size_t {
+    if (checks.mesh.empty()) return 0;
     auto it = std::lower_bound(checks.mesh.begin(), checks.mesh.end(), i);
     return it != checks.mesh.end() && *it == i ? size_t(it - checks.mesh.begin())
                                                : checks.mesh.size();
@@ -724,8 +740,13 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
       return checks.first[b] == bound.end ? uint64_t(meshes[i].num_triangles) * 3
                                           : (checks.first[b] - bound.begin) / 4;
     }
-    return first_at_or_above(indices(i), uint64_t(meshes[i].num_triangles) * 3,
-                             meshes[i].num_vertices);
+    const uint32_t* v = indices(i);
+    const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
+    const uint32_t limit = meshes[i].num_vertices;
+    if (n > 12) return first_at_or_above(v, n, limit);
+    for (uint64_t k = 0; k < n; ++k)  // a few triangles (50k one-triangle meshes): no call
+      if (v[k] >= limit) return k;
+    return n;
   };
   first_failure(
       meshes.size, threads, c, "mesh",
