@@ -155,8 +155,9 @@ class ArchiveReader {
   // is no barrier: a separate pass for 100k shapes' mesh records kept one thread idle for 1 ms.
   //
   // Work that reads only some sections can run while the others load: once every section of
-  // `needs` has loaded, when_loaded() is called once, on the loading thread that finished the
-  // last of them (before any loading when none is loaded here). It is not called when one of
+  // `needs` has loaded, when_loaded(bytes) is called once, on the loading thread that finished
+  // the last of them (before any loading when none is loaded here), with the decoded size of the
+  // tasks no thread has started yet: what there is to overlap with. It is not called when one of
   // them failed, and nothing waits for it but the end of load_sections. Those sections are taken
   // right after `first`'s; none may be a Draco section. (The scene's record checks run there
   // while 100k shapes' 26 MB of transforms decode.)
@@ -165,7 +166,7 @@ class ArchiveReader {
     std::vector<uint32_t> gated;
     std::function<const std::vector<U32Bound>&()> plan;
     std::vector<uint32_t> needs;
-    std::function<void()> when_loaded;
+    std::function<void(uint64_t bytes_not_started)> when_loaded;
   };
   // Loads `which` as above, with bounds from plan; first_out as above, one per planned bound.
   [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,

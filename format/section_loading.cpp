@@ -480,30 +480,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         !frame_failed[t.section].load(std::memory_order_relaxed))
       sections_[t.section].data = out;
   };
-  // A gated task waits for the plan; the last task before it makes the plan, by which time every
-  // section it reads has been published (75k meshes make a codec-4 section of 5 MB of records).
-  // The last task of the needed sections calls when_loaded() likewise, unless one of them failed.
-  std::atomic<size_t> before_left{before_plan};
-  size_t needed_tasks = 0;
-  bool needs_failed = false;
-  for (const LoadTask& t : tasks) needed_tasks += needed[t.section];
-  for (uint32_t i : order) needs_failed |= needed[i] && !errors[i].empty();
-  std::atomic<size_t> needed_left{needed_tasks};
-  std::atomic<bool> needed_failed{needs_failed};
-  auto run = [&](uint32_t k) {
-    const uint8_t r = role[tasks[k].section];
-    if (r == kAfterPlan)
-      while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
-    run_task(k);
-    if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
-    if (!needed[tasks[k].section]) return;
-    if (!task_errors[k].empty()) needed_failed.store(true, std::memory_order_relaxed);
-    if (needed_left.fetch_sub(1, std::memory_order_acq_rel) == 1 &&
-        !needed_failed.load(std::memory_order_relaxed) && plan.when_loaded)
-      plan.when_loaded();
-  };
-  if (needed_tasks == 0 && !needs_failed && plan.when_loaded) plan.when_loaded();
-
   // Two queues, each largest first (so one big section does not start last and leave the other
   // threads idle): the tasks that may start now, those the plan waits for at its head, and the
   // gated ones, which a thread takes once the plan is made when theirs is the larger next task,
@@ -547,6 +523,38 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       // Another thread took the last one of that queue: look again.
     }
   };
+  // A gated task waits for the plan; the last task before it makes the plan, by which time every
+  // section it reads has been published (75k meshes make a codec-4 section of 5 MB of records).
+  // The last task of the needed sections calls when_loaded() likewise, unless one of them failed.
+  std::atomic<size_t> before_left{before_plan};
+  size_t needed_tasks = 0;
+  bool needs_failed = false;
+  for (const LoadTask& t : tasks) needed_tasks += needed[t.section];
+  for (uint32_t i : order) needs_failed |= needed[i] && !errors[i].empty();
+  std::atomic<size_t> needed_left{needed_tasks};
+  std::atomic<bool> needed_failed{needs_failed};
+  // What the other threads have left to decode, for when_loaded() (an estimate: they take more
+  // meanwhile). Draco sections come after the whole pass, so they do not count.
+  auto bytes_not_started = [&] {
+    uint64_t left = 0;
+    for (size_t q = next_now.load(); q < now.size(); ++q) left += tasks[now[q]].raw_size;
+    for (size_t q = next_gated.load(); q < gated.size(); ++q) left += tasks[gated[q]].raw_size;
+    return left;
+  };
+  auto run = [&](uint32_t k) {
+    const uint8_t r = role[tasks[k].section];
+    if (r == kAfterPlan)
+      while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
+    run_task(k);
+    if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
+    if (!needed[tasks[k].section]) return;
+    if (!task_errors[k].empty()) needed_failed.store(true, std::memory_order_relaxed);
+    if (needed_left.fetch_sub(1, std::memory_order_acq_rel) == 1 &&
+        !needed_failed.load(std::memory_order_relaxed) && plan.when_loaded)
+      plan.when_loaded(bytes_not_started());
+  };
+  if (needed_tasks == 0 && !needs_failed && plan.when_loaded) plan.when_loaded(bytes_not_started());
+
   // A small load (the records of a scene) runs on this thread: waking the workers costs more.
   uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
   for (uint32_t i : order)

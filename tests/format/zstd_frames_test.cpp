@@ -384,7 +384,8 @@ TEST(ZstdFrames, PlannedBoundsComeFromTheSectionsLoadedFirst) {
 
 // Work on some sections while the others load (as SceneArchive checks the records while the
 // transforms decode): when_loaded() runs once, when every section it needs is in whole, whatever
-// the thread count; first thing when it needs none; and not at all when one of them failed.
+// the thread count, told how much no thread has started on; first thing when it needs none; and
+// not at all when one of them failed.
 TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
   const std::string dir = testing_support::scratch_dir("ZstdFrames.WhenLoaded");
   const std::vector<uint8_t> records = float_bytes(3000, 2);
@@ -407,6 +408,7 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
     int calls = 0;
     bool whole[2] = {false, false};
     bool beside_published = false;
+    uint64_t not_started = 0;
     bool loaded = false;
   };
   auto load = [&](const std::string& file, const std::vector<uint32_t>& needs, int threads) {
@@ -414,8 +416,9 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
     ArchiveReader r;
     EXPECT_TRUE(r.open(file, &error)) << error;
     ArchiveReader::BoundPlan plan{
-        {}, {}, no_bounds, needs, [&] {
+        {}, {}, no_bounds, needs, [&](uint64_t not_started) {
           ++seen.calls;
+          seen.not_started = not_started;
           const uint8_t* d0 = r.section_data(0);
           const uint8_t* d1 = r.section_data(1);
           seen.whole[0] = d0 && std::memcmp(d0, records.data(), records.size()) == 0;
@@ -433,10 +436,16 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
     EXPECT_EQ(s.calls, 1);
     EXPECT_TRUE(s.whole[0]);
     EXPECT_TRUE(s.whole[1]);
+    // The needed sections go first: on one thread, none of the other one has started.
+    if (threads == 1) {
+      EXPECT_EQ(s.not_started, beside.size());
+    }
+    EXPECT_LE(s.not_started, beside.size());
     s = load(path, {}, threads);
     EXPECT_TRUE(s.loaded) << error;
     EXPECT_EQ(s.calls, 1);
     EXPECT_FALSE(s.whole[0] || s.whole[1] || s.beside_published);  // before anything loaded
+    EXPECT_EQ(s.not_started, records.size() + values.size() + beside.size());
   }
   // A damaged frame of a needed section: the load fails, and the work never runs.
   std::string bytes = testing_support::read_file(path);
