@@ -195,7 +195,10 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
     records_checked = true;
   };
   PhaseClock clock(phases);
-  if (!reader_.load_sections(threads, all, plan, &checks.first, error)) return false;
+  if (!reader_.load_sections(threads, all, plan, &checks.first, error)) {
+    forget_records();  // the checks may have pointed them at sections now unloaded
+    return false;
+  }
   clock.lap(&LoadPhases::sections);
   if (!records_checked) records_ok = validate_records(threads, &records_error);
   if (!records_ok) {
@@ -205,6 +208,29 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
   const bool ok = validate_geometry(threads, checks, error);
   clock.lap(&LoadPhases::validate);
   return ok;
+}
+
+void SceneArchive::forget_records() {
+  scene_ = SceneRecord{};
+  entities = {};
+  values = {};
+  words = {};
+  transforms = {};
+  textures = {};
+  materials = {};
+  media = {};
+  lights = {};
+  area_lights = {};
+  shapes = {};
+  objects = {};
+  object_shapes = {};
+  instances = {};
+  meshes = {};
+  images = {};
+  provenance = {};
+  string_offsets_ = pstring_offsets_ = nullptr;
+  string_data_ = pstring_data_ = nullptr;
+  num_strings_ = num_pstrings_ = 0;
 }
 
 // From the mesh records as they are, unvalidated, on a loading thread while other sections load:

@@ -124,6 +124,8 @@ class SceneArchive {
     std::vector<uint64_t> first;
   };
   void plan_index_checks(IndexChecks* checks) const;
+  // Every record view back to empty, as before a load.
+  void forget_records();
   // What the records say, checked against the schema and each other: every section but the
   // transforms, geometry and texels must be loaded (load() runs it while those load).
   bool validate_records(int threads, std::string* error);

@@ -270,6 +270,68 @@ TEST_F(EntityCheck, FirstBadMeshIndexOrLayoutInOrder) {
             std::string::npos);
 }
 
+// With a transform per shape the transforms outweigh a third of the records, so load() checks
+// the records on a loading thread while the transforms still load (format/scene_archive.cpp):
+// a fault is reported as after the load, a damaged section still wins over a record fault, and
+// a failed load leaves no record views behind.
+TEST(RecordChecks, BesideTheTransformsAsAfterTheLoad) {
+  const std::string dir = testing_support::scratch_dir("RecordChecks.BesideTheTransforms");
+  std::string text = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n";
+  for (int i = 0; i < 300; ++i)
+    text += "AttributeBegin\nTranslate " + std::to_string(i) +
+            " 0 0\nMaterial \"matte\"\nShape \"trianglemesh\" \"point P\" [0 0 0 1 0 0 0 1 0] "
+            "\"integer indices\" [0 1 2]\nAttributeEnd\n";
+  text += "WorldEnd\n";
+  const std::string scene = testing_support::write_file(dir + "/s.pbrt", text);
+  CompiledScene c;
+  compile_scene(scene, &c);
+  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
+  ArchiveOptions opt;
+  opt.compress = false;
+  std::string error;
+  const std::string path = dir + "/good.pbrta";
+  ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), path, opt, nullptr, &error))
+      << error;
+  pbrta::SceneArchive good;
+  ASSERT_TRUE(good.load(path, 2, &error)) << error;
+  const pbrta::ArchiveReader& r = good.reader();
+  const uint32_t transforms = testing_support::section_entry(good, pbrta::SectionKind::kTransforms);
+  const uint32_t entities = testing_support::section_entry(good, pbrta::SectionKind::kEntities);
+  ASSERT_NE(transforms, pbrta::kNoIndex);
+  ASSERT_NE(entities, pbrta::kNoIndex);
+  uint64_t records = 0;
+  for (uint32_t i = 0; i < r.section_count(); ++i)
+    if (r.entry(i).kind != uint32_t(pbrta::SectionKind::kTransforms) &&
+        r.entry(i).kind != uint32_t(pbrta::SectionKind::kGeometry))
+      records += r.entry(i).raw_size;
+  ASSERT_GE(3 * r.entry(transforms).raw_size, records);  // what makes load() overlap
+
+  std::string bytes = testing_support::read_file(path);
+  const uint32_t late = good.entities.size - 2;
+  bytes[r.entry(entities).offset + uint64_t(late) * sizeof(pbrta::EntityRecord) + 1] = 1;
+  for (int threads : {1, 2})
+    EXPECT_NE(testing_support::reseal_and_load(bytes, dir + "/bad.pbrta", threads)
+                  .find("entity " + std::to_string(late) + ": reserved field is not zero"),
+              std::string::npos);
+  // The same fault, resealed, then a transform's bytes damaged.
+  std::vector<uint8_t> sealed(bytes.begin(), bytes.end());
+  fuzz_support::reseal(&sealed);
+  sealed[r.entry(transforms).offset + 100] ^= 0x40;
+  const std::string both =
+      testing_support::write_file(dir + "/both.pbrta", std::string(sealed.begin(), sealed.end()));
+  for (int threads : {1, 2}) {
+    pbrta::SceneArchive a;
+    EXPECT_FALSE(a.load(both, threads, &error));
+    EXPECT_NE(
+        error.find("section 'transforms' (#" + std::to_string(transforms) + "): checksum mismatch"),
+        std::string::npos)
+        << error;
+    EXPECT_EQ(a.entities.size, 0u);
+    EXPECT_EQ(a.entities.data, nullptr);
+    EXPECT_EQ(a.num_strings(), 0u);
+  }
+}
+
 // The counts format/entity_rules.h ties together are checked by the reader too: a curve whose
 // degree, or a heterogeneous medium whose grid size, an archive was edited to break is refused,
 // so a renderer may index control points and density grids by them.
