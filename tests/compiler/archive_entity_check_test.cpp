@@ -19,6 +19,20 @@
 namespace pbrtc {
 namespace {
 
+// Scene text compiled to an uncompressed archive (its records are edited in place), dir/good.pbrta.
+void compile_uncompressed(const std::string& dir, const std::string& text) {
+  const std::string scene = testing_support::write_file(dir + "/s.pbrt", text);
+  CompiledScene c;
+  compile_scene(scene, &c);
+  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
+  ArchiveOptions opt;
+  opt.compress = false;
+  std::string error;
+  ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), dir + "/good.pbrta", opt,
+                            nullptr, &error))
+      << error;
+}
+
 class EntityCheck : public ::testing::Test {
  protected:
   // 40000 one-triangle meshes, each with its own material bound to a spectrum texture: more than
@@ -37,16 +51,9 @@ class EntityCheck : public ::testing::Test {
               "\nShape \"trianglemesh\" \"point P\" [0 0 0 1 0 0 0 1 " + std::to_string(i) +
               "] \"integer indices\" [0 1 2]\n";
     text += "WorldEnd\n";
-    const std::string scene = testing_support::write_file(dir_ + "/s.pbrt", text);
-    CompiledScene c;
-    compile_scene(scene, &c);
-    ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
-    ArchiveOptions opt;
-    opt.compress = false;
+    ASSERT_NO_FATAL_FAILURE(compile_uncompressed(dir_, text));
     std::string error;
     const std::string path = dir_ + "/good.pbrta";
-    ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), path, opt, nullptr, &error))
-        << error;
     good_ = testing_support::read_file(path);
     ASSERT_TRUE(archive_.load(path, 2, &error)) << error;
     ASSERT_GT(archive_.entities.size, 4u * 8192u);
@@ -282,16 +289,9 @@ TEST(RecordChecks, BesideTheTransformsAsAfterTheLoad) {
             " 0 0\nMaterial \"matte\"\nShape \"trianglemesh\" \"point P\" [0 0 0 1 0 0 0 1 0] "
             "\"integer indices\" [0 1 2]\nAttributeEnd\n";
   text += "WorldEnd\n";
-  const std::string scene = testing_support::write_file(dir + "/s.pbrt", text);
-  CompiledScene c;
-  compile_scene(scene, &c);
-  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
-  ArchiveOptions opt;
-  opt.compress = false;
+  ASSERT_NO_FATAL_FAILURE(compile_uncompressed(dir, text));
   std::string error;
   const std::string path = dir + "/good.pbrta";
-  ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), path, opt, nullptr, &error))
-      << error;
   pbrta::SceneArchive good;
   ASSERT_TRUE(good.load(path, 2, &error)) << error;
   const pbrta::ArchiveReader& r = good.reader();
@@ -337,22 +337,15 @@ TEST(RecordChecks, BesideTheTransformsAsAfterTheLoad) {
 // so a renderer may index control points and density grids by them.
 TEST(EntityRules, TheReaderRefusesACurveOrDensityGridThatBreaksThem) {
   const std::string dir = testing_support::scratch_dir("EntityRules");
-  const std::string scene = testing_support::write_file(
-      dir + "/s.pbrt",
+  ASSERT_NO_FATAL_FAILURE(compile_uncompressed(
+      dir,
       "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
       "MakeNamedMedium \"smoke\" \"string type\" \"heterogeneous\" \"integer nx\" 2 "
       "\"float density\" [0.5 1]\n"
       "Shape \"curve\" \"point P\" [0 0 0 1 1 0 2 1 0 3 0 0] \"float width\" 0.1\n"
-      "WorldEnd\n");
-  CompiledScene c;
-  compile_scene(scene, &c);
-  ASSERT_TRUE(c.ok) << (c.errors.empty() ? "" : c.errors[0]);
-  ArchiveOptions opt;
-  opt.compress = false;  // the words are edited in place
+      "WorldEnd\n"));
   std::string error;
   const std::string path = dir + "/good.pbrta";
-  ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(scene), path, opt, nullptr, &error))
-      << error;
   pbrta::SceneArchive a;
   ASSERT_TRUE(a.load(path, 1, &error)) << error;
   const std::string good = testing_support::read_file(path);
