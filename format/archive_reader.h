@@ -158,8 +158,9 @@ class ArchiveReader {
   // `needs` has loaded, when_loaded(bytes) is called once, on the loading thread that finished
   // the last of them (before any loading when none is loaded here), with the decoded size of the
   // tasks no thread has started yet: what there is to overlap with. It is not called when one of
-  // them failed, and nothing waits for it but the end of load_sections. Those sections are taken
-  // right after `first`'s; none may be a Draco section. (The scene's record checks run there
+  // them failed, and nothing waits for it but the end of load_sections. With needs_first, those
+  // sections are taken right after `first`'s, so that the work starts early; otherwise in the
+  // usual largest-first order. None may be a Draco section. (The scene's record checks run there
   // while 100k shapes' 26 MB of transforms decode.)
   struct BoundPlan {
     std::vector<uint32_t> first;
@@ -167,6 +168,7 @@ class ArchiveReader {
     std::function<const std::vector<U32Bound>&()> plan;
     std::vector<uint32_t> needs;
     std::function<void(uint64_t bytes_not_started)> when_loaded;
+    bool needs_first = false;
   };
   // Loads `which` as above, with bounds from plan; first_out as above, one per planned bound.
   [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,

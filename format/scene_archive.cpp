@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstring>
 
+#include "format/zstd_frames.h"
+
 namespace pbrta {
 
 std::string_view SceneArchive::string(uint32_t i) const {
@@ -187,6 +189,10 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
   // task arena inside the loading one, and a 10 ms load took 13-19 ms.)
   uint64_t records_bytes = 0;
   for (uint32_t i : plan.needs) records_bytes += reader_.entry(i).raw_size;
+  // Records worth starting on early. Taking small ones first only delays the large sections that
+  // should start first: 2d-mappings' 5 KB of records before its 4 MiB of texels cost 10% (0.8 ->
+  // 0.9 ms); 100k shapes' 27 MB first gain 0.3 ms of 10.
+  plan.needs_first = records_bytes >= kFrameBlock;
   bool records_checked = false, records_ok = false;
   std::string records_error;
   plan.when_loaded = [&](uint64_t bytes_not_started) {

@@ -240,7 +240,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
                                   const std::vector<U32Bound>& bounds,
                                   std::vector<uint64_t>* first_out, std::string* error) {
   // Nothing to wait for: the plan is made before any section starts.
-  const BoundPlan plan{{}, which, [&]() -> const std::vector<U32Bound>& { return bounds; }, {}, {}};
+  const BoundPlan plan{{}, which, [&]() -> const std::vector<U32Bound>& { return bounds; },
+                       {}, {},    false};
   return load_sections(threads, which, plan, first_out, error);
 }
 
@@ -494,9 +495,11 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
                                                                               : now)
         .push_back(k);
   auto larger = [&](uint32_t a, uint32_t b) { return tasks[a].raw_size > tasks[b].raw_size; };
-  // Those the plan waits for, then those when_loaded() reads, then the rest.
+  // Those the plan waits for, then (with needs_first) those when_loaded() reads, then the rest.
   auto rank = [&](uint32_t k) {
-    return role[tasks[k].section] == kBeforePlan ? 0 : needed[tasks[k].section] ? 1 : 2;
+    return role[tasks[k].section] == kBeforePlan          ? 0
+           : plan.needs_first && needed[tasks[k].section] ? 1
+                                                          : 2;
   };
   std::stable_sort(now.begin(), now.end(), [&](uint32_t a, uint32_t b) {
     return rank(a) != rank(b) ? rank(a) < rank(b) : larger(a, b);

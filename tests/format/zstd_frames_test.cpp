@@ -402,8 +402,8 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
     static const std::vector<ArchiveReader::U32Bound> none;
     return none;
   };
-  // Loads `file` with when_loaded() needing `needs`: its calls, and whether at the (last) call
-  // sections 0 and 1 were whole and section 2 not yet published.
+  // Loads `file` with when_loaded() needing `needs` (taken first or not): its calls, and whether
+  // at the (last) call sections 0 and 1 were whole and section 2 not yet published.
   struct Seen {
     int calls = 0;
     bool whole[2] = {false, false};
@@ -411,12 +411,17 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
     uint64_t not_started = 0;
     bool loaded = false;
   };
-  auto load = [&](const std::string& file, const std::vector<uint32_t>& needs, int threads) {
+  auto load = [&](const std::string& file, const std::vector<uint32_t>& needs, int threads,
+                  bool needs_first = true) {
     Seen seen;
     ArchiveReader r;
     EXPECT_TRUE(r.open(file, &error)) << error;
     ArchiveReader::BoundPlan plan{
-        {}, {}, no_bounds, needs, [&](uint64_t not_started) {
+        {},
+        {},
+        no_bounds,
+        needs,
+        [&](uint64_t not_started) {
           ++seen.calls;
           seen.not_started = not_started;
           const uint8_t* d0 = r.section_data(0);
@@ -424,7 +429,8 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
           seen.whole[0] = d0 && std::memcmp(d0, records.data(), records.size()) == 0;
           seen.whole[1] = d1 && std::memcmp(d1, values.data(), values.size()) == 0;
           seen.beside_published = r.section_data(2) != nullptr;
-        }};
+        },
+        needs_first};
     std::vector<uint64_t> first;
     seen.loaded = r.load_sections(threads, {0, 1, 2}, plan, &first, &error);
     return seen;
@@ -441,6 +447,14 @@ TEST(ZstdFrames, WhenLoadedRunsOnceItsSectionsAreIn) {
       EXPECT_EQ(s.not_started, beside.size());
     }
     EXPECT_LE(s.not_started, beside.size());
+    // Largest first instead, the records (3000 bytes) come last: nothing is left then.
+    s = load(path, {0, 1}, threads, false);
+    EXPECT_TRUE(s.loaded) << error;
+    EXPECT_EQ(s.calls, 1);
+    EXPECT_TRUE(s.whole[0] && s.whole[1]);
+    if (threads == 1) {
+      EXPECT_EQ(s.not_started, 0u);
+    }
     s = load(path, {}, threads);
     EXPECT_TRUE(s.loaded) << error;
     EXPECT_EQ(s.calls, 1);
