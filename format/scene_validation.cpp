@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <optional>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -88,12 +89,12 @@ bool check_string_offsets(const uint32_t* offsets, uint32_t n, uint64_t data_siz
 }
 
 // The first i in [0, n) for which check(i, checker) fails, or n; 0, checking nothing, when c has
-// already failed. A large n is checked in blocks on the load's threads, each block stopping at its
-// first failure; the lowest failing one is then checked again on c for the message, so the error
-// is the one a serial check reports (100k shapes: 150k entities and 750k values, 100k shape and
-// 50k mesh records).
+// already failed. A large n is checked in blocks on the arena's threads (no arena: on this one),
+// each block stopping at its first failure; the lowest failing one is then checked again on c for
+// the message, so the error is the one a serial check reports (100k shapes: 150k entities and
+// 750k values, 100k shape and 50k mesh records).
 template <class Check>
-uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
+uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
   if (c.failed()) return 0;
   constexpr uint32_t kBlock = 8192;
   std::atomic<uint32_t> first_bad{n};
@@ -114,11 +115,10 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
         }
     }
   };
-  if (threads == 1 || n < 4 * kBlock) {
+  if (arena == nullptr || n < 4 * kBlock) {
     check_block(0, n);
   } else {
-    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-    arena.execute([&] {
+    arena->execute([&] {
       tbb::parallel_for(
           tbb::blocked_range<uint32_t>(0, n, kBlock),
           [&](const tbb::blocked_range<uint32_t>& b) { check_block(b.begin(), b.end()); });
@@ -135,8 +135,8 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, Check check) {
 // record alike. The fuzz tree (PBRTA_CROSSCHECK_VALIDATION) runs both on every record and stops
 // on any disagreement; should explain() find nothing, the load still fails.
 template <class Sound, class Explain>
-uint32_t first_failure(uint32_t n, int threads, Checker& c, const char* record, Sound sound,
-                       Explain explain) {
+uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const char* record,
+                       Sound sound, Explain explain) {
 #if defined(PBRTA_CROSSCHECK_VALIDATION)
   (void)record;
   auto both = [&](uint32_t i, Checker& local) {
@@ -145,12 +145,12 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, const char* record, 
     if (verdict != explain(i, scratch)) __builtin_trap();
     return verdict || explain(i, local);
   };
-  return first_failure(n, threads, c, both);
+  return first_failure(n, arena, c, both);
 #else
   if (c.failed()) return 0;
   auto sound_in = [&](uint32_t i, Checker&) { return sound(i); };
   Checker quiet = c.blank();
-  const uint32_t bad = first_failure(n, threads, quiet, sound_in);
+  const uint32_t bad = first_failure(n, arena, quiet, sound_in);
   if (bad < n && explain(bad, c))
     c.fail(std::string(record) + " " + std::to_string(bad) +
            ": refused by a check that names no reason");
@@ -161,6 +161,11 @@ uint32_t first_failure(uint32_t n, int threads, Checker& c, const char* record, 
 }  // namespace
 
 bool SceneArchive::validate_records(int threads, std::string* error) {
+  // One arena for every parallel check: a new one each time woke the workers again (3 of them for
+  // 100k shapes).
+  std::optional<tbb::task_arena> arena;
+  if (threads != 1) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  tbb::task_arena* par = arena ? &*arena : nullptr;
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -319,7 +324,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
 
   // Textures first: an entity's texture bindings, checked with its values, read them.
   c.in(sec(SectionKind::kTextures));
-  first_failure(textures.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(textures.size, par, c, [&](uint32_t i, Checker& c) {
     const TextureRecord& t = textures[i];
     if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) return false;
     uint8_t cat = entities[t.entity].category;
@@ -510,7 +515,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
     return true;
   };
   c.in(sec(SectionKind::kEntities));
-  first_failure(entities.size, threads, c, "entity", entity_sound, [&](uint32_t i, Checker& c) {
+  first_failure(entities.size, par, c, "entity", entity_sound, [&](uint32_t i, Checker& c) {
     if (!check_entity(i, c)) return false;
     c.in(sec(SectionKind::kValues));  // a binding is a value's fault
     const bool ok = check_bindings(i, c);
@@ -556,7 +561,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
            c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   };
   first_failure(
-      materials.size, threads, c, "material",
+      materials.size, par, c, "material",
       [&](uint32_t i) {
         const MaterialRecord& m = materials[i];
         return !((m.reserved != 0) | optional_bad(m.mix[0], materials.size) |
@@ -565,7 +570,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
       },
       check_material);
   c.in(sec(SectionKind::kMedia));
-  first_failure(media.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(media.size, par, c, [&](uint32_t i, Checker& c) {
     const MediumRecord& m = media[i];
     return entity_of(c, m.entity, Category::kMedium, "medium", i, "entity") &&
            c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
@@ -573,7 +578,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
             c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
   });
   c.in(sec(SectionKind::kLights));
-  first_failure(lights.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(lights.size, par, c, [&](uint32_t i, Checker& c) {
     const LightRecord& l = lights[i];
     return entity_of(c, l.entity, Category::kLight, "light", i, "entity") &&
            c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
@@ -581,7 +586,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
            c.index(l.image, images.size, "light", i, "image", "images", true);
   });
   c.in(sec(SectionKind::kAreaLights));
-  first_failure(area_lights.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(area_lights.size, par, c, [&](uint32_t i, Checker& c) {
     return entity_of(c, area_lights[i], Category::kAreaLight, "area light", i, "entity");
   });
   c.in(sec(SectionKind::kShapes));
@@ -601,7 +606,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
   first_failure(
-      shapes.size, threads, c, "shape",
+      shapes.size, par, c, "shape",
       [&](uint32_t i) {
         const ShapeRecord& s = shapes[i];
         const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
@@ -615,7 +620,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
       },
       check_shape);
   c.in(sec(SectionKind::kObjects));
-  first_failure(objects.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(objects.size, par, c, [&](uint32_t i, Checker& c) {
     const ObjectRecord& o = objects[i];
     return (o.reserved == 0 ||
             c.fail("object " + std::to_string(i) + ": reserved field is not zero")) &&
@@ -624,11 +629,11 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
             c.fail("object " + std::to_string(i) + ": shapes out of range"));
   });
   c.in(sec(SectionKind::kObjectShapes));
-  first_failure(object_shapes.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(object_shapes.size, par, c, [&](uint32_t i, Checker& c) {
     return c.index(object_shapes[i], shapes.size, "entry", i, "shape", "shapes", false);
   });
   c.in(sec(SectionKind::kInstances));
-  first_failure(instances.size, threads, c, [&](uint32_t i, Checker& c) {
+  first_failure(instances.size, par, c, [&](uint32_t i, Checker& c) {
     const InstanceRecord& in = instances[i];
     return c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
            c.index(in.transform, transforms.size, "instance", i, "transform", "transforms",
@@ -645,6 +650,9 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
 }
 
 bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std::string* error) {
+  std::optional<tbb::task_arena> arena;
+  if (threads != 1) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  tbb::task_arena* par = arena ? &*arena : nullptr;
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   auto sec = [&](SectionKind k) { return r.find_section(k); };  // each once: validate_records()
@@ -749,7 +757,7 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
     return n;
   };
   first_failure(
-      meshes.size, threads, c, "mesh",
+      meshes.size, par, c, "mesh",
       [&](uint32_t i) {
         return mesh_sound(i) && first_bad_index(i) == uint64_t(meshes[i].num_triangles) * 3;
       },
