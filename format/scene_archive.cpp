@@ -185,8 +185,9 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
   // The record checks run on the one thread that calls when_loaded(), while the others decode
   // what is left, if that is enough to keep them busy meanwhile (the checks go at about three
   // times the speed of decoding); else they run after the load, on every thread, as when 100k
-  // shapes share two transforms. (Given the load's thread count there, the checks each opened a
-  // task arena inside the loading one, and a 10 ms load took 13-19 ms.)
+  // shapes share two transforms. (Given the load's thread count there, the checks' arena only
+  // competes with the loading one: 100k shapes took 10.0 ms instead of 9.7, and 13-19 ms when
+  // each check opened an arena of its own.)
   uint64_t records_bytes = 0;
   for (uint32_t i : plan.needs) records_bytes += reader_.entry(i).raw_size;
   // Records worth starting on early. Taking small ones first only delays the large sections that
