@@ -26,7 +26,8 @@ struct TypeDigest {
   const ParamDigest* params;
   uint16_t num_params;
   uint8_t has_strings;  // some parameter is a string: its words need the string-table check
-  // Counts tied together across parameters (format/entity_rules.h): curve, heterogeneous.
+  // Counts tied together across parameters (format/entity_rules.h): curve, heterogeneous, and a
+  // fourier material's table.
   uint8_t has_rules;
 };
 
