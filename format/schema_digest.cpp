@@ -17,6 +17,7 @@ SchemaDigest::SchemaDigest() {
   // read it while the process exits, after a static destructor would have run.
   types_ = new TypeDigest[total_types];
   ParamDigest* p = new ParamDigest[total_params];
+  uint32_t* lanes = new uint32_t[8 * total_params]();  // 16 per pair: at most 8 per parameter
   for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
     const CategorySpec& cs = category_spec(Category(c));
     for (uint32_t t = 0; t < cs.num_types; ++t) {
@@ -26,6 +27,12 @@ SchemaDigest::SchemaDigest() {
       td.num_params = ts.num_params;
       td.has_strings = 0;
       td.has_rules = count_rule_of(Category(c), t) != CountRule::kNone;
+      td.pair_lanes = lanes;
+      for (uint32_t k = 0; k + 1 < ts.num_params; k += 2, lanes += 16)
+        for (uint32_t j = 0; j < 2; ++j) {
+          lanes[1 + 4 * j] = ts.params[k + j].arity;
+          lanes[8 + 4 * j] = uint32_t(kind_width(ts.params[k + j].kind));
+        }
       for (uint32_t k = 0; k < ts.num_params; ++k, ++p) {
         const ParamSpec& ps = ts.params[k];
         p->arity = ps.arity;

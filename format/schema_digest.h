@@ -29,6 +29,10 @@ struct TypeDigest {
   // Counts tied together across parameters (format/entity_rules.h): curve, heterogeneous, and a
   // fourier material's table.
   uint8_t has_rules;
+  // Parameters 2k and 2k + 1 as the lanes of a check over two ValueRecords at once (16 uint32 per
+  // pair, num_params / 2 pairs): the arities in lanes 1 and 5 (the counts), then the widths in
+  // lanes 8 and 12 (the low halves of 64-bit lanes 0 and 2); every other lane 0.
+  const uint32_t* pair_lanes;
 };
 
 class SchemaDigest {

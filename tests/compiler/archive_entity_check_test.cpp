@@ -163,6 +163,61 @@ TEST_F(EntityCheck, BadValueNamesItsEntity) {
 }
 
 // A material's "Kd" bound to the float texture instead of the spectrum one.
+// Each value fault at every parameter of a mesh (8) and a material (3): values are checked two
+// at a time where the CPU allows (format/scene_validation.cpp), so each lane of a pair and the
+// odd one out must refuse what the one-at-a-time check refuses, and accept its exact edges.
+TEST_F(EntityCheck, EveryValueFaultAtEveryParameter) {
+  const uint32_t words = archive_.words.size;
+  for (const char* type : {"trianglemesh", "matte"}) {
+    uint32_t e = archive_.entities.size;
+    while (e-- > 0 && archive_.type_name(e) != type) {
+    }
+    ASSERT_LT(e, archive_.entities.size) << type;
+    const pbrta::TypeSpec& ts = archive_.type_of(e);
+    for (uint32_t p = 0; p < ts.num_params; ++p) {
+      const std::string name(ts.params[p].name);
+      SCOPED_TRACE(std::string(type) + " " + name);
+      const uint32_t at = archive_.entities[e].first_value + p;
+      const pbrta::ValueRecord v = archive_.values[at];
+      const std::string where = "entity " + std::to_string(e) + ": " + type + " \"" + name + "\": ";
+      auto refused = [&](void (*damage)(pbrta::ValueRecord*, uint32_t), const std::string& why) {
+        std::string b = good_;
+        edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, at,
+                                 [&](pbrta::ValueRecord* r) { damage(r, words); });
+        const std::string error = error_of(b);
+        EXPECT_NE(error.find(where), std::string::npos) << error;
+        EXPECT_NE(error.find(why), std::string::npos) << error;
+      };
+      refused([](pbrta::ValueRecord* r, uint32_t) { r->flags |= 2; }, "unknown value flags");
+      refused([](pbrta::ValueRecord* r, uint32_t w) { r->offset = w + 1 - (r->count > 0); },
+              "words out of range");
+      if (ts.params[p].arity > 0)
+        refused(  // its words at the start, so that only the count is wrong
+            [](pbrta::ValueRecord* r, uint32_t) {
+              r->count += r->count == 0 ? 2 : 1;
+              r->offset = 0;
+            },
+            "values, the schema says");
+      // Its words moved to end exactly at the table's end: sound.
+      const uint64_t width = pbrta::kind_width(ts.params[p].kind);
+      std::string b = good_;
+      edit<pbrta::ValueRecord>(&b, pbrta::SectionKind::kValues, at, [&](pbrta::ValueRecord* r) {
+        r->offset = uint32_t(words - r->count * width);
+      });
+      if (v.count > 0 && ts.params[p].kind != pbrta::Kind::kString) {
+        std::vector<uint8_t> sealed(b.begin(), b.end());
+        fuzz_support::reseal(&sealed);
+        pbrta::SceneArchive a;
+        std::string error;
+        EXPECT_TRUE(a.load_memory(
+            std::string_view(reinterpret_cast<const char*>(sealed.data()), sealed.size()), "edge",
+            2, &error))
+            << error;
+      }
+    }
+  }
+}
+
 TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
   const uint32_t float_tex = float_texture();
   ASSERT_NE(float_tex, pbrta::kNoIndex);
