@@ -567,10 +567,10 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
     }
     if (bad) return false;
     if (t.has_strings)
-      for (uint32_t p = 0; p < known; ++p)
-        if (t.params[p].is_string)
-          for (uint32_t k = 0; k < v[p].count; ++k)
-            if (hot.words[v[p].offset + k] >= hot.num_strings) return false;
+      for (uint32_t q = 0; q < known; ++q)
+        if (t.params[q].is_string)
+          for (uint32_t k = 0; k < v[q].count; ++k)
+            if (hot.words[v[q].offset + k] >= hot.num_strings) return false;
     return true;
   };
   c.in(sec(SectionKind::kEntities));
