@@ -794,7 +794,6 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
   // as they decoded (bound b), a small one's are read here, in the same parallel pass as the
   // layouts. The first mesh in order with a bad layout or a bad index is the one reported.
   auto bound_of = [&](uint32_t i) -> size_t {
-    if (checks.mesh.empty()) return 0;
     auto it = std::lower_bound(checks.mesh.begin(), checks.mesh.end(), i);
     return it != checks.mesh.end() && *it == i ? size_t(it - checks.mesh.begin())
                                                : checks.mesh.size();

@@ -27,12 +27,6 @@ SchemaDigest::SchemaDigest() {
       td.num_params = ts.num_params;
       td.has_strings = 0;
       td.has_rules = count_rule_of(Category(c), t) != CountRule::kNone;
-      td.pair_lanes = lanes;
-      for (uint32_t k = 0; k + 1 < ts.num_params; k += 2, lanes += 16)
-        for (uint32_t j = 0; j < 2; ++j) {
-          lanes[1 + 4 * j] = ts.params[k + j].arity;
-          lanes[8 + 4 * j] = uint32_t(kind_width(ts.params[k + j].kind));
-        }
       for (uint32_t k = 0; k < ts.num_params; ++k, ++p) {
         const ParamSpec& ps = ts.params[k];
         p->arity = ps.arity;
@@ -44,6 +38,13 @@ SchemaDigest::SchemaDigest() {
         p->reserved = 0;
         td.has_strings |= p->is_string;
       }
+      // The pairs' lanes, from the parameters just digested.
+      td.pair_lanes = lanes;
+      for (uint32_t k = 0; k + 1 < td.num_params; k += 2, lanes += 16)
+        for (uint32_t j = 0; j < 2; ++j) {
+          lanes[1 + 4 * j] = td.params[k + j].arity;
+          lanes[8 + 4 * j] = td.params[k + j].width;
+        }
     }
   }
 }

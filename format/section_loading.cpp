@@ -531,11 +531,11 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   // The last task of the needed sections calls when_loaded() likewise, unless one of them failed.
   std::atomic<size_t> before_left{before_plan};
   size_t needed_tasks = 0;
-  bool needs_failed = false;
   for (const LoadTask& t : tasks) needed_tasks += needed[t.section];
-  for (uint32_t i : order) needs_failed |= needed[i] && !errors[i].empty();
   std::atomic<size_t> needed_left{needed_tasks};
-  std::atomic<bool> needed_failed{needs_failed};
+  std::atomic<bool> needed_failed{false};  // a needed section's index already failed above
+  for (uint32_t i : order)
+    if (needed[i] && !errors[i].empty()) needed_failed.store(true);
   // What the other threads have left to decode, for when_loaded() (an estimate: they take more
   // meanwhile). Draco sections come after the whole pass, so they do not count.
   auto bytes_not_started = [&] {
@@ -556,7 +556,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         !needed_failed.load(std::memory_order_relaxed) && plan.when_loaded)
       plan.when_loaded(bytes_not_started());
   };
-  if (needed_tasks == 0 && !needs_failed && plan.when_loaded) plan.when_loaded(bytes_not_started());
+  if (needed_tasks == 0 && !needed_failed.load() && plan.when_loaded)
+    plan.when_loaded(bytes_not_started());
 
   // A small load (the records of a scene) runs on this thread: waking the workers costs more.
   uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
