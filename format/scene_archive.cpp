@@ -173,9 +173,7 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
     const uint32_t kind = reader_.entry(i).kind;
     if (kind == uint32_t(SectionKind::kMeshes)) plan.first.push_back(i);
     if (kind == uint32_t(SectionKind::kGeometry)) plan.gated.push_back(i);
-    if (kind != uint32_t(SectionKind::kTransforms) && kind != uint32_t(SectionKind::kGeometry) &&
-        kind != uint32_t(SectionKind::kTexels))
-      plan.needs.push_back(i);
+    if (read_by_record_checks(kind)) plan.needs.push_back(i);
   }
   IndexChecks checks;
   plan.plan = [&]() -> const std::vector<ArchiveReader::U32Bound>& {
@@ -215,6 +213,11 @@ bool SceneArchive::load_opened(int threads, std::string* error, LoadPhases* phas
   const bool ok = validate_geometry(threads, checks, error);
   clock.lap(&LoadPhases::validate);
   return ok;
+}
+
+bool SceneArchive::read_by_record_checks(uint32_t kind) {
+  return kind != uint32_t(SectionKind::kTransforms) && kind != uint32_t(SectionKind::kGeometry) &&
+         kind != uint32_t(SectionKind::kTexels);
 }
 
 void SceneArchive::forget_records() {

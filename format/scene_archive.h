@@ -126,9 +126,11 @@ class SceneArchive {
   void plan_index_checks(IndexChecks* checks) const;
   // Every record view back to empty, as before a load.
   void forget_records();
-  // What the records say, checked against the schema and each other: every section but the
-  // transforms, geometry and texels must be loaded (load() runs it while those load).
+  // What the records say, checked against the schema and each other: every section of a kind
+  // read_by_record_checks() must be loaded (load() runs it while the others load).
   bool validate_records(int threads, std::string* error);
+  // All but the transforms, geometry and texels: the one list load() and the checks go by.
+  static bool read_by_record_checks(uint32_t kind);
   // Then, with every section loaded: the meshes' layouts and triangle indices, and the images.
   bool validate_geometry(int threads, const IndexChecks& checks, std::string* error);
 

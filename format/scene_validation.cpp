@@ -303,10 +303,11 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
     if (r.section_size(uint32_t(s)) != uint64_t(count) * sizeof(T))
       return c.fail("size " + std::to_string(r.section_size(uint32_t(s))) + " is not " +
                     std::to_string(count) + " records of " + std::to_string(sizeof(T)) + " bytes");
-    // The transforms may still be loading: validate_geometry() points at them.
-    span->data = k == SectionKind::kTransforms
-                     ? nullptr
-                     : reinterpret_cast<const T*>(r.section_data(uint32_t(s)));
+    // A kind these checks do not read (the transforms) may still be loading: validate_geometry()
+    // points at it.
+    span->data = read_by_record_checks(uint32_t(k))
+                     ? reinterpret_cast<const T*>(r.section_data(uint32_t(s)))
+                     : nullptr;
     span->size = count;
     return true;
   };
