@@ -130,25 +130,19 @@ constexpr const char* kBaselineLegend =
     "  pbrtrun pays. Its heap is new, where repeated parses in one process reuse the pages\n"
     "  their allocator recycles (the loader maps new huge pages for every load either way).\n";
 
-// Fresh anonymous memory for a baseline to decode into: whole 2 MiB pages with transparent huge
-// pages requested, as the loader allocates, mapped and unmapped outside the timing so that only
-// the page faults fall inside it.
+// Fresh anonymous memory for a baseline to decode into, mapped by the loader's own map_fresh()
+// (huge pages), and mapped and unmapped outside the timing so that only the page faults fall
+// inside it.
 struct FreshMapping {
-  explicit FreshMapping(size_t bytes)
-      : size((bytes + (size_t{2} << 20) - 1) / (size_t{2} << 20) * (size_t{2} << 20)) {
-    void* p = size == 0
-                  ? MAP_FAILED
-                  : mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED) return;
-    madvise(p, size, MADV_HUGEPAGE);
-    data = static_cast<uint8_t*>(p);
+  explicit FreshMapping(size_t bytes) {
+    if (bytes > 0) data = pbrta::archive_detail::map_fresh(bytes, &size);
   }
   ~FreshMapping() {
     if (data != nullptr) munmap(data, size);
   }
   FreshMapping(const FreshMapping&) = delete;
   FreshMapping& operator=(const FreshMapping&) = delete;
-  size_t size;
+  uint64_t size = 0;
   uint8_t* data = nullptr;
 };
 
