@@ -31,23 +31,19 @@ namespace {
 using archive_detail::add_overflows;
 using archive_detail::kBufferAlignment;
 using archive_detail::kHugeBufferThreshold;
-using archive_detail::kMadvPopulateRead;
 using archive_detail::map_fresh;
 using archive_detail::mul_overflows;
 
-// Files up to this size are read whole into memory when opened instead of mapped.
+// Files up to this size are read whole into memory when opened; larger ones are mapped, and
+// their pages are faulted in by whatever reads them first, with no MADV_POPULATE_READ ahead of it.
+// ext4 now caches a file written in large blocks (as pbrtc writes) in large folios, and one fault
+// maps a whole folio: in this VM (kernel 6.18) reading and checksumming through a plain mapping
+// beat both the copy into fresh huge pages and a populated mapping at every size measured.
+// --codec none, 2 threads, best of 300 loads (archive_bench --phases), read whole or populated ->
+// mapped: teapot (0.9 MB) 160-162 -> 113 us, caustic glass (2.1 MB) 207-210 -> 123 us,
+// 2d-mappings (4.2 MB) 315 -> 129 us, projection (16.8 MB, populated) 714-727 -> 506-520 us;
+// best of 30: shapes100k (58 MB, populated) 4.3-4.5 -> 3.3-3.7 ms.
 constexpr uint64_t kSmallFileSize = uint64_t{64} << 10;
-// A file whose bytes are mostly uncompressed sections is read whole too, into huge pages, up to
-// this size; above it, its whole mapping is populated before anything reads through it. In this
-// VM the first read of each 4 KiB page of a mapping costs ~0.6 us even once MADV_POPULATE_READ
-// has mapped it, while a fresh 2 MiB page is one fault; whether the kernel maps a file's page
-// cache 2 MiB at a time varies from run to run (and never happens where the header was read
-// through the mapping first), so mapped loads are bimodal and read ones steady. Uncompressed,
-// 2 threads, best of 30 loads in each of 6 processes, mapped -> read: killeroo-simple (1.9 MB)
-// 0.20-0.46 -> 0.19-0.21 ms, caustic glass (2.1 MB) 0.21-0.59 -> 0.30-0.32 ms, 2d-mappings
-// (4.2 MB) 0.30-0.96 -> 0.36-0.40 ms, a generated 5.7 MB mesh file 0.82-0.89 -> 0.72-0.78 ms.
-// Larger files lose by the copy as often as they win (projection's 16 MB: 1.2 -> 2.0 ms).
-constexpr uint64_t kReadWholeSize = uint64_t{8} << 20;
 
 std::string errno_text(int err) {
   return std::error_code(err, std::generic_category()).message();
@@ -69,29 +65,6 @@ bool read_fully(int fd, uint64_t offset, uint64_t size, uint8_t* dst, std::strin
     got += static_cast<uint64_t>(r);
   }
   return true;
-}
-
-// Whether at least half of a file's bytes are in uncompressed sections, judged from one read of
-// its first 4 KiB (the header and a table of up to 84 sections; a longer table counts as
-// compressed, so the file is mapped as before). Only a choice between reading and mapping rests
-// on these unchecked bytes; validate() checks whichever copy is used.
-bool mostly_uncompressed(int fd, uint64_t size) {
-  alignas(8) uint8_t probe[4096];
-  const ssize_t got = ::pread(fd, probe, sizeof probe, 0);
-  if (got < static_cast<ssize_t>(sizeof(Header))) return false;
-  Header h;
-  std::memcpy(&h, probe, sizeof h);
-  if (h.table_offset != sizeof(Header) ||
-      h.section_count > (static_cast<uint64_t>(got) - sizeof h) / sizeof(SectionEntry))
-    return false;
-  uint64_t uncompressed = 0;
-  for (uint32_t i = 0; i < h.section_count; ++i) {
-    SectionEntry e;
-    std::memcpy(&e, probe + sizeof h + uint64_t{i} * sizeof e, sizeof e);
-    if (e.codec == static_cast<uint32_t>(Codec::kNone))
-      uncompressed += std::min(e.stored_size, size);
-  }
-  return uncompressed >= size / 2;
 }
 
 std::string section_label(uint32_t kind) {
@@ -249,8 +222,7 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
                   " bytes, less than the 64-byte header");
     return false;
   }
-  const bool uncompressed = size > kSmallFileSize && mostly_uncompressed(fd, size);
-  if (size <= kSmallFileSize || (uncompressed && size <= kReadWholeSize)) {
+  if (size <= kSmallFileSize) {
     // Read whole, not mapped, and its sections used in place from this copy. Small files: one
     // read instead of a page fault for the first page (~8 us here) and one read per padding gap
     // (~1.2 us each); a 2 KB archive opened in 31 us that way.
@@ -271,15 +243,6 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
     if (map == MAP_FAILED) {
       ::close(fd);
       *error = fail("cannot map: " + errno_text(map_errno));
-      return false;
-    }
-    // Populated whole, here on one thread: measured no slower than per section in the load for
-    // 11-109 MB files (shapes100k's 55 MB: 9.1-9.6 ms either way). A file that shrank since
-    // fstat usually fails here rather than with SIGBUS in validate().
-    if (uncompressed && madvise(map, size, kMadvPopulateRead) != 0 && errno == EFAULT) {
-      munmap(map, size);
-      ::close(fd);
-      *error = fail("truncated while loading: the file shrank after it was opened");
       return false;
     }
     fd_ = fd;  // kept for load_sections' reads of compressed sections
@@ -502,6 +465,21 @@ bool ArchiveReader::validate(std::string* error) {
     if (k < n) gap_begin = entries_[order[k]].offset + entries_[order[k]].stored_size;
   }
   return true;
+}
+
+bool ArchiveReader::unchanged_size(std::string* error) const {
+  struct stat st;
+  if (fd_ < 0 || fstat(fd_, &st) != 0 || static_cast<uint64_t>(st.st_size) >= size_) return true;
+  // Name the first section in the file that no longer fits, with its padding.
+  const uint64_t now = static_cast<uint64_t>(st.st_size);
+  int cut = -1;
+  for (uint32_t i = 0; i < entries_.size(); ++i)
+    if (entries_[i].offset + entries_[i].stored_size + kSectionPadding > now &&
+        (cut < 0 || entries_[i].offset < entries_[static_cast<uint32_t>(cut)].offset))
+      cut = static_cast<int>(i);
+  const std::string reason = "truncated while loading: the file shrank after it was opened";
+  *error = cut >= 0 ? section_error(static_cast<uint32_t>(cut), reason) : fail(reason);
+  return false;
 }
 
 int ArchiveReader::find_section(SectionKind kind) const {

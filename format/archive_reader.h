@@ -1,15 +1,14 @@
 // format/archive_reader.h — opens a scene archive (.pbrta) and decodes its sections.
 //
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
-// maps the file read-only (reads it whole when it is 64 KiB or less, or 8 MiB or less and mostly
-// uncompressed sections: page faults cost more than the read; a mostly uncompressed larger file
-// has its whole mapping populated before anything reads it), validates the header, the section
-// table and the layout of every section, then load_sections() verifies each section's checksum
-// and decodes it, in parallel over sections. Uncompressed (kNone) sections are used in place from
-// the mapping (or the copy), 16-byte aligned and followed by 16 bytes of padding; compressed ones
-// are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero bytes after its
-// data. What the sections mean is the caller's business. Opening and the table checks are in
-// archive_reader.cpp, the decoding in section_loading.cpp (threads' buffers: thread_decoder.h).
+// maps the file read-only (reads it whole when it is 64 KiB or less), validates the header, the
+// section table and the layout of every section, then load_sections() verifies each section's
+// checksum and decodes it, in parallel over sections. Uncompressed (kNone) sections are used in
+// place from the mapping (or the copy), 16-byte aligned and followed by 16 bytes of padding;
+// compressed ones are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero
+// bytes after its data. What the sections mean is the caller's business. Opening and the table
+// checks are in archive_reader.cpp, the decoding in section_loading.cpp (threads' buffers:
+// thread_decoder.h).
 //
 // Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
 // and 4 KiB page faults are very slow under virtualization, so everything large the load writes
@@ -42,11 +41,11 @@
 // Every member returning bool returns false with one message in *error, which starts with the
 // path: "<path>: <reason>" for the header and table, "<path>: section '<name>' (#<index>):
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
-// touching the lost pages raises SIGBUS, as with any memory-mapped reader. Compressed sections of
-// 64 KiB or more are read with pread and uncompressed ones of 16 KiB or more have their pages
-// mapped in ahead (MADV_POPULATE_READ, Linux 5.14 on), so for them it is an error, as for every
-// file read whole; smaller ones, the header and table, and large uncompressed ones on older
-// kernels are read through the mapping.
+// touching the lost pages raises SIGBUS, as with any memory-mapped reader (pbrtc never does that:
+// it writes a new file and renames it over the old). A file that shrank between open and
+// load_sections is an error (its size is checked again when the load starts), as is one that
+// shrinks during the load under a compressed section of 64 KiB or more (read with pread); one
+// read whole (64 KiB or less) is a copy, which nothing outside can change.
 #pragma once
 
 #include <cstddef>
@@ -238,6 +237,9 @@ class ArchiveReader {
   // Reads, verifies and decodes one frame of a codec-4 section into out (the section's buffer).
   bool load_frame(const LoadTask& task, uint8_t* out, archive_detail::Decoder* decoder,
                   WordBound* bounds, uint64_t num_bounds, std::string* error);
+  // False, naming the first section cut, when a mapped file is now shorter than when it was
+  // opened: it is checked once at the start of each load, before anything reads the mapping.
+  bool unchanged_size(std::string* error) const;
   // pread of exactly size bytes at offset, or false with the reason.
   bool read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const;
   // The same into the decoder's staging buffer, which it returns; nullptr with the reason when
@@ -253,7 +255,7 @@ class ArchiveReader {
   int fd_ = -1;          // the open file while mapped, or -1 (read whole, or open_memory)
   void* map_ = nullptr;  // the mmap'ed file, or nullptr
   size_t map_size_ = 0;
-  Buffer copy_;  // a file read whole (up to 8 MiB, kept for the reader's life), or unaligned
+  Buffer copy_;  // a file read whole (up to 64 KiB, kept for the reader's life), or unaligned
                  // open_memory bytes
   // The decoded (not in-place) sections, one buffer per load_sections call, each section at its
   // own 64-byte aligned offset.

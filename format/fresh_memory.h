@@ -22,14 +22,6 @@ inline constexpr uint64_t kHugePageSize = uint64_t{2} << 20;
 // thread for zstd), so the rounding wastes little.
 inline constexpr uint64_t kHugeBufferThreshold = uint64_t{256} << 10;
 
-// MADV_POPULATE_READ (Linux 5.14), which older headers lack; older kernels refuse it (EINVAL)
-// and pages then fault in as they are read.
-#ifdef MADV_POPULATE_READ
-inline constexpr int kMadvPopulateRead = MADV_POPULATE_READ;
-#else
-inline constexpr int kMadvPopulateRead = 22;
-#endif
-
 // A buffer's last, partial huge page is given as base pages instead when it would hold less than
 // this: the kernel zeroes the whole 2 MiB of a huge page however little of it is used. Measured
 // (pread of a file into the buffer, then its checksum, best of 1500): with a 20 KiB tail, 2.12 MB

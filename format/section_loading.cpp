@@ -33,17 +33,11 @@ namespace {
 
 using archive_detail::add_overflows;
 using archive_detail::kBufferAlignment;
-using archive_detail::kMadvPopulateRead;
 using archive_detail::thread_decoder;
 
 // Compressed sections from this size on are read with pread (see load_one); smaller ones, the
 // records, are decoded from the mapping, whose pages around them validate() has mostly touched.
 constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
-// Uncompressed sections from this size on have their pages mapped in one madvise call before
-// they are read (MADV_POPULATE_READ, Linux 5.14; older kernels refuse it and fault as before).
-// Small: teapot's 13 sections of 0.9 MB, most under 256 KiB, loaded in 0.31-0.33 ms against
-// 0.38-0.39 ms with only the 256 KiB ones mapped ahead.
-constexpr uint64_t kPopulateThreshold = uint64_t{16} << 10;
 // Codec-4 sections from this size on are unshuffled with non-temporal stores (unshuffle4_block):
 // far larger than the cache, so ordinary stores would read in every line only to overwrite it
 // and see it evicted before the renderer reads it. mesh200 (109 MB, 2 threads, paired best of
@@ -85,17 +79,6 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     std::string why;
     src = read_staged(e.offset, e.stored_size, decoder, &why);
     if (src == nullptr) return bad(why);
-  }
-  if (codec == Codec::kNone && map_ != nullptr && e.stored_size >= kPopulateThreshold) {
-    // Used in place: map all its pages in one call before the checksum reads them, instead of
-    // one fault per 64 KiB (shapes100k uncompressed, 55 MB: 21.5 -> 19.5 ms; cloud 3.0 -> 2.4).
-    // A file that shrank since open fails here (EFAULT) rather than with SIGBUS below.
-    const uintptr_t page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
-    const uintptr_t begin = reinterpret_cast<uintptr_t>(src) / page * page;
-    const uintptr_t end = reinterpret_cast<uintptr_t>(src) + e.stored_size + kSectionPadding;
-    if (madvise(reinterpret_cast<void*>(begin), end - begin, kMadvPopulateRead) != 0 &&
-        errno == EFAULT)
-      return bad("truncated while loading: the file shrank after it was opened");
   }
   // Before anything decodes these bytes.
   if (checksum64(src, e.stored_size) != e.checksum) return bad("checksum mismatch");
@@ -252,6 +235,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     *error = fail("no archive is open");
     return false;
   }
+  if (!unchanged_size(error)) return false;
   const uint32_t n = section_count();
   std::vector<uint32_t> order;
   std::vector<uint8_t> wanted(n, 0);

@@ -120,10 +120,9 @@ constexpr const char* kBaselineLegend =
     "uncompressed: load 0 is the --codec none load (T threads); parse/0 = parse s / load 0, whose\n"
     "target is >= 20.\n"
     "  floor0: one thread getting the --codec none file's bytes and checksumming them, nothing\n"
-    "          else: open, fstat, pread into fresh memory as the loader maps it (huge pages,\n"
-    "          a short tail in base pages; new[] for files up to 64 KiB) or mmap with\n"
-    "          MAP_POPULATE (whichever is fastest),\n"
-    "          checksum64 of every byte, free, close. Best of N.\n"
+    "          else: open, fstat, as the loader gets them (pread into new[] for files up to\n"
+    "          64 KiB, a plain mmap whose pages the checksum faults in for larger ones),\n"
+    "          checksum64 of every byte, free or munmap, close. Best of N.\n"
     "  parse/f: parse s / floor0, the most parse/0 a checked one-thread load can reach.\n"
     "first in a new process (1: parse, load 0, parse/0): the same parse and --codec none load,\n"
     "  each the only one in a process of its own, best of N processes: what one run of pbrtc or\n"
@@ -287,11 +286,10 @@ class ZstdBaseline {
   ZSTD_DCtx* ctx_ = ZSTD_createDCtx();
 };
 
-// floor0 (see kBaselineLegend): the best of n times to get path's bytes into memory, either
-// way the loader may, and checksum them; -1 if the file cannot be read.
+// floor0 (see kBaselineLegend): the best of n times to get path's bytes into memory as the
+// loader does, and checksum them; -1 if the file cannot be read.
 double time_floor(const std::string& path, int n) {
-  enum Way { kHeap, kHugePages, kMap };
-  auto once = [&](Way way) {
+  auto once = [&]() {
     const auto t = Clock::now();
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     struct stat st;
@@ -300,37 +298,32 @@ double time_floor(const std::string& path, int n) {
       return -1.0;
     }
     const size_t size = size_t(st.st_size);
-    uint64_t mapped = 0;
+    // Small files are read into the heap, as in the loader; in a process that loads
+    // repeatedly, new[] of a large block would reuse pages already faulted in, which a single
+    // load never has.
+    const bool small = size <= (size_t{64} << 10);
     std::unique_ptr<uint8_t[]> heap;
     void* p = MAP_FAILED;
-    if (way == kHeap) {
+    if (small) {
       heap.reset(new uint8_t[size]);
       p = heap.get();
-    } else if (way == kHugePages) {
-      // The loader's own buffers, its huge pages and base-page tails.
-      p = pbrta::archive_detail::map_fresh(size, &mapped);
-      if (p == nullptr) p = MAP_FAILED;
     } else {
-      p = mmap(nullptr, size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+      p = mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0);
     }
     bool ok = p != MAP_FAILED;
-    if (ok && way != kMap) ok = ::pread(fd, p, size, 0) == ssize_t(size);
+    if (ok && small) ok = ::pread(fd, p, size, 0) == ssize_t(size);
     volatile uint64_t sum = ok ? pbrta::checksum64(p, size) : 0;
     (void)sum;
-    if (way != kHeap && p != MAP_FAILED) munmap(p, way == kMap ? size : mapped);
+    if (!small && p != MAP_FAILED) munmap(p, size);
     ::close(fd);
     return ok ? since(t) : -1.0;
   };
   double best = 1e30;
-  for (int i = 0; i < n; ++i)
-    for (Way way : {kHeap, kHugePages, kMap}) {
-      // Only small files go to the heap, as in the loader: in a process that loads repeatedly,
-      // new[] of a large block reuses pages already faulted in, which a single load never has.
-      if (way == kHeap && file_size(path) > (uint64_t{64} << 10)) continue;
-      const double s = once(way);
-      if (s < 0) return -1;
-      best = std::min(best, s);
-    }
+  for (int i = 0; i < n; ++i) {
+    const double s = once();
+    if (s < 0) return -1;
+    best = std::min(best, s);
+  }
   return best;
 }
 
