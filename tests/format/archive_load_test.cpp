@@ -220,6 +220,26 @@ TEST(ArchiveLoad, MidSizedFileWithADamagedTableIsRefused) {
                                      std::to_string(e.stored_size) + " with codec 'none'");
 }
 
+// The padding of a mapped file is checked through the mapping after an uncompressed section and
+// with pread after a compressed one: a nonzero byte is refused either way, with the message the
+// same bytes get from memory.
+TEST(ArchiveLoad, MidSizedFileWithNonzeroPaddingIsRefused) {
+  const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSizedPadding");
+  const std::string path = dir + "/t.pbrta";
+  const std::string good = write_sections(dir + "/none.pbrta", mid_sized_sections().first);
+  ASSERT_GT(good.size(), 64u << 10);
+  for (uint32_t i : {0u, 1u}) {
+    const SectionEntry e = entry_of(good, i);
+    for (uint64_t at : {e.offset + e.stored_size, e.offset + e.stored_size + kSectionPadding - 1}) {
+      std::string b = good;
+      b[at] = 7;
+      EXPECT_EQ(load_error(path, b), path + ": section 'geometry' (#" + std::to_string(i) +
+                                         "): nonzero byte at offset " + std::to_string(at) +
+                                         " in the padding after the section");
+    }
+  }
+}
+
 class ArchiveLoadDamage : public ::testing::Test {
  protected:
   void SetUp() override {
