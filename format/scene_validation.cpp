@@ -205,14 +205,25 @@ uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const cha
 #endif
 }
 
+// The threads for one pass of checks: nullptr (this thread alone) for 1, else an arena in
+// *storage of that many (0: as many as the machine has). One arena serves every check of a pass:
+// a new one each time woke the workers again (3 of them for 100k shapes).
+tbb::task_arena* check_arena(int threads, std::optional<tbb::task_arena>* storage) {
+  if (threads == 1) return nullptr;
+  storage->emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  return &**storage;
+}
+
+// Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
+inline bool optional_bad(uint32_t i, uint32_t count) {
+  return (i >= count) & (i != kNoIndex);
+}
+
 }  // namespace
 
 bool SceneArchive::validate_records(int threads, std::string* error) {
-  // One arena for every parallel check: a new one each time woke the workers again (3 of them for
-  // 100k shapes).
   std::optional<tbb::task_arena> arena;
-  if (threads != 1) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  tbb::task_arena* par = arena ? &*arena : nullptr;
+  tbb::task_arena* const par = check_arena(threads, &arena);
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -582,9 +593,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
     c.in(sec(SectionKind::kEntities));
     return ok;
   });
-  // Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
   auto index_bad = [](uint32_t i, uint32_t count) { return i >= count; };
-  auto optional_bad = [](uint32_t i, uint32_t count) { return (i >= count) & (i != kNoIndex); };
   auto entity_is = [&](uint32_t e, Category cat) {
     return e < entities.size && entities[e].category == uint8_t(cat);
   };
@@ -711,8 +720,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
 
 bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std::string* error) {
   std::optional<tbb::task_arena> arena;
-  if (threads != 1) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  tbb::task_arena* par = arena ? &*arena : nullptr;
+  tbb::task_arena* const par = check_arena(threads, &arena);
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   auto sec = [&](SectionKind k) { return r.find_section(k); };  // each once: validate_records()
@@ -720,10 +728,9 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
     transforms.data = reinterpret_cast<const TransformRecord*>(
         r.section_data(uint32_t(sec(SectionKind::kTransforms))));
   const Checker unreported = c.blank();
-  auto optional_bad = [](uint32_t i, uint32_t count) { return (i >= count) & (i != kNoIndex); };
   c.in(sec(SectionKind::kMeshes));
-  // Meshes [0, laid_out) passed their layout checks; their indices are checked after them
-  // (the largest part of validation: every index of every mesh is read).
+  // A mesh's layout, with the reason it is refused; its indices are checked below, in the same
+  // pass (the largest part of validation: every index of every mesh is read).
   auto check_mesh = [&](uint32_t i, Checker& c) {
     const MeshRecord& m = meshes[i];
     auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
