@@ -162,7 +162,6 @@ TEST_F(EntityCheck, BadValueNamesItsEntity) {
   EXPECT_NE(error.find("unknown value flags"), std::string::npos) << error;
 }
 
-// A material's "Kd" bound to the float texture instead of the spectrum one.
 // Each value fault at every parameter of a mesh (8) and a material (3): values are checked two
 // at a time where the CPU allows (format/scene_validation.cpp), so each lane of a pair and the
 // odd one out must refuse what the one-at-a-time check refuses, and accept its exact edges.
@@ -218,6 +217,7 @@ TEST_F(EntityCheck, EveryValueFaultAtEveryParameter) {
   }
 }
 
+// A material's "Kd" bound to the float texture instead of the spectrum one.
 TEST_F(EntityCheck, FirstWrongTextureBindingInOrder) {
   const uint32_t float_tex = float_texture();
   ASSERT_NE(float_tex, pbrta::kNoIndex);
