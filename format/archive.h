@@ -23,7 +23,7 @@ namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
 inline constexpr uint16_t kMajorVersion = 1;
-inline constexpr uint16_t kMinorVersion = 2;
+inline constexpr uint16_t kMinorVersion = 3;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;
@@ -62,8 +62,19 @@ enum class Codec : uint32_t {
   kZstdShuffle4 = 2,        // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
   kDraco = 3,               // a Draco mesh stream (lossy); only a geometry section of one mesh
   kZstdShuffle4Frames = 4,  // a FrameEntry index, then one zstd frame per 4 MiB block (shuffled)
+  kNoneChunked = 5,         // stored bytes are the raw bytes, checksummed by kChecksumChunk
   kCount
 };
+
+// Codec 5's checksum is XXH3-64 of the XXH3-64 values (u64 each, in order) of the stored bytes cut
+// into chunks of this many bytes (the last shorter): chunks hash on every thread at once, where
+// one XXH3 over a 16 MiB image runs on one.
+inline constexpr uint64_t kChecksumChunk = uint64_t{1} << 20;
+
+// Whether a section in this codec stores its raw bytes, to be used in place.
+constexpr bool stores_raw(Codec c) {
+  return c == Codec::kNone || c == Codec::kNoneChunked;
+}
 
 // Codec 4's frame index (format/zstd_frames.h): the first entries of the stored bytes, one per
 // block, followed by the frames in block order. The section's checksum covers the index only;

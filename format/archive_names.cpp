@@ -62,6 +62,8 @@ std::string_view codec_name(Codec codec) {
       return "draco";
     case Codec::kZstdShuffle4Frames:
       return "zstd_shuffle4_frames";
+    case Codec::kNoneChunked:
+      return "none_chunked";
     case Codec::kCount:
       break;
   }

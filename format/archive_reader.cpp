@@ -88,6 +88,7 @@ bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_siz
   if (raw_size > kMaxRawSize) return false;
   switch (codec) {
     case Codec::kNone:
+    case Codec::kNoneChunked:
       return raw_size == stored_size;
     case Codec::kZstd:
     case Codec::kZstdShuffle4:
@@ -385,9 +386,10 @@ bool ArchiveReader::validate(std::string* error) {
     if (e.raw_size > kMaxRawSize)
       return bad("raw size " + std::to_string(e.raw_size) + " exceeds the limit of 2^40 bytes");
     const Codec codec = static_cast<Codec>(e.codec);
-    if (codec == Codec::kNone && e.raw_size != e.stored_size)
+    if (stores_raw(codec) && e.raw_size != e.stored_size)
       return bad("raw size " + std::to_string(e.raw_size) + " differs from stored size " +
-                 std::to_string(e.stored_size) + " with codec 'none'");
+                 std::to_string(e.stored_size) + " with codec '" + std::string(codec_name(codec)) +
+                 "'");
     if (!section_sizes_plausible(codec, e.stored_size, e.raw_size))
       return bad("raw size " + std::to_string(e.raw_size) + " is implausible for " +
                  std::to_string(e.stored_size) + " bytes of " + std::string(codec_name(codec)) +
@@ -443,7 +445,7 @@ bool ArchiveReader::validate(std::string* error) {
     // costs nothing more (--codec none, best of 200: teapot 118-120 -> 112 us, killeroo 121-137 ->
     // 109-114 us). Any other gap is read with pread: it lies at the end of a compressed section,
     // which the load reads with pread too, so faulting its page in would be extra work.
-    const bool after_none = k == 0 || entries_[order[k - 1]].codec == uint32_t(Codec::kNone);
+    const bool after_none = k == 0 || stores_raw(static_cast<Codec>(entries_[order[k - 1]].codec));
     if (fd_ >= 0 && !after_none) {
       uint8_t buf[4096];
       for (uint64_t at = gap_begin; at < gap_end && nz == gap_end;) {

@@ -3,8 +3,9 @@
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
 // maps the file read-only (reads it whole when it is 64 KiB or less), validates the header, the
 // section table and the layout of every section, then load_sections() verifies each section's
-// checksum and decodes it, in parallel over sections. Uncompressed (kNone) sections are used in
-// place from the mapping (or the copy), 16-byte aligned and followed by 16 bytes of padding;
+// checksum and decodes it, in parallel over sections. Uncompressed (kNone, kNoneChunked) sections
+// are used in place from the mapping (or the copy), 16-byte aligned and followed by 16 bytes of
+// padding, a kNoneChunked one checksummed 1 MiB chunk by chunk on every thread;
 // compressed ones are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero
 // bytes after its data. What the sections mean is the caller's business. Opening and the table
 // checks are in archive_reader.cpp, the decoding in section_loading.cpp (threads' buffers:
@@ -78,7 +79,7 @@ inline constexpr uint64_t kZstdRatioSlack = uint64_t{1} << 20;
 inline constexpr uint64_t kTotalRatioSlack = uint64_t{64} << 20;
 
 // True when a section of this codec with these stored and raw sizes is within the bounds above
-// (for kNone: raw == stored). Codecs outside the enum are not plausible.
+// (for kNone and kNoneChunked: raw == stored). Codecs outside the enum are not plausible.
 bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_size);
 
 // The most decoded bytes, over all sections, an archive of file_size bytes may hold.
@@ -192,7 +193,8 @@ class ArchiveReader {
   const uint8_t* section_data(uint32_t index) const { return sections_[index].data; }
   uint64_t section_size(uint32_t index) const { return entries_[index].raw_size; }
 
-  // True when section_data points into the mapped file (kNone sections), not into a copy.
+  // True when section_data points into the mapped file (kNone and kNoneChunked sections), not
+  // into a copy.
   bool in_place(uint32_t index) const { return sections_[index].in_place; }
   // After load_sections, for a Draco (codec 3) section: the vertex and triangle counts its stream
   // decoded to (ARCHIVE.md: the mesh record must carry them); 0 and 0 for any other section.

@@ -35,7 +35,27 @@ std::string errno_text(int err) {
   return std::error_code(err, std::generic_category()).message();
 }
 
-// One section's stored form. For kNone, stored is empty and the raw bytes are written.
+// How a section of this size is stored uncompressed: codec 5 once it spans more than one
+// chunk, so that the reader can checksum it on every thread.
+Codec raw_codec(uint64_t size) {
+  return size > kChecksumChunk ? Codec::kNoneChunked : Codec::kNone;
+}
+
+// The table's checksum of a section's stored bytes, by codec (ARCHIVE.md, section 5).
+uint64_t section_checksum(Codec codec, const uint8_t* stored, uint64_t stored_size,
+                          uint64_t raw_size) {
+  switch (codec) {
+    case Codec::kZstdShuffle4Frames:  // its frame index; the index covers the frames
+      return checksum64(stored, frame_count(raw_size) * sizeof(FrameEntry));
+    case Codec::kNoneChunked:
+      return chunked_checksum64(stored, stored_size);
+    default:
+      return checksum64(stored, stored_size);
+  }
+}
+
+// One section's stored form. For a codec that stores_raw(), stored is empty and the raw bytes
+// are written.
 struct Encoded {
   Codec codec = Codec::kNone;
   std::vector<uint8_t> stored;
@@ -149,7 +169,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return sections_[a].raw.size() > sections_[b].raw.size();
   });
-  auto compresses = [](Codec c) { return c != Codec::kNone && c != Codec::kDraco; };
+  auto compresses = [](Codec c) { return !stores_raw(c) && c != Codec::kDraco; };
   uint64_t to_compress = 0;
   for (const Section& s : sections_)
     if (compresses(s.codec)) to_compress += s.raw.size();
@@ -162,7 +182,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             const uint32_t i = order[k];
             const Section& s = sections_[i];
             Encoded& e = enc[i];
-            e.codec = s.codec;
+            e.codec = s.codec == Codec::kNone ? raw_codec(s.raw.size()) : s.codec;
             const uint8_t* src = s.raw.data();
             std::vector<uint8_t> shuffled;
             if (s.codec == Codec::kZstdShuffle4) {
@@ -173,10 +193,10 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             if (s.codec == Codec::kDraco) {
               e.stored = s.stored;  // encoded by the caller
               if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
-                e.codec = Codec::kNone;
+                e.codec = raw_codec(s.raw.size());
                 e.stored = {};
               }
-            } else if (s.codec != Codec::kNone) {
+            } else if (!stores_raw(s.codec)) {
               const bool ok =
                   s.codec == Codec::kZstdShuffle4Frames
                       ? encode_zstd_frames(s.raw.data(), s.raw.size(), level, &e.stored, &e.error)
@@ -185,16 +205,13 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
               if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
                 // Compresses better than the reader believes possible (say, a black image): store
                 // it.
-                e.codec = Codec::kNone;
+                e.codec = raw_codec(s.raw.size());
                 e.stored = {};
               }
             }
-            const uint8_t* stored = e.codec == Codec::kNone ? s.raw.data() : e.stored.data();
-            e.stored_size = e.codec == Codec::kNone ? s.raw.size() : e.stored.size();
-            // Codec 4's table checksum covers its frame index; the index covers the frames.
-            e.checksum = checksum64(stored, e.codec == Codec::kZstdShuffle4Frames
-                                                ? frame_count(s.raw.size()) * sizeof(FrameEntry)
-                                                : e.stored_size);
+            const uint8_t* stored = stores_raw(e.codec) ? s.raw.data() : e.stored.data();
+            e.stored_size = stores_raw(e.codec) ? s.raw.size() : e.stored.size();
+            e.checksum = section_checksum(e.codec, stored, e.stored_size, s.raw.size());
             if (compresses(s.codec)) compressed.add(s.raw.size());
           }
         });
@@ -232,7 +249,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     int worst = -1;
     uint64_t worst_excess = 0;
     for (uint32_t i = 0; i < n; ++i) {
-      if (enc[i].codec == Codec::kNone) continue;
+      if (stores_raw(enc[i].codec)) continue;
       const uint64_t excess =
           table[i].raw_size - std::min(table[i].raw_size, table[i].stored_size * kMaxZstdRatio);
       if (worst < 0 || excess > worst_excess) {
@@ -242,10 +259,11 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     }
     if (worst < 0) break;  // all stored raw: total_raw <= file_size, so unreachable
     Encoded& e = enc[worst];
-    e.codec = Codec::kNone;
+    e.codec = raw_codec(sections_[worst].raw.size());
     e.stored = {};
     e.stored_size = sections_[worst].raw.size();
-    e.checksum = checksum64(sections_[worst].raw.data(), e.stored_size);
+    e.checksum =
+        section_checksum(e.codec, sections_[worst].raw.data(), e.stored_size, e.stored_size);
     file_size = fill_table();
   }
 
@@ -291,7 +309,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     return fail_and_clean(errno, true);
   for (uint32_t i = 0; i < n; ++i) {
     const uint8_t* stored =
-        enc[i].codec == Codec::kNone ? sections_[i].raw.data() : enc[i].stored.data();
+        stores_raw(enc[i].codec) ? sections_[i].raw.data() : enc[i].stored.data();
     if (!pad_to(table[i].offset) || !put(stored, table[i].stored_size))
       return fail_and_clean(errno, true);
   }

@@ -10,8 +10,9 @@
 //
 // A compressed section whose decoded size would exceed the reader's zip-bomb bounds
 // (format/archive_reader.h: kMaxZstdRatio times the stored size + 1 MiB per section) is stored
-// with codec kNone instead, so that every archive written can be read; table() tells which
-// codec was used.
+// uncompressed instead, so that every archive written can be read; table() tells which codec was
+// used. A section stored uncompressed (asked for kNone, or stored so) gets codec kNone up to
+// kChecksumChunk bytes and kNoneChunked above, whose chunks the reader checksums in parallel.
 //
 // Ownership: the writer owns copies of (or the moved-in) section bytes until it is destroyed.
 // Thread safety: one thread drives a writer; write() uses oneTBB internally.

@@ -2,6 +2,11 @@
 
 #include <xxhash.h>
 
+#include <algorithm>
+#include <vector>
+
+#include "format/archive.h"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>  // xxhash.h includes it only when the whole file is built for AVX2
 #define PBRTA_XXH3_AVX2 1
@@ -39,6 +44,26 @@ uint64_t checksum64(const void* data, size_t size) {
   if (avx2 && size >= 4096) return checksum64_avx2(data, size);
 #endif
   return XXH3_64bits(data, size);
+}
+
+uint64_t checksum_chunk_count(uint64_t size) {
+  return size / kChecksumChunk + (size % kChecksumChunk != 0);
+}
+
+uint64_t combine_chunk_checksums(const uint64_t* chunk_checksums, size_t count) {
+  // The values as little-endian u64s, which is how this (little-endian) host holds them.
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "the archive is little-endian");
+  return checksum64(chunk_checksums, count * sizeof(uint64_t));
+}
+
+uint64_t chunked_checksum64(const void* data, size_t size) {
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  std::vector<uint64_t> chunks(checksum_chunk_count(size));
+  for (size_t k = 0; k < chunks.size(); ++k) {
+    const uint64_t at = k * kChecksumChunk;
+    chunks[k] = checksum64(bytes + at, std::min<uint64_t>(kChecksumChunk, size - at));
+  }
+  return combine_chunk_checksums(chunks.data(), chunks.size());
 }
 
 }  // namespace pbrta

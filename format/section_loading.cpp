@@ -165,11 +165,12 @@ uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
   return n;
 }
 
-// One unit of parallel loading: a whole section, or one frame of a codec-4 section.
+// One unit of parallel loading: a whole section, one frame of a codec-4 section or one chunk of a
+// codec-5 section.
 struct ArchiveReader::LoadTask {
   uint32_t section;
-  uint32_t frame;       // kWholeSection, or the frame's index
-  uint64_t raw_offset;  // of the block within the section
+  uint32_t frame;       // kWholeSection, or the frame's (the chunk's) index
+  uint64_t raw_offset;  // of the block (the chunk) within the section
   uint64_t raw_size;
   FrameRef ref;  // codec 4 only
 };
@@ -280,7 +281,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   std::vector<uint64_t> slot(n, 0);
   uint64_t total[2] = {0, 0};  // [0]: before the plan, [1]: the rest
   for (uint32_t i : order) {
-    if (entries_[i].codec == static_cast<uint32_t>(Codec::kNone)) continue;
+    if (stores_raw(static_cast<Codec>(entries_[i].codec))) continue;
     uint64_t& t = total[role[i] == kBeforePlan ? 0 : 1];
     slot[i] = t;
     uint64_t end = 0;
@@ -296,19 +297,39 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   }
 
   // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
-  // 16 bytes per 4 MiB frame), every other section whole.
+  // 16 bytes per 4 MiB frame), codec-5 sections by checksum chunk, every other section whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
-  // Each codec-4 section's frames still to decode: the task that finishes its last one publishes
-  // the section, as load_one publishes a whole section, unless one of its frames failed.
+  // Each codec-4 (codec-5) section's frames (chunks) still to do: the task that finishes its last
+  // one publishes the section, as load_one publishes a whole section, unless one of its frames
+  // failed or, for codec 5, the chunks' checksums do not combine to the table's.
   std::unique_ptr<std::atomic<uint32_t>[]> frames_left(new std::atomic<uint32_t>[n]);
   std::unique_ptr<std::atomic<bool>[]> frame_failed(new std::atomic<bool>[n]);
   for (uint32_t i = 0; i < n; ++i) {
     frames_left[i].store(0);
     frame_failed[i].store(false);
   }
+  // Codec 5's chunk checksums, each section's from chunk_sum_at[i] on.
+  std::vector<uint64_t> chunk_sums, chunk_sum_at(n, 0);
+  auto chunks_match = [&](uint32_t i) {
+    return combine_chunk_checksums(chunk_sums.data() + chunk_sum_at[i],
+                                   checksum_chunk_count(entries_[i].raw_size)) ==
+           entries_[i].checksum;
+  };
   for (uint32_t i : order) {
     const SectionEntry& e = entries_[i];
+    if (e.codec == static_cast<uint32_t>(Codec::kNoneChunked)) {
+      const uint64_t chunks = checksum_chunk_count(e.raw_size);  // validate(): raw_size <= 2^40
+      chunk_sum_at[i] = chunk_sums.size();
+      chunk_sums.resize(chunk_sums.size() + chunks);
+      for (uint64_t k = 0; k < chunks; ++k) {
+        const uint64_t begin = k * kChecksumChunk;
+        tasks.push_back(
+            LoadTask{i, uint32_t(k), begin, std::min(kChecksumChunk, e.raw_size - begin), {}});
+      }
+      frames_left[i].store(uint32_t(chunks));
+      continue;
+    }
     if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
       tasks.push_back(LoadTask{i, kWholeSection, 0, e.raw_size, {}});
       continue;
@@ -401,7 +422,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   }
   std::vector<uint8_t*> out_of(n, nullptr);  // where each decoded section goes
   for (uint32_t i : order)
-    if (entries_[i].codec != static_cast<uint32_t>(Codec::kNone))
+    if (!stores_raw(static_cast<Codec>(entries_[i].codec)))
       out_of[i] = buffer_of[role[i] == kBeforePlan ? 0 : 1] + slot[i];
   // An empty codec-4 section is padded and published here; any other by its last frame's task,
   // since here its padding would fault in a fresh page for each section, on this thread alone,
@@ -411,6 +432,17 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         errors[i].empty() && frames_left[i].load() == 0) {
       std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
       sections_[i].data = out_of[i];
+    }
+  // An empty codec-5 section likewise (its checksum is that of no chunk checksums).
+  for (uint32_t i : order)
+    if (entries_[i].codec == static_cast<uint32_t>(Codec::kNoneChunked) &&
+        entries_[i].raw_size == 0) {
+      if (!chunks_match(i)) {
+        errors[i] = section_error(i, "checksum mismatch");
+        continue;
+      }
+      sections_[i].data = base_ + entries_[i].offset;
+      sections_[i].in_place = true;
     }
 
   std::vector<std::string> task_errors(tasks.size());
@@ -438,13 +470,33 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       for (uint32_t b : bounds_of[t.section]) scan(b, data, (*bounds)[b].begin, (*bounds)[b].end);
       return;
     }
+    const uint64_t block_end = t.raw_offset + t.raw_size;
+    if (entries_[t.section].codec == static_cast<uint32_t>(Codec::kNoneChunked)) {
+      // One chunk, checksummed in place (faulting its pages in) and, while in cache, searched for
+      // the bounds over it. Nothing uses the bytes unless the chunks' checksums combine to the
+      // table's, which the last chunk's task checks.
+      const uint8_t* data = base_ + entries_[t.section].offset;
+      chunk_sums[chunk_sum_at[t.section] + t.frame] = checksum64(data + t.raw_offset, t.raw_size);
+      for (uint32_t b : bounds_of[t.section]) {
+        const uint64_t lo = std::max((*bounds)[b].begin, t.raw_offset);
+        const uint64_t hi = std::min((*bounds)[b].end, block_end);
+        if (lo < hi) scan(b, data, lo, hi);
+      }
+      if (frames_left[t.section].fetch_sub(1, std::memory_order_acq_rel) != 1) return;
+      if (!chunks_match(t.section)) {
+        task_errors[k] = section_error(t.section, "checksum mismatch");
+        return;
+      }
+      sections_[t.section].in_place = true;
+      sections_[t.section].data = data;
+      return;
+    }
     // The bounds over this frame's block, relative to it: checked as the block unshuffles, and
     // searched for the first offender only when one is exceeded.
     std::vector<WordBound>& local = decoder.bounds;
     std::vector<uint32_t>& which_bound = decoder.bound_ids;
     local.clear();
     which_bound.clear();
-    const uint64_t block_end = t.raw_offset + t.raw_size;
     for (uint32_t b : bounds_of[t.section]) {
       const uint64_t lo = std::max((*bounds)[b].begin, t.raw_offset);
       const uint64_t hi = std::min((*bounds)[b].end, block_end);
@@ -546,7 +598,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   // A small load (the records of a scene) runs on this thread: waking the workers costs more.
   uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
   for (uint32_t i : order)
-    work_bytes += entries_[i].codec == static_cast<uint32_t>(Codec::kNone)
+    work_bytes += stores_raw(static_cast<Codec>(entries_[i].codec))
                       ? entries_[i].raw_size / kChecksumOnlyWeight
                       : entries_[i].stored_size + entries_[i].raw_size;
   const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || tasks.size() < 2;

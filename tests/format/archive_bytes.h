@@ -15,6 +15,7 @@
 
 #include "format/archive.h"
 #include "format/archive_reader.h"
+#include "fuzz/archive_reseal.h"
 #include "test_support.h"
 
 namespace pbrta::test_bytes {
@@ -39,10 +40,13 @@ inline SectionEntry entry_of(const std::string& b, uint32_t i) {
 }
 
 // Section i's checksum set to XXH3 of its first `covered` stored bytes (all of them for codecs
-// 0-3, the frame index for codec 4), then the table's and the header's checksums.
+// 0-3 and 5, the frame index for codec 4; by 1 MiB chunks for codec 5), then the table's and the
+// header's checksums.
 inline void reseal(std::string* b, uint32_t i, uint64_t covered) {
   SectionEntry e = entry_of(*b, i);
-  e.checksum = XXH3_64bits(b->data() + e.offset, covered);
+  const auto* at = reinterpret_cast<const uint8_t*>(b->data()) + e.offset;
+  e.checksum = e.codec == uint32_t(Codec::kNoneChunked) ? fuzz_support::chunked_xxh3(at, covered)
+                                                        : XXH3_64bits(at, covered);
   std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
   Header h;
   std::memcpy(&h, b->data(), sizeof h);

@@ -25,6 +25,7 @@
 #include "format/archive_names.h"
 #include "format/archive_reader.h"
 #include "format/archive_writer.h"
+#include "fuzz/archive_reseal.h"
 #include "test_support.h"
 
 namespace pbrta {
@@ -128,7 +129,10 @@ void reseal(std::string* b, bool sections = false) {
       for (uint32_t i = 0; i < h.section_count; ++i) {
         SectionEntry e = get_entry(*b, i);
         if (e.offset <= b->size() && e.stored_size <= b->size() - e.offset) {
-          e.checksum = XXH3_64bits(b->data() + e.offset, e.stored_size);
+          const auto* at = reinterpret_cast<const uint8_t*>(b->data()) + e.offset;
+          e.checksum = e.codec == uint32_t(Codec::kNoneChunked)
+                           ? fuzz_support::chunked_xxh3(at, e.stored_size)
+                           : XXH3_64bits(at, e.stored_size);
           put_entry(b, i, e);
         }
       }
@@ -924,7 +928,14 @@ TEST(ArchiveContainer, WritesFuzzSeeds) {
     w.add_section(SectionKind::kGeometry, float_bytes(2000, 23), 2000, Codec::kZstdShuffle4Frames);
     ASSERT_TRUE(w.write((dir / "frames.pbrta").string(), 0, 3, 1, &error)) << error;
   }
-  for (const char* name : {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta"}) {
+  {  // codec 5, asked for outright: one chunk, and an empty section (no chunk)
+    ArchiveWriter w;
+    w.add_section(SectionKind::kGeometry, float_bytes(3000, 24), 3000, Codec::kNoneChunked);
+    w.add_section(SectionKind::kTexels, {}, 0, Codec::kNoneChunked);
+    ASSERT_TRUE(w.write((dir / "chunked.pbrta").string(), 0, 3, 1, &error)) << error;
+  }
+  for (const char* name :
+       {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta", "chunked.pbrta"}) {
     ArchiveReader r;
     EXPECT_TRUE(r.open((dir / name).string(), &error) && r.load_sections(1, &error)) << error;
     EXPECT_LE(fs::file_size(dir / name), 65536u);

@@ -6,7 +6,8 @@
 // table let it find them, so that mutations reach the layout checks, the decoders and the record
 // validation behind them. A codec-4 section's checksum covers only its frame index, whose entries
 // hold each frame's checksum: those are recomputed first, for every entry whose frame lies inside
-// the stored bytes. The compiler tests of record validation reseal their edits with it too
+// the stored bytes. A codec-5 section's checksum is over its 1 MiB chunks' (chunked_xxh3). The
+// compiler tests of record validation reseal their edits with it too
 // (tests/compiler/reseal_and_load.h).
 #pragma once
 
@@ -21,6 +22,16 @@
 #include "format/zstd_frames.h"
 
 namespace fuzz_support {
+
+// Codec 5's checksum, written from ARCHIVE.md section 5 (not the reader's code): XXH3-64 of the
+// u64 XXH3-64 values of each 1 MiB chunk.
+inline uint64_t chunked_xxh3(const uint8_t* data, uint64_t size) {
+  constexpr uint64_t kChunk = uint64_t{1} << 20;
+  std::vector<uint64_t> sums;
+  for (uint64_t at = 0; at < size; at += kChunk)
+    sums.push_back(XXH3_64bits(data + at, size - at < kChunk ? size - at : kChunk));
+  return XXH3_64bits(sums.data(), sums.size() * sizeof(uint64_t));
+}
 
 inline void reseal(std::vector<uint8_t>* b) {
   if (b->size() < sizeof(pbrta::Header)) return;
@@ -49,7 +60,8 @@ inline void reseal(std::vector<uint8_t>* b) {
         }
         covered = index_bytes;
       }
-      e.checksum = XXH3_64bits(stored, covered);
+      e.checksum = e.codec == uint32_t(pbrta::Codec::kNoneChunked) ? chunked_xxh3(stored, covered)
+                                                                   : XXH3_64bits(stored, covered);
       std::memcpy(at, &e, sizeof(e));
     }
     h.table_checksum = XXH3_64bits(b->data() + sizeof(h), table_bytes);

@@ -149,7 +149,7 @@ def parse_default(p):
 
 NONE = 0xFFFFFFFF
 MAGIC = b"\x89PBRTA\r\n"
-MAJOR, MINOR = 1, 2
+MAJOR, MINOR = 1, 3
 KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "transforms",
          7: "textures", 8: "materials", 9: "media", 10: "lights", 11: "area_lights",
          12: "shapes", 13: "objects", 14: "object_shapes", 15: "instances", 16: "meshes",
@@ -157,7 +157,9 @@ KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "t
 SCENE, STRINGS, ENTITIES, VALUES, WORDS, TRANSFORMS, TEXTURES, MATERIALS, MEDIA, LIGHTS, \
     AREA_LIGHTS, SHAPES, OBJECTS, OBJECT_SHAPES, INSTANCES, MESHES, GEOMETRY, IMAGES, \
     TEXELS, PROVENANCE = range(1, 21)
-CODECS = {0: "none", 1: "zstd", 2: "zstd_shuffle4", 3: "draco", 4: "zstd_shuffle4_frames"}
+CODECS = {0: "none", 1: "zstd", 2: "zstd_shuffle4", 3: "draco", 4: "zstd_shuffle4_frames",
+          5: "none_chunked"}
+CHUNK_SIZE = 1 << 20  # codec 5's checksum chunks (section 5)
 # Array kinds: SceneRecord count field, element size and record layout (section 6 and 7).
 ARRAYS = {ENTITIES: ("num_entities", 16, "<BBHIII"), VALUES: ("num_values", 16, "<4I"),
           WORDS: ("num_words", 4, "<I"), TRANSFORMS: ("num_transforms", 272, "<34d"),
@@ -274,10 +276,10 @@ class Archive:
                 self.fail(f"offset {s.offset} not a multiple of 16 after the table", s)
             if s.offset + s.stored_size + 16 > file_size:
                 self.fail("section and its 16 bytes of padding run past the end of the file", s)
-            if s.codec == 0 and s.raw_size != s.stored_size:
-                self.fail("codec 0 but raw_size != stored_size", s)
+            if s.codec in (0, 5) and s.raw_size != s.stored_size:
+                self.fail(f"codec {s.codec} but raw_size != stored_size", s)
             # Bound what decoding allocates (section 5) before allocating anything.
-            if s.raw_size > 1 << 40 or (s.codec and s.raw_size > 32768 * s.stored_size + MiB):
+            if s.raw_size > 1 << 40 or (s.codec not in (0, 5) and s.raw_size > 32768 * s.stored_size + MiB):
                 self.fail(f"raw_size {s.raw_size} too large for stored_size {s.stored_size}", s)
             if s.kind in KINDS and s.kind not in (GEOMETRY, TEXELS) and s.kind in self.sections_of:
                 self.fail(f"second '{s.name}' section", s)
@@ -300,6 +302,12 @@ class Archive:
         try:
             if s.codec == 4:
                 s.raw = self.decode_frames(s, stored)
+            elif s.codec == 5:
+                chunks = b"".join(struct.pack("<Q", xxh3(stored[at:at + CHUNK_SIZE]))
+                                  for at in range(0, s.stored_size, CHUNK_SIZE))
+                if xxh3(chunks) != s.checksum:
+                    self.fail("checksum mismatch", s)
+                s.raw = bytes(stored)
             elif xxh3(stored) != s.checksum:
                 self.fail("checksum mismatch", s)
             elif s.codec == 0:

@@ -24,12 +24,18 @@ compile cornell_none "$s/rs-cornell-box/cornell_box.pbrt" --codec none
 compile caustic "$s/v3-caustic-glass-sppm/f16-11a.pbrt"
 compile killeroo_draco "$s/v3-killeroo-simple/killeroo-simple.pbrt" --draco-bits 14
 compile mappings "$s/hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbrt"
+compile mappings_none "$s/hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbrt" --codec none
 compile mappings_f16 "$s/hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbrt" \
   --texture-precision f16
 compile envmap "$s/v3-figures/f8-22.pbrt"
 compile anim "$s/rs-anim-bluespheres/anim-bluespheres.pbrt"
 compile instances "$s/hm-instances/pbrt-v3-rs/scenes/objects/instances.pbrt"
 
+# Its 4 MB of texels are one section stored as codec 5 (checksummed by 1 MiB chunks).
+if ! "$pbrtc" --info "$work/mappings_none.pbrta" | grep -q "texels *none_chunked"; then
+  echo "FAIL: mappings_none.pbrta has no codec-5 texels section to read" >&2
+  exit 1
+fi
 python3 "$reader" --schema "$schema" --pbrtc "$pbrtc" "$work"/*.pbrta
 
 # Damaged copies: a byte in the middle of the file, the header, a truncation. The reader and
@@ -48,7 +54,7 @@ open(name, 'wb').write(b)
 PY
 }
 for how in middle header truncate; do
-  for src in cornell_none caustic; do
+  for src in cornell_none caustic mappings_none; do
     bad="$work/bad_${src}_$how.pbrta"
     damage "$bad" "$work/$src.pbrta" "$how"
     if "$pbrtc" -q --verify "$bad" 2>/dev/null; then
