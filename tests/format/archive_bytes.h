@@ -1,6 +1,6 @@
 // tests/format/archive_bytes.h — helpers the reader's load tests share: smooth float data (what
-// meshes hold), reading and resealing a section entry in an archive's bytes, and the error a
-// damaged archive gives when loaded from a file and from memory.
+// meshes hold), writing sections to a file, reading and resealing a section entry in an archive's
+// bytes, and the error a damaged archive gives when loaded from a file and from memory.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -15,6 +15,7 @@
 
 #include "format/archive.h"
 #include "format/archive_reader.h"
+#include "format/archive_writer.h"
 #include "fuzz/archive_reseal.h"
 #include "test_support.h"
 
@@ -31,6 +32,21 @@ inline std::vector<uint8_t> float_bytes(size_t bytes, uint32_t seed) {
   }
   for (size_t i = bytes / 4 * 4; i < bytes; ++i) v[i] = static_cast<uint8_t>(rng());
   return v;
+}
+
+// A section to write: the codec asked for and its raw bytes.
+struct Raw {
+  Codec codec;
+  std::vector<uint8_t> bytes;
+};
+
+// Writes the sections (all geometry) to path and returns the file's bytes.
+inline std::string write_sections(const std::string& path, const std::vector<Raw>& sections) {
+  ArchiveWriter w;
+  for (const Raw& s : sections) w.add_section(SectionKind::kGeometry, s.bytes, 1, s.codec);
+  std::string error;
+  EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+  return testing_support::read_file(path);
 }
 
 inline SectionEntry entry_of(const std::string& b, uint32_t i) {

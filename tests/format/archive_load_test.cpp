@@ -33,20 +33,8 @@ namespace {
 using test_bytes::entry_of;
 using test_bytes::float_bytes;
 using test_bytes::load_error;
-
-struct Raw {
-  Codec codec;
-  std::vector<uint8_t> bytes;
-};
-
-// Writes the sections (all geometry) to path and returns the file's bytes.
-std::string write_sections(const std::string& path, const std::vector<Raw>& sections) {
-  ArchiveWriter w;
-  for (const Raw& s : sections) w.add_section(SectionKind::kGeometry, s.bytes, 1, s.codec);
-  std::string error;
-  EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
-  return testing_support::read_file(path);
-}
+using test_bytes::Raw;
+using test_bytes::write_sections;
 
 void expect_decodes(const ArchiveReader& r, const std::vector<Raw>& sections) {
   ASSERT_EQ(r.section_count(), sections.size());

@@ -26,22 +26,10 @@ namespace {
 using test_bytes::entry_of;
 using test_bytes::float_bytes;
 using test_bytes::load_error;
+using test_bytes::Raw;
+using test_bytes::write_sections;
 
 constexpr uint64_t kMiB = uint64_t{1} << 20;
-
-struct Asked {
-  Codec codec;
-  std::vector<uint8_t> bytes;
-};
-
-// Writes the sections (all geometry) to path and returns the file's bytes.
-std::string write_sections(const std::string& path, const std::vector<Asked>& sections) {
-  ArchiveWriter w;
-  for (const Asked& s : sections) w.add_section(SectionKind::kGeometry, s.bytes, 1, s.codec);
-  std::string error;
-  EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
-  return testing_support::read_file(path);
-}
 
 const uint8_t* stored_of(const std::string& b, const SectionEntry& e) {
   return reinterpret_cast<const uint8_t*>(b.data()) + e.offset;
@@ -62,7 +50,7 @@ std::string with_checksum(std::string b, uint32_t i, uint64_t checksum) {
 }
 
 void expect_loads_in_place(const std::string& path, const std::string& bytes,
-                           const std::vector<Asked>& sections) {
+                           const std::vector<Raw>& sections) {
   for (int threads : {1, 2}) {
     SCOPED_TRACE("threads " + std::to_string(threads));
     std::string error;
@@ -87,15 +75,15 @@ void expect_loads_in_place(const std::string& path, const std::string& bytes,
   }
 }
 
-// Asked for uncompressed, a section of at most one chunk is codec 0 and a larger one codec 5,
+// Raw for uncompressed, a section of at most one chunk is codec 0 and a larger one codec 5,
 // whose checksum is the spec's: XXH3 of its chunks' XXH3 values in order. Both load in place.
 TEST(ChunkedChecksum, UncompressedSectionsOverAChunkAreChecksummedByChunk) {
   const std::string dir = testing_support::scratch_dir("ChunkedChecksum.OverAChunk");
-  const std::vector<Asked> sections = {{Codec::kNone, float_bytes(0, 1)},
-                                       {Codec::kNone, float_bytes(kMiB, 2)},
-                                       {Codec::kNone, float_bytes(kMiB + 1, 3)},
-                                       {Codec::kZstd, float_bytes(5000, 4)},
-                                       {Codec::kNone, float_bytes(3 * kMiB + 5, 5)}};
+  const std::vector<Raw> sections = {{Codec::kNone, float_bytes(0, 1)},
+                                     {Codec::kNone, float_bytes(kMiB, 2)},
+                                     {Codec::kNone, float_bytes(kMiB + 1, 3)},
+                                     {Codec::kZstd, float_bytes(5000, 4)},
+                                     {Codec::kNone, float_bytes(3 * kMiB + 5, 5)}};
   const Codec expected[] = {Codec::kNone, Codec::kNone, Codec::kNoneChunked, Codec::kZstd,
                             Codec::kNoneChunked};
   const std::string path = dir + "/a.pbrta";
@@ -164,9 +152,9 @@ TEST(ChunkedChecksum, RawSizeMustEqualStoredSize) {
 // place; a wrong checksum on the empty one is still a mismatch.
 TEST(ChunkedChecksum, EmptyAndOneChunkSectionsAreValid) {
   const std::string dir = testing_support::scratch_dir("ChunkedChecksum.Small");
-  const std::vector<Asked> sections = {{Codec::kNoneChunked, float_bytes(0, 1)},
-                                       {Codec::kNoneChunked, float_bytes(100, 2)},
-                                       {Codec::kNoneChunked, float_bytes(kMiB, 3)}};
+  const std::vector<Raw> sections = {{Codec::kNoneChunked, float_bytes(0, 1)},
+                                     {Codec::kNoneChunked, float_bytes(100, 2)},
+                                     {Codec::kNoneChunked, float_bytes(kMiB, 3)}};
   const std::string path = dir + "/a.pbrta";
   const std::string bytes = write_sections(path, sections);
   for (uint32_t i = 0; i < sections.size(); ++i)
