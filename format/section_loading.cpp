@@ -322,6 +322,15 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       const uint64_t chunks = checksum_chunk_count(e.raw_size);  // validate(): raw_size <= 2^40
       chunk_sum_at[i] = chunk_sums.size();
       chunk_sums.resize(chunk_sums.size() + chunks);
+      if (chunks == 0) {  // empty: its checksum is that of no chunk checksums, checked here
+        if (!chunks_match(i)) {
+          errors[i] = section_error(i, "checksum mismatch");
+        } else {
+          sections_[i].data = base_ + e.offset;
+          sections_[i].in_place = true;
+        }
+        continue;
+      }
       for (uint64_t k = 0; k < chunks; ++k) {
         const uint64_t begin = k * kChecksumChunk;
         tasks.push_back(
@@ -432,17 +441,6 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
         errors[i].empty() && frames_left[i].load() == 0) {
       std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
       sections_[i].data = out_of[i];
-    }
-  // An empty codec-5 section likewise (its checksum is that of no chunk checksums).
-  for (uint32_t i : order)
-    if (entries_[i].codec == static_cast<uint32_t>(Codec::kNoneChunked) &&
-        entries_[i].raw_size == 0) {
-      if (!chunks_match(i)) {
-        errors[i] = section_error(i, "checksum mismatch");
-        continue;
-      }
-      sections_[i].data = base_ + entries_[i].offset;
-      sections_[i].in_place = true;
     }
 
   std::vector<std::string> task_errors(tasks.size());
