@@ -55,6 +55,16 @@ inline SectionEntry entry_of(const std::string& b, uint32_t i) {
   return e;
 }
 
+// The table's and the header's checksums recomputed, after an edit of the table.
+inline void reseal_table(std::string* b) {
+  Header h;
+  std::memcpy(&h, b->data(), sizeof h);
+  h.table_checksum =
+      XXH3_64bits(b->data() + sizeof(Header), uint64_t{h.section_count} * sizeof(SectionEntry));
+  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
+  std::memcpy(&(*b)[0], &h, sizeof h);
+}
+
 // Section i's checksum set to XXH3 of its first `covered` stored bytes (all of them for codecs
 // 0-3 and 5, the frame index for codec 4; by 1 MiB chunks for codec 5), then the table's and the
 // header's checksums.
@@ -64,12 +74,7 @@ inline void reseal(std::string* b, uint32_t i, uint64_t covered) {
   e.checksum = e.codec == uint32_t(Codec::kNoneChunked) ? fuzz_support::chunked_xxh3(at, covered)
                                                         : XXH3_64bits(at, covered);
   std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
-  Header h;
-  std::memcpy(&h, b->data(), sizeof h);
-  h.table_checksum =
-      XXH3_64bits(b->data() + sizeof(Header), uint64_t{h.section_count} * sizeof(SectionEntry));
-  h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
-  std::memcpy(&(*b)[0], &h, sizeof h);
+  reseal_table(b);
 }
 
 // The load's error from the file (2 threads) and from memory (1 thread), which must agree; ""
