@@ -102,7 +102,8 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
-struct Decoder;  // one loading thread's zstd context and buffers (format/thread_decoder.h)
+struct Decoder;     // one loading thread's zstd context and buffers (format/thread_decoder.h)
+class FramePieces;  // one loading thread's frame in progress (format/frame_pieces.h)
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -228,6 +229,7 @@ class ArchiveReader {
 
   static constexpr uint32_t kWholeSection = 0xFFFFFFFFu;
   struct LoadTask;
+  struct FrameWork;
   bool validate(std::string* error);
   // validate(), and on failure reset() with the path kept for messages.
   bool validate_or_reset(std::string* error);
@@ -236,9 +238,11 @@ class ArchiveReader {
   // (a Draco section's reason comes back from a child process, which cannot).
   bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
                 std::string* reason);
-  // Reads, verifies and decodes one frame of a codec-4 section into out (the section's buffer).
-  bool load_frame(const LoadTask& task, uint8_t* out, archive_detail::Decoder* decoder,
-                  WordBound* bounds, uint64_t num_bounds, std::string* error);
+  // Reads, verifies and decodes one frame of a codec-4 section into the decoder's scratch block
+  // (work->scratch), with slot open for it (work) meanwhile, so that other threads may unshuffle
+  // its pieces as they decode; the caller unshuffles those left. On failure the slot is closed.
+  bool load_frame(const LoadTask& task, archive_detail::Decoder* decoder,
+                  archive_detail::FramePieces* slot, FrameWork* work, std::string* error);
   // False, naming the first section cut, when a mapped file is now shorter than when it was
   // opened: it is checked once at the start of each load, before anything reads the mapping.
   bool unchanged_size(std::string* error) const;

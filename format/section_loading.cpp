@@ -22,6 +22,7 @@
 #include "format/byte_shuffle.h"
 #include "format/checksum.h"
 #include "format/draco_codec.h"
+#include "format/frame_pieces.h"
 #include "format/fresh_memory.h"
 #include "format/isolated_jobs.h"
 #include "format/thread_decoder.h"
@@ -175,8 +176,21 @@ struct ArchiveReader::LoadTask {
   FrameRef ref;  // codec 4 only
 };
 
-bool ArchiveReader::load_frame(const LoadTask& t, uint8_t* out, archive_detail::Decoder* decoder,
-                               WordBound* bounds, uint64_t num_bounds, std::string* error) {
+// What unshuffling a piece of a frame needs: FramePieces' work, made by the decoding thread.
+struct ArchiveReader::FrameWork {
+  const uint8_t* scratch;     // the frame's decoded, shuffled bytes
+  uint8_t* section;           // the section's buffer
+  uint64_t raw_offset;        // of the frame's block in the section
+  uint64_t size;              // of the block
+  const WordBound* bounds;    // relative to the block, sorted by begin
+  const uint32_t* bound_ids;  // each one's index in the load's bounds
+  uint64_t num_bounds;
+  bool stream;
+};
+
+bool ArchiveReader::load_frame(const LoadTask& t, archive_detail::Decoder* decoder,
+                               archive_detail::FramePieces* slot, FrameWork* work,
+                               std::string* error) {
   const SectionEntry& e = entries_[t.section];
   auto bad = [&](const std::string& reason) {
     *error = section_error(t.section, "frame " + std::to_string(t.frame) + ": " + reason);
@@ -195,10 +209,15 @@ bool ArchiveReader::load_frame(const LoadTask& t, uint8_t* out, archive_detail::
     src = read_staged(e.offset + t.ref.offset, t.ref.size, decoder, &why);
     if (src == nullptr) return bad(why);
   }
+  work->scratch = scratch;
+  slot->open(work, frame_piece_count(t.raw_size));
   std::string why;
-  if (!decode_frame(dctx, src, t.ref, t.raw_size, scratch, out + t.raw_offset, bounds, num_bounds,
-                    e.raw_size >= kStreamSectionSize, &why))
+  if (!decode_frame_shuffled(dctx, src, t.ref, t.raw_size, scratch, slot->decoded_counter(),
+                             &why)) {
+    slot->fail();
+    slot->wait_all_done();
     return bad(why);
+  }
   return true;
 }
 
@@ -443,6 +462,17 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       sections_[i].data = out_of[i];
     }
 
+  // A small load (the records of a scene) runs on this thread: waking the workers costs more.
+  uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
+  for (uint32_t i : order)
+    work_bytes += stores_raw(static_cast<Codec>(entries_[i].codec))
+                      ? entries_[i].raw_size / kChecksumOnlyWeight
+                      : entries_[i].stored_size + entries_[i].raw_size;
+  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || tasks.size() < 2;
+  std::optional<tbb::task_arena> arena;
+  // int(): a value, not a reference to the constant (which has no definition to link to).
+  if (!serial) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
+
   std::vector<std::string> task_errors(tasks.size());
   // Records the first value >= limit of bound b in [lo, hi) of data (the section's bytes).
   auto scan = [&](uint32_t b, const uint8_t* data, uint64_t lo, uint64_t hi) {
@@ -455,7 +485,23 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     while (found < seen && !first[b].compare_exchange_weak(seen, found)) {
     }
   };
-  auto run_task = [&](uint32_t k) {
+  // One piece of a decoded frame into place, on whichever thread claimed it; a bound exceeded in
+  // it is searched there for its first offender.
+  auto unshuffle_piece = [&](const FrameWork& w, uint32_t piece) {
+    thread_local std::vector<uint32_t> exceeded;
+    exceeded.clear();
+    unshuffle_frame_piece(w.scratch, w.section + w.raw_offset, w.size, piece, w.bounds,
+                          w.num_bounds, w.stream, &exceeded);
+    const uint64_t at = uint64_t{piece} * kShuffleBlock, end = std::min(at + kShuffleBlock, w.size);
+    for (uint32_t j : exceeded)
+      scan(w.bound_ids[j], w.section, w.raw_offset + std::max(w.bounds[j].begin, at),
+           w.raw_offset + std::min(w.bounds[j].end, end));
+  };
+  // Each loading thread's frame in progress, by its index in on_each_thread.
+  const int workers = serial ? 1 : arena->max_concurrency();
+  std::vector<archive_detail::FramePieces> slots(workers);
+  std::atomic<int> frames_running{0};  // codec-4 frame tasks taken and not yet done
+  auto run_task = [&](uint32_t k, int worker) {
     const LoadTask& t = tasks[k];
     uint8_t* out = out_of[t.section];
     archive_detail::Decoder& decoder = thread_decoder();
@@ -489,8 +535,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       sections_[t.section].data = data;
       return;
     }
-    // The bounds over this frame's block, relative to it: checked as the block unshuffles, and
-    // searched for the first offender only when one is exceeded.
+    // The bounds over this frame's block, relative to it: checked as its pieces unshuffle, and
+    // searched for the first offender only in a piece where one is exceeded.
     std::vector<WordBound>& local = decoder.bounds;
     std::vector<uint32_t>& which_bound = decoder.bound_ids;
     local.clear();
@@ -502,18 +548,47 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       local.push_back(WordBound{lo - t.raw_offset, hi - t.raw_offset, (*bounds)[b].limit, false});
       which_bound.push_back(b);
     }
-    if (load_frame(t, out, &decoder, local.data(), local.size(), &task_errors[k])) {
+    FrameWork work{nullptr,      out,
+                   t.raw_offset, t.raw_size,
+                   local.data(), which_bound.data(),
+                   local.size(), entries_[t.section].raw_size >= kStreamSectionSize};
+    archive_detail::FramePieces& slot = slots[worker];
+    if (load_frame(t, &decoder, &slot, &work, &task_errors[k])) {
+      for (uint32_t piece; slot.claim_own(&piece);) {
+        unshuffle_piece(work, piece);
+        slot.piece_done();
+      }
+      slot.wait_all_done();  // the helpers' pieces, before the scratch block is reused
       const uint64_t section_size = entries_[t.section].raw_size;
       if (block_end == section_size) std::memset(out + section_size, 0, kSectionPadding);
-      for (size_t j = 0; j < local.size(); ++j)
-        if (local[j].exceeded)
-          scan(which_bound[j], out, t.raw_offset + local[j].begin, t.raw_offset + local[j].end);
     } else {
       frame_failed[t.section].store(true, std::memory_order_relaxed);
     }
     if (frames_left[t.section].fetch_sub(1, std::memory_order_acq_rel) == 1 &&
         !frame_failed[t.section].load(std::memory_order_relaxed))
       sections_[t.section].data = out;
+  };
+  // A thread with no task left to take unshuffles pieces of the frames other threads decode,
+  // while any is decoding (format/frame_pieces.h).
+  auto help = [&](int worker) {
+    int idle = 0;
+    while (frames_running.load(std::memory_order_acquire) > 0) {
+      bool helped = false;
+      for (size_t w = 0; w < slots.size(); ++w) {
+        uint32_t piece = 0;
+        const void* claimed = nullptr;
+        if (int(w) == worker || !slots[w].try_claim(&piece, &claimed)) continue;
+        const FrameWork& work = *static_cast<const FrameWork*>(claimed);
+        const uint64_t end = std::min(uint64_t{piece + 1} * kShuffleBlock, work.size);
+        if (slots[w].wait_decoded(end)) unshuffle_piece(work, piece);
+        slots[w].piece_done();
+        helped = true;
+      }
+      if (!helped && ++idle > 64) {
+        std::this_thread::yield();
+        idle = 0;
+      }
+    }
   };
   // Two queues, each largest first (so one big section does not start last and leave the other
   // threads idle): the tasks that may start now, those the plan waits for at its head, and the
@@ -578,11 +653,11 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     for (size_t q = next_gated.load(); q < gated.size(); ++q) left += tasks[gated[q]].raw_size;
     return left;
   };
-  auto run = [&](uint32_t k) {
+  auto run = [&](uint32_t k, int worker) {
     const uint8_t r = role[tasks[k].section];
     if (r == kAfterPlan)
       while (!planned.load(std::memory_order_acquire)) std::this_thread::yield();
-    run_task(k);
+    run_task(k, worker);
     if (r == kBeforePlan && before_left.fetch_sub(1, std::memory_order_acq_rel) == 1) make_plan();
     if (!needed[tasks[k].section]) return;
     if (!task_errors[k].empty()) needed_failed.store(true, std::memory_order_relaxed);
@@ -593,32 +668,36 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   if (needed_tasks == 0 && !needed_failed.load() && plan.when_loaded)
     plan.when_loaded(bytes_not_started());
 
-  // A small load (the records of a scene) runs on this thread: waking the workers costs more.
-  uint64_t work_bytes = 0;  // validate() bounded every size: no overflow
-  for (uint32_t i : order)
-    work_bytes += stores_raw(static_cast<Codec>(entries_[i].codec))
-                      ? entries_[i].raw_size / kChecksumOnlyWeight
-                      : entries_[i].stored_size + entries_[i].raw_size;
-  const bool serial = threads == 1 || work_bytes < kSerialLoadBytes || tasks.size() < 2;
-  std::optional<tbb::task_arena> arena;
-  // int(): a value, not a reference to the constant (which has no definition to link to).
-  if (!serial) arena.emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  // Runs on every thread: each takes the next task until none is left.
+  // Runs on every thread, given its index (its slot in slots).
   auto on_each_thread = [&](auto work) {
     if (serial) {
-      work();
+      work(0);
       thread_decoder().trim();
       return;
     }
     arena->execute([&] {
-      tbb::parallel_for(0, arena->max_concurrency(), [&](int) {
-        work();
+      tbb::parallel_for(0, arena->max_concurrency(), [&](int worker) {
+        work(worker);
         thread_decoder().trim();
       });
     });
   };
-  on_each_thread([&] {
-    for (uint32_t k; take(&k);) run(k);
+  // Each thread takes the next task until none is left, then helps the frames still decoding.
+  auto is_frame = [&](uint32_t k) {
+    return entries_[tasks[k].section].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames);
+  };
+  on_each_thread([&](int worker) {
+    for (;;) {
+      // Counted from before take, so that a helper never leaves between a take and its run.
+      frames_running.fetch_add(1, std::memory_order_acq_rel);
+      uint32_t k = 0;
+      const bool took = take(&k), frame = took && is_frame(k);
+      if (!frame) frames_running.fetch_sub(1, std::memory_order_acq_rel);
+      if (took) run(k, worker);
+      if (frame) frames_running.fetch_sub(1, std::memory_order_acq_rel);
+      if (!took) break;
+    }
+    if (!serial) help(worker);
   });
   bool failed = !plan_error.empty();
   for (uint32_t i : order) failed |= !errors[i].empty();
@@ -688,8 +767,8 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       }
     } else {
       std::atomic<size_t> next{0};
-      on_each_thread([&] {
-        for (size_t j = next++; j < draco.size(); j = next++) run(draco[j]);
+      on_each_thread([&](int worker) {
+        for (size_t j = next++; j < draco.size(); j = next++) run(draco[j], worker);
       });
     }
     for (uint32_t k : draco) {

@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cstring>
 
+// For zstd's buffer-less streaming (ZSTD_decompressBegin, ZSTD_decompressContinue): exported by
+// the shared library (Debian 12: 1.5.4).
+#define ZSTD_STATIC_LINKING_ONLY
+#include <zstd.h>
+
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -151,9 +156,13 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
   return true;
 }
 
-bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
-                  uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
-                  bool stream, std::string* why) {
+uint32_t frame_piece_count(uint64_t block_size) {
+  return static_cast<uint32_t>((block_size + kShuffleBlock - 1) / kShuffleBlock);
+}
+
+bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref,
+                           uint64_t block_size, uint8_t* scratch, std::atomic<uint64_t>* decoded,
+                           std::string* why) {
   if (checksum64(frame, ref.size) != ref.checksum) {
     *why = "checksum mismatch";
     return false;
@@ -161,36 +170,58 @@ bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, ui
   if (!is_one_zstd_frame(frame, ref.size, block_size,
                          "the block has " + std::to_string(block_size) + " bytes", why))
     return false;
-  const size_t got = ZSTD_decompressDCtx(dctx, scratch, block_size, frame, ref.size);
-  if (ZSTD_isError(got)) {
-    *why = std::string("zstd: ") + ZSTD_getErrorName(got);
+  auto zstd_error = [&](size_t code) {
+    *why = std::string("zstd: ") + ZSTD_getErrorName(code);
     return false;
+  };
+  // zstd's buffer-less streaming: the same block decoder as one-shot decoding, into the same
+  // contiguous output (earlier output stays where later blocks refer to it, so there is no window
+  // buffer to copy through), but returning after each block, so the pieces decoded so far can be
+  // handed on.
+  const size_t begun = ZSTD_decompressBegin(dctx);
+  if (ZSTD_isError(begun)) return zstd_error(begun);
+  uint64_t in = 0, out = 0;
+  for (size_t need = ZSTD_nextSrcSizeToDecompress(dctx); need != 0;
+       need = ZSTD_nextSrcSizeToDecompress(dctx)) {
+    if (need > ref.size - in) {  // is_one_zstd_frame measured it, but a block may still lie
+      *why = "zstd: the frame ends inside a block";
+      return false;
+    }
+    const size_t got =
+        ZSTD_decompressContinue(dctx, scratch + out, block_size - out, frame + in, need);
+    if (ZSTD_isError(got)) return zstd_error(got);
+    in += need;
+    out += got;
+    if (got != 0) decoded->store(out, std::memory_order_release);
   }
-  if (got != block_size) {
-    *why = "zstd frame decoded to " + std::to_string(got) + " bytes but the block has " +
+  if (out != block_size || in != ref.size) {
+    *why = "zstd frame decoded to " + std::to_string(out) + " bytes but the block has " +
            std::to_string(block_size);
     return false;
   }
-  // Shuffled kShuffleBlock bytes at a time, each with the bounds' parts inside it.
-  // (Sorted by begin is all this needs: overlapping bounds are each checked whole.)
-  thread_local std::vector<WordBound> part;
-  thread_local std::vector<uint64_t> from;
-  uint64_t first = 0;  // bounds before it end before this shuffle block
-  for (uint64_t at = 0; at < block_size; at += kShuffleBlock) {
-    const uint64_t end = std::min(at + kShuffleBlock, block_size);
-    part.clear();
-    from.clear();
-    while (first < num_bounds && bounds[first].end <= at) ++first;
-    for (uint64_t k = first; k < num_bounds && bounds[k].begin < end; ++k) {
-      if (bounds[k].end <= at) continue;
-      part.push_back(WordBound{std::max(bounds[k].begin, at) - at,
-                               std::min(bounds[k].end, end) - at, bounds[k].limit, false});
-      from.push_back(k);
-    }
-    unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size(), stream);
-    for (uint64_t k = 0; k < part.size(); ++k) bounds[from[k]].exceeded |= part[k].exceeded;
-  }
   return true;
+}
+
+void unshuffle_frame_piece(const uint8_t* scratch, uint8_t* dst, uint64_t block_size,
+                           uint32_t piece, const WordBound* bounds, uint64_t num_bounds,
+                           bool stream, std::vector<uint32_t>* exceeded) {
+  const uint64_t at = uint64_t{piece} * kShuffleBlock;
+  const uint64_t end = std::min(at + kShuffleBlock, block_size);
+  // The bounds' parts inside this piece, relative to it. (Sorted by begin is all this needs:
+  // overlapping bounds are each checked whole.)
+  thread_local std::vector<WordBound> part;
+  thread_local std::vector<uint32_t> from;
+  part.clear();
+  from.clear();
+  for (uint64_t k = 0; k < num_bounds && bounds[k].begin < end; ++k) {
+    if (bounds[k].end <= at) continue;
+    part.push_back(WordBound{std::max(bounds[k].begin, at) - at, std::min(bounds[k].end, end) - at,
+                             bounds[k].limit, false});
+    from.push_back(static_cast<uint32_t>(k));
+  }
+  unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size(), stream);
+  for (size_t k = 0; k < part.size(); ++k)
+    if (part[k].exceeded) exceeded->push_back(from[k]);
 }
 
 }  // namespace pbrta

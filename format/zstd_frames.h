@@ -14,6 +14,7 @@
 // (no path or section: the caller adds them).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -61,12 +62,29 @@ bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_s
 bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
                        const std::string& expected, std::string* why);
 
-// Verifies a frame's checksum, then decodes it one-shot into scratch (at least block_size
-// bytes) and unshuffles it into dst, block_size bytes, checking the bounds (byte offsets in the
-// block; sorted, disjoint) on the way: the frame must be exactly one zstd frame recording and
-// holding exactly block_size bytes. stream: see unshuffle4_block.
-bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
-                  uint8_t* scratch, uint8_t* dst, WordBound* bounds, uint64_t num_bounds,
-                  bool stream, std::string* why);
+// A frame is decoded in two steps, which may run on different threads: decode_frame_shuffled
+// decodes it into a scratch block, and unshuffle_frame_piece then unshuffles each of its pieces
+// (kShuffleBlock bytes; the last may be shorter) from there into place. A piece may be unshuffled
+// as soon as its bytes have decoded, while the rest of the frame still decodes.
+
+// Pieces of a frame of block_size bytes.
+uint32_t frame_piece_count(uint64_t block_size);
+
+// Verifies a frame's checksum and that it is exactly one zstd frame recording block_size bytes,
+// then decodes it into scratch (at least block_size bytes), one zstd block at a time: after each,
+// *decoded holds (stored with release order) how many bytes of scratch are final. It ends at
+// block_size, or false with the reason (the frame held other than block_size bytes, or is
+// corrupt).
+bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref,
+                           uint64_t block_size, uint8_t* scratch, std::atomic<uint64_t>* decoded,
+                           std::string* why);
+
+// Unshuffles piece `piece` of a decoded frame of block_size bytes from scratch into dst (each the
+// start of the frame's block), checking the parts of the bounds (byte offsets in the block, sorted
+// by begin) that lie in it. Appends to *exceeded the index of each bound that has a word at or
+// above its limit in this piece. stream: see unshuffle4_block.
+void unshuffle_frame_piece(const uint8_t* scratch, uint8_t* dst, uint64_t block_size,
+                           uint32_t piece, const WordBound* bounds, uint64_t num_bounds,
+                           bool stream, std::vector<uint32_t>* exceeded);
 
 }  // namespace pbrta
