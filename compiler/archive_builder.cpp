@@ -604,6 +604,8 @@ bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::
                    std::string* error) {
   if (!check_texture_format(scene, options.texture_format, error)) return false;
   pbrta::ArchiveWriter writer;
+  // 1 MiB frames where they cost little, so a section of a few MiB loads on every thread.
+  writer.choose_frame_size(true);
   Builder builder(scene, files, base_dir);
   builder.build(&writer, options);
   pbrta::ArchiveWriter::CompressProgress on_compressed;

@@ -23,7 +23,7 @@ namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
 inline constexpr uint16_t kMajorVersion = 1;
-inline constexpr uint16_t kMinorVersion = 3;
+inline constexpr uint16_t kMinorVersion = 4;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;
@@ -57,12 +57,13 @@ struct Header {
 static_assert(sizeof(Header) == 64, "Header is 64 bytes");
 
 enum class Codec : uint32_t {
-  kNone = 0,                // stored bytes are the raw bytes
-  kZstd = 1,                // one zstd frame
-  kZstdShuffle4 = 2,        // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
-  kDraco = 3,               // a Draco mesh stream (lossy); only a geometry section of one mesh
-  kZstdShuffle4Frames = 4,  // a FrameEntry index, then one zstd frame per 4 MiB block (shuffled)
-  kNoneChunked = 5,         // stored bytes are the raw bytes, checksummed by kChecksumChunk
+  kNone = 0,                  // stored bytes are the raw bytes
+  kZstd = 1,                  // one zstd frame
+  kZstdShuffle4 = 2,          // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
+  kDraco = 3,                 // a Draco mesh stream (lossy); only a geometry section of one mesh
+  kZstdShuffle4Frames = 4,    // a FrameEntry index, then one zstd frame per 4 MiB block (shuffled)
+  kNoneChunked = 5,           // stored bytes are the raw bytes, checksummed by kChecksumChunk
+  kZstdShuffle4Frames1M = 6,  // as 4, with 1 MiB blocks
   kCount
 };
 
@@ -76,9 +77,9 @@ constexpr bool stores_raw(Codec c) {
   return c == Codec::kNone || c == Codec::kNoneChunked;
 }
 
-// Codec 4's frame index (format/zstd_frames.h): the first entries of the stored bytes, one per
-// block, followed by the frames in block order. The section's checksum covers the index only;
-// each entry's checksum covers its frame.
+// Codec 4's (and 6's) frame index (format/zstd_frames.h): the first entries of the stored bytes,
+// one per block, followed by the frames in block order. The section's checksum covers the index
+// only; each entry's checksum covers its frame.
 struct FrameEntry {
   uint32_t stored_size;  // the frame's bytes
   uint32_t reserved;     // 0

@@ -64,6 +64,8 @@ std::string_view codec_name(Codec codec) {
       return "zstd_shuffle4_frames";
     case Codec::kNoneChunked:
       return "none_chunked";
+    case Codec::kZstdShuffle4Frames1M:
+      return "zstd_shuffle4_frames_1m";
     case Codec::kCount:
       break;
   }

@@ -93,7 +93,8 @@ bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_siz
     case Codec::kZstd:
     case Codec::kZstdShuffle4:
     case Codec::kDraco:
-    case Codec::kZstdShuffle4Frames: {
+    case Codec::kZstdShuffle4Frames:
+    case Codec::kZstdShuffle4Frames1M: {
       uint64_t limit = 0;
       if (mul_overflows(stored_size, kMaxZstdRatio, &limit) ||
           add_overflows(limit, kZstdRatioSlack, &limit))
@@ -394,9 +395,10 @@ bool ArchiveReader::validate(std::string* error) {
       return bad("raw size " + std::to_string(e.raw_size) + " is implausible for " +
                  std::to_string(e.stored_size) + " bytes of " + std::string(codec_name(codec)) +
                  " (at most " + std::to_string(kMaxZstdRatio) + "x + 1 MiB)");
-    if (codec == Codec::kZstdShuffle4Frames &&
-        frame_count(e.raw_size) * sizeof(FrameEntry) > e.stored_size)  // raw_size <= 2^40
-      return bad("the frame index of " + std::to_string(frame_count(e.raw_size)) +
+    const uint64_t block = frame_block(codec);
+    if (block != 0 &&
+        frame_count(e.raw_size, block) * sizeof(FrameEntry) > e.stored_size)  // raw_size <= 2^40
+      return bad("the frame index of " + std::to_string(frame_count(e.raw_size, block)) +
                  " entries does not fit in " + std::to_string(e.stored_size) + " stored bytes");
     total_raw += e.raw_size;  // n < 2^32 sections of < 2^40 bytes: no overflow
   }

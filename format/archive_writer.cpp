@@ -46,7 +46,8 @@ uint64_t section_checksum(Codec codec, const uint8_t* stored, uint64_t stored_si
                           uint64_t raw_size) {
   switch (codec) {
     case Codec::kZstdShuffle4Frames:  // its frame index; the index covers the frames
-      return checksum64(stored, frame_count(raw_size) * sizeof(FrameEntry));
+    case Codec::kZstdShuffle4Frames1M:
+      return checksum64(stored, frame_count(raw_size, frame_block(codec)) * sizeof(FrameEntry));
     case Codec::kNoneChunked:
       return chunked_checksum64(stored, stored_size);
     default:
@@ -197,11 +198,22 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
                 e.stored = {};
               }
             } else if (!stores_raw(s.codec)) {
-              const bool ok =
-                  s.codec == Codec::kZstdShuffle4Frames
-                      ? encode_zstd_frames(s.raw.data(), s.raw.size(), level, &e.stored, &e.error)
-                      : zstd_compress(src, s.raw.size(), level, &e.stored, &e.error);
+              const bool ok = frame_block(s.codec) != 0
+                                  ? encode_zstd_frames(s.raw.data(), s.raw.size(), level,
+                                                       frame_block(s.codec), &e.stored, &e.error)
+                                  : zstd_compress(src, s.raw.size(), level, &e.stored, &e.error);
               if (!ok) continue;
+              if (choose_frame_size_ && s.codec == Codec::kZstdShuffle4Frames &&
+                  s.raw.size() > kSmallFrameBlock && s.raw.size() <= kSmallFramesMax) {
+                std::vector<uint8_t> small;
+                if (!encode_zstd_frames(s.raw.data(), s.raw.size(), level, kSmallFrameBlock, &small,
+                                        &e.error))
+                  continue;
+                if (small.size() <= e.stored.size() + e.stored.size() / kSmallFramesSlack) {
+                  e.codec = Codec::kZstdShuffle4Frames1M;
+                  e.stored = std::move(small);
+                }
+              }
               if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
                 // Compresses better than the reader believes possible (say, a black image): store
                 // it.

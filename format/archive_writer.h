@@ -13,6 +13,10 @@
 // uncompressed instead, so that every archive written can be read; table() tells which codec was
 // used. A section stored uncompressed (asked for kNone, or stored so) gets codec kNone up to
 // kChecksumChunk bytes and kNoneChunked above, whose chunks the reader checksums in parallel.
+// With choose_frame_size(true), as pbrtc writes, a section asked for kZstdShuffle4Frames of more
+// than 1 MiB and at most kSmallFramesMax bytes is compressed in 1 MiB frames too, and stored so
+// (codec kZstdShuffle4Frames1M) when that costs at most 1/kSmallFramesSlack more bytes: its
+// frames then decode on several threads at once. Otherwise every section gets the codec asked.
 //
 // Ownership: the writer owns copies of (or the moved-in) section bytes until it is destroyed.
 // Thread safety: one thread drives a writer; write() uses oneTBB internally.
@@ -33,6 +37,11 @@
 
 namespace pbrta {
 
+// The sections that may be stored in 1 MiB frames (see above): a larger one already has four or
+// more 4 MiB frames to share out.
+inline constexpr uint64_t kSmallFramesMax = uint64_t{16} << 20;
+inline constexpr uint64_t kSmallFramesSlack = 20;  // 5%
+
 class ArchiveWriter {
  public:
   // Appends a section; returns its index in the table. count is stored as given.
@@ -46,6 +55,9 @@ class ArchiveWriter {
                                std::vector<uint8_t> stored, uint32_t count, Codec codec);
 
   uint32_t section_count() const { return static_cast<uint32_t>(sections_.size()); }
+
+  // See above; off by default.
+  void choose_frame_size(bool on) { choose_frame_size_ = on; }
 
   // Called as sections finish compressing, with the raw bytes compressed so far and the total
   // to compress (the sections whose codec is zstd), for a progress display: from the writer's
@@ -66,6 +78,7 @@ class ArchiveWriter {
   const std::vector<SectionEntry>& table() const { return table_; }
 
  private:
+  bool choose_frame_size_ = false;
   struct Section {
     SectionKind kind;
     Codec codec;

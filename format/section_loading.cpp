@@ -166,14 +166,14 @@ uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
   return n;
 }
 
-// One unit of parallel loading: a whole section, one frame of a codec-4 section or one chunk of a
-// codec-5 section.
+// One unit of parallel loading: a whole section, one frame of a codec-4 (or 6) section or one chunk
+// of a codec-5 section.
 struct ArchiveReader::LoadTask {
   uint32_t section;
   uint32_t frame;       // kWholeSection, or the frame's (the chunk's) index
   uint64_t raw_offset;  // of the block (the chunk) within the section
   uint64_t raw_size;
-  FrameRef ref;  // codec 4 only
+  FrameRef ref;  // codecs 4 and 6 only
 };
 
 // What unshuffling a piece of a frame needs: FramePieces' work, made by the decoding thread.
@@ -315,8 +315,9 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     t = end / kBufferAlignment * kBufferAlignment;
   }
 
-  // The tasks: codec-4 sections by frame (their indexes read and checked here, on this thread:
-  // 16 bytes per 4 MiB frame), codec-5 sections by checksum chunk, every other section whole.
+  // The tasks: codec-4 and codec-6 sections by frame (their indexes read and checked here, on this
+  // thread: 16 bytes per 4 MiB frame), codec-5 sections by checksum chunk, every other section
+  // whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
   // Each codec-4 (codec-5) section's frames (chunks) still to do: the task that finishes its last
@@ -358,11 +359,12 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       frames_left[i].store(uint32_t(chunks));
       continue;
     }
-    if (e.codec != static_cast<uint32_t>(Codec::kZstdShuffle4Frames)) {
+    const uint64_t block = frame_block(static_cast<Codec>(e.codec));
+    if (block == 0) {
       tasks.push_back(LoadTask{i, kWholeSection, 0, e.raw_size, {}});
       continue;
     }
-    const uint64_t index_bytes = frame_count(e.raw_size) * sizeof(FrameEntry);
+    const uint64_t index_bytes = frame_count(e.raw_size, block) * sizeof(FrameEntry);
     std::vector<uint8_t> index;
     const uint8_t* at = base_ + e.offset;
     std::string why;
@@ -377,13 +379,12 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     std::vector<FrameRef> frames;
     if (checksum64(at, index_bytes) != e.checksum) {
       errors[i] = section_error(i, "checksum mismatch");
-    } else if (!read_frame_index(at, e.raw_size, e.stored_size, &frames, &why)) {
+    } else if (!read_frame_index(at, e.raw_size, e.stored_size, block, &frames, &why)) {
       errors[i] = section_error(i, why);
     } else {
       for (uint32_t k = 0; k < frames.size(); ++k) {
-        const uint64_t begin = uint64_t{k} * kFrameBlock;
-        tasks.push_back(
-            LoadTask{i, k, begin, std::min(kFrameBlock, e.raw_size - begin), frames[k]});
+        const uint64_t begin = uint64_t{k} * block;
+        tasks.push_back(LoadTask{i, k, begin, std::min(block, e.raw_size - begin), frames[k]});
       }
       frames_left[i].store(uint32_t(frames.size()));
     }
@@ -452,12 +453,12 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t i : order)
     if (!stores_raw(static_cast<Codec>(entries_[i].codec)))
       out_of[i] = buffer_of[role[i] == kBeforePlan ? 0 : 1] + slot[i];
-  // An empty codec-4 section is padded and published here; any other by its last frame's task,
+  // An empty framed section is padded and published here; any other by its last frame's task,
   // since here its padding would fault in a fresh page for each section, on this thread alone,
   // before any work is shared.
   for (uint32_t i : order)
-    if (entries_[i].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames) &&
-        errors[i].empty() && frames_left[i].load() == 0) {
+    if (frame_block(static_cast<Codec>(entries_[i].codec)) != 0 && errors[i].empty() &&
+        frames_left[i].load() == 0) {
       std::memset(out_of[i] + entries_[i].raw_size, 0, kSectionPadding);
       sections_[i].data = out_of[i];
     }
@@ -500,7 +501,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   // Each loading thread's frame in progress, by its index in on_each_thread.
   const int workers = serial ? 1 : arena->max_concurrency();
   std::vector<archive_detail::FramePieces> slots(workers);
-  std::atomic<int> frames_running{0};  // codec-4 frame tasks taken and not yet done
+  std::atomic<int> frames_running{0};  // frame tasks taken and not yet done
   auto run_task = [&](uint32_t k, int worker) {
     const LoadTask& t = tasks[k];
     uint8_t* out = out_of[t.section];
@@ -684,7 +685,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   };
   // Each thread takes the next task until none is left, then helps the frames still decoding.
   auto is_frame = [&](uint32_t k) {
-    return entries_[tasks[k].section].codec == static_cast<uint32_t>(Codec::kZstdShuffle4Frames);
+    return frame_block(static_cast<Codec>(entries_[tasks[k].section].codec)) != 0;
   };
   on_each_thread([&](int worker) {
     for (;;) {

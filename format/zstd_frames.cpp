@@ -31,13 +31,13 @@ struct Encoder {
 
 }  // namespace
 
-uint64_t frame_count(uint64_t raw_size) {
-  return raw_size / kFrameBlock + (raw_size % kFrameBlock != 0 ? 1 : 0);
+uint64_t frame_count(uint64_t raw_size, uint64_t block) {
+  return raw_size / block + (raw_size % block != 0 ? 1 : 0);
 }
 
-bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vector<uint8_t>* stored,
-                        std::string* why) {
-  const uint64_t n = frame_count(size);
+bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t block,
+                        std::vector<uint8_t>* stored, std::string* why) {
+  const uint64_t n = frame_count(size, block);
   std::vector<std::vector<uint8_t>> frames(n);
   std::vector<std::string> errors(n);
   tbb::enumerable_thread_specific<Encoder> encoders;
@@ -55,10 +55,10 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vecto
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_compressionLevel, level);
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_contentSizeFlag, 1);
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_checksumFlag, 0);  // the index's XXH3 covers it
-          e.shuffled.resize(kFrameBlock);
+          e.shuffled.resize(block);
         }
         for (uint64_t k = r.begin(); k != r.end(); ++k) {
-          const uint64_t at = k * kFrameBlock, m = std::min(kFrameBlock, size - at);
+          const uint64_t at = k * block, m = std::min(block, size - at);
           shuffle4(raw + at, e.shuffled.data(), m);
           std::vector<uint8_t>& f = frames[k];
           f.resize(ZSTD_compressBound(m));
@@ -90,9 +90,9 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vecto
   return true;
 }
 
-bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size,
+bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size, uint64_t block,
                       std::vector<FrameRef>* frames, std::string* why) {
-  const uint64_t n = frame_count(raw_size);
+  const uint64_t n = frame_count(raw_size, block);
   frames->clear();
   // n <= 2^40 / 2^18 and sizeof(FrameEntry) = 16: no overflow.
   uint64_t at = n * sizeof(FrameEntry);

@@ -1,10 +1,12 @@
-// format/zstd_frames.h — codec 4 (kZstdShuffle4Frames): a section as independent zstd frames.
+// format/zstd_frames.h — codecs 4 and 6 (kZstdShuffle4Frames, kZstdShuffle4Frames1M): a section
+// as independent zstd frames.
 //
-// The raw bytes are cut into blocks of kFrameBlock bytes (4 MiB; the last shorter; none when
-// empty), each block is byte-shuffled on its own in kShuffleBlock pieces (format/byte_shuffle.h)
-// and compressed into its own zstd frame, which records its content size. The stored bytes are a
-// FrameEntry index (format/ archive.h), one entry per block, then the frames back to back in block
-// order. The section table's checksum covers the index, each entry's checksum its frame.
+// The raw bytes are cut into blocks of kFrameBlock bytes (4 MiB; codec 6: kSmallFrameBlock, 1 MiB;
+// the last shorter; none when empty), each block is byte-shuffled on its own in kShuffleBlock
+// pieces (format/byte_shuffle.h) and compressed into its own zstd frame, which records its content
+// size. The stored bytes are a FrameEntry index (format/ archive.h), one entry per block, then the
+// frames back to back in block order. The section table's checksum covers the index, each entry's
+// checksum its frame.
 //
 // Why: a block is then read, verified, decoded and unshuffled while it sits in cache, one-shot
 // (no streaming window to copy through), and the blocks of one large section decode on every
@@ -34,14 +36,28 @@ namespace pbrta {
 // threads four frames of a 16 MiB section to share.
 inline constexpr uint64_t kFrameBlock = uint64_t{4} << 20;
 
-// Frames (and index entries) of a section of raw_size bytes.
-uint64_t frame_count(uint64_t raw_size);
+// Codec 6's frames: for a section of a few MiB, which in 4 MiB frames would decode on one thread
+// however many the reader has (caustic glass's 2 MiB of geometry: its archive loads on 2 threads
+// in 0.68-0.76 ms as codec 4, 0.40-0.43 ms as codec 6). A frame cannot refer to bytes in another,
+// so they cost some compression; the writer keeps them only where that is small
+// (ArchiveWriter::choose_frame_size in format/archive_writer.h).
+inline constexpr uint64_t kSmallFrameBlock = uint64_t{1} << 20;
 
-// The stored bytes of codec 4 for size raw bytes, at a zstd level; parallel over blocks on the
-// caller's oneTBB arena, and the same bytes whatever the thread count. False only when zstd
-// fails (out of memory).
-bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, std::vector<uint8_t>* stored,
-                        std::string* why);
+// The block size of a framed codec (4 or 6); 0 for any other.
+constexpr uint64_t frame_block(Codec codec) {
+  return codec == Codec::kZstdShuffle4Frames     ? kFrameBlock
+         : codec == Codec::kZstdShuffle4Frames1M ? kSmallFrameBlock
+                                                 : 0;
+}
+
+// Frames (and index entries) of a section of raw_size bytes cut into blocks of block bytes.
+uint64_t frame_count(uint64_t raw_size, uint64_t block);
+
+// The stored bytes of codec 4 (block kFrameBlock) or 6 (kSmallFrameBlock) for size raw bytes, at
+// a zstd level; parallel over blocks on the caller's oneTBB arena, and the same bytes whatever the
+// thread count. False only when zstd fails (out of memory).
+bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t block,
+                        std::vector<uint8_t>* stored, std::string* why);
 
 // One frame: where it lies within the stored bytes and what its bytes hash to.
 struct FrameRef {
@@ -50,10 +66,10 @@ struct FrameRef {
   uint64_t checksum;
 };
 
-// Lays out the frames from an index (frame_count(raw_size) entries, already verified against the
-// section's checksum): every entry's reserved field zero, no frame empty, and the frames tiling
+// Lays out the frames from an index (frame_count(raw_size, block) entries, already verified against
+// the section's checksum): every entry's reserved field zero, no frame empty, and the frames tiling
 // the stored bytes after the index exactly.
-bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size,
+bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size, uint64_t block,
                       std::vector<FrameRef>* frames, std::string* why);
 
 // True when src holds exactly one zstd frame that records a content size of content_size

@@ -99,8 +99,9 @@ double cpu_seconds() {
 }
 
 constexpr const char* kBaselineLegend =
-    "zstd baselines (T threads): the sum over the archive's zstd sections (codecs 1, 2 and 4: the\n"
-    "shuffled bytes are decoded, not unshuffled; codec 4's frames one after another) of\n"
+    "zstd baselines (T threads): the sum over the archive's zstd sections (codecs 1, 2, 4 and 6: "
+    "the\n"
+    "shuffled bytes are decoded, not unshuffled; codecs 4 and 6: frames one after another) of\n"
     "single-threaded "
     "ZSTD_decompressDCtx\n"
     "times, best of N rounds each (rounds interleaved with the loads), divided by T.\n"
@@ -112,7 +113,8 @@ constexpr const char* kBaselineLegend =
     "           times slower still in a VM.)\n"
     "  xwarm, xfresh: load z / warm/T and load z / fresh/T; issue 4's target is <= 1.5.\n"
     "  par T:   not the issue's baseline but what it assumes: the same zstd frames decoded by T\n"
-    "           threads at once (each takes the largest left; codec 4 by frame, as the load\n"
+    "           threads at once (each takes the largest left; codecs 4 and 6 by frame, as the "
+    "load\n"
     "           does) into one fresh mapping, best of N. Where fresh/T is far below it, T\n"
     "           threads do not get T times one thread's memory bandwidth here.\n"
     "  xpar: load z / par T: the loader's own overhead over plain parallel decompression.\n"
@@ -166,7 +168,7 @@ class ZstdBaseline {
       const pbrta::SectionEntry& e = reader_.entry(i);
       if (e.codec == uint32_t(pbrta::Codec::kZstd) ||
           e.codec == uint32_t(pbrta::Codec::kZstdShuffle4) ||
-          e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames))
+          pbrta::frame_block(pbrta::Codec(e.codec)) != 0)
         sections_.push_back(i);
     }
     warm_.assign(sections_.size(), 1e30);
@@ -264,11 +266,11 @@ class ZstdBaseline {
     size_t size;
     uint64_t out, raw;
   };
-  // Codec 4: its frames follow the frame index (ZSTD_decompress decodes concatenated frames).
+  // Codecs 4 and 6: their frames follow the frame index (ZSTD_decompress decodes concatenated
+  // frames).
   static uint64_t index_bytes(const pbrta::SectionEntry& e) {
-    return e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)
-               ? pbrta::frame_count(e.raw_size) * sizeof(pbrta::FrameEntry)
-               : 0;
+    const uint64_t block = pbrta::frame_block(pbrta::Codec(e.codec));
+    return block != 0 ? pbrta::frame_count(e.raw_size, block) * sizeof(pbrta::FrameEntry) : 0;
   }
   static double sum(const std::vector<double>& v) {
     double total = 0;

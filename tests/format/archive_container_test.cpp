@@ -934,8 +934,15 @@ TEST(ArchiveContainer, WritesFuzzSeeds) {
     w.add_section(SectionKind::kTexels, {}, 0, Codec::kNoneChunked);
     ASSERT_TRUE(w.write((dir / "chunked.pbrta").string(), 0, 3, 1, &error)) << error;
   }
-  for (const char* name :
-       {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta", "chunked.pbrta"}) {
+  {  // codec 6: two 1 MiB frames (of a repeating pattern, so the seed stays small)
+    std::vector<uint8_t> pattern((uint64_t{1} << 20) + 4096);
+    for (size_t k = 0; k < pattern.size(); ++k) pattern[k] = uint8_t(k % 12 < 4 ? k / 12 : 0);
+    ArchiveWriter w;
+    w.add_section(SectionKind::kGeometry, pattern, 1, Codec::kZstdShuffle4Frames1M);
+    ASSERT_TRUE(w.write((dir / "frames1m.pbrta").string(), 0, 3, 1, &error)) << error;
+  }
+  for (const char* name : {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta",
+                           "chunked.pbrta", "frames1m.pbrta"}) {
     ArchiveReader r;
     EXPECT_TRUE(r.open((dir / name).string(), &error) && r.load_sections(1, &error)) << error;
     EXPECT_LE(fs::file_size(dir / name), 65536u);

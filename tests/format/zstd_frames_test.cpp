@@ -1,10 +1,11 @@
-// tests/format/zstd_frames_test.cpp — codec 4 (format/zstd_frames.h): a section stored as a
-// frame index and one zstd frame per shuffled block. The stored layout is what ARCHIVE.md says
-// (a stranger's plain ZSTD_decompress of each frame gives the shuffled block); every size around
-// the frame and shuffle blocks decodes exactly on 1 and 2 threads, from a file and from memory;
-// the bytes do not depend on the thread count; damage to a frame or to the index is refused with
-// the frame named; and the uint32 bounds checked while blocks unshuffle find the same first
-// offender as a plain scan, wherever it lies.
+// tests/format/zstd_frames_test.cpp — codecs 4 and 6 (format/zstd_frames.h): a section stored as
+// a frame index and one zstd frame per shuffled block of 4 MiB (codec 6: 1 MiB). The stored layout
+// is what ARCHIVE.md says (a stranger's plain ZSTD_decompress of each frame gives the shuffled
+// block); every size around the frame and shuffle blocks decodes exactly on 1 and 2 threads, from
+// a file and from memory; the bytes do not depend on the thread count; damage to a frame or to the
+// index is refused with the frame named; the uint32 bounds checked while blocks unshuffle find
+// the same first offender as a plain scan, wherever it lies; and the writer takes 1 MiB frames
+// only where asked to choose and where they cost little.
 #include <gtest/gtest.h>
 #include <xxhash.h>
 #include <zstd.h>
@@ -31,10 +32,10 @@ using test_bytes::entry_of;
 using test_bytes::float_bytes;
 using test_bytes::load_error;
 
-std::string write_sections(const std::string& path, const std::vector<std::vector<uint8_t>>& raw) {
+std::string write_sections(const std::string& path, const std::vector<std::vector<uint8_t>>& raw,
+                           Codec codec = Codec::kZstdShuffle4Frames) {
   ArchiveWriter w;
-  for (const std::vector<uint8_t>& r : raw)
-    w.add_section(SectionKind::kGeometry, r, 1, Codec::kZstdShuffle4Frames);
+  for (const std::vector<uint8_t>& r : raw) w.add_section(SectionKind::kGeometry, r, 1, codec);
   std::string error;
   EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
   return testing_support::read_file(path);
@@ -48,33 +49,39 @@ FrameEntry frame_entry(const std::string& b, const SectionEntry& e, uint64_t k) 
 
 // After an edit of section i's frame index: its checksum, then the table's and header's.
 void reseal_index(std::string* b, uint32_t i) {
-  test_bytes::reseal(b, i, frame_count(test_bytes::entry_of(*b, i).raw_size) * sizeof(FrameEntry));
+  test_bytes::reseal(
+      b, i, frame_count(test_bytes::entry_of(*b, i).raw_size, kFrameBlock) * sizeof(FrameEntry));
 }
 
 TEST(ZstdFrames, StoredLayoutIsAnIndexThenOnePlainZstdFramePerShuffledBlock) {
-  const std::string dir = testing_support::scratch_dir("ZstdFrames.StoredLayout");
-  const std::vector<uint8_t> raw = float_bytes(2 * kFrameBlock + 3 * kShuffleBlock + 6, 3);
-  const std::string b = write_sections(dir + "/a.pbrta", {raw});
-  const SectionEntry e = entry_of(b, 0);
-  ASSERT_EQ(e.codec, uint32_t(Codec::kZstdShuffle4Frames));
-  ASSERT_EQ(e.raw_size, raw.size());
-  const uint64_t n = frame_count(raw.size());
-  ASSERT_EQ(n, 3u);
-  EXPECT_EQ(e.checksum, XXH3_64bits(b.data() + e.offset, n * sizeof(FrameEntry)));
-  uint64_t at = e.offset + n * sizeof(FrameEntry);
-  for (uint64_t k = 0; k < n; ++k) {
-    const FrameEntry f = frame_entry(b, e, k);
-    EXPECT_EQ(f.reserved, 0u);
-    EXPECT_EQ(f.checksum, XXH3_64bits(b.data() + at, f.stored_size));
-    const uint64_t begin = k * kFrameBlock, size = std::min(kFrameBlock, raw.size() - begin);
-    EXPECT_EQ(ZSTD_getFrameContentSize(b.data() + at, f.stored_size), size);
-    std::vector<uint8_t> decoded(size), shuffled(size);
-    ASSERT_EQ(ZSTD_decompress(decoded.data(), size, b.data() + at, f.stored_size), size);
-    shuffle4(raw.data() + begin, shuffled.data(), size);  // shuffle blocks start at frame starts
-    EXPECT_EQ(decoded, shuffled) << "frame " << k;
-    at += f.stored_size;
+  for (Codec codec : {Codec::kZstdShuffle4Frames, Codec::kZstdShuffle4Frames1M}) {
+    SCOPED_TRACE("codec " + std::to_string(uint32_t(codec)));
+    const uint64_t block = frame_block(codec);
+    ASSERT_EQ(block, codec == Codec::kZstdShuffle4Frames ? uint64_t{4} << 20 : uint64_t{1} << 20);
+    const std::string dir = testing_support::scratch_dir("ZstdFrames.StoredLayout");
+    const std::vector<uint8_t> raw = float_bytes(2 * block + 3 * kShuffleBlock + 6, 3);
+    const std::string b = write_sections(dir + "/a.pbrta", {raw}, codec);
+    const SectionEntry e = entry_of(b, 0);
+    ASSERT_EQ(e.codec, uint32_t(codec));
+    ASSERT_EQ(e.raw_size, raw.size());
+    const uint64_t n = frame_count(raw.size(), block);
+    ASSERT_EQ(n, 3u);
+    EXPECT_EQ(e.checksum, XXH3_64bits(b.data() + e.offset, n * sizeof(FrameEntry)));
+    uint64_t at = e.offset + n * sizeof(FrameEntry);
+    for (uint64_t k = 0; k < n; ++k) {
+      const FrameEntry f = frame_entry(b, e, k);
+      EXPECT_EQ(f.reserved, 0u);
+      EXPECT_EQ(f.checksum, XXH3_64bits(b.data() + at, f.stored_size));
+      const uint64_t begin = k * block, size = std::min(block, raw.size() - begin);
+      EXPECT_EQ(ZSTD_getFrameContentSize(b.data() + at, f.stored_size), size);
+      std::vector<uint8_t> decoded(size), shuffled(size);
+      ASSERT_EQ(ZSTD_decompress(decoded.data(), size, b.data() + at, f.stored_size), size);
+      shuffle4(raw.data() + begin, shuffled.data(), size);  // shuffle blocks start at frame starts
+      EXPECT_EQ(decoded, shuffled) << "frame " << k;
+      at += f.stored_size;
+    }
+    EXPECT_EQ(at, e.offset + e.stored_size);  // the frames tile the rest exactly
   }
-  EXPECT_EQ(at, e.offset + e.stored_size);  // the frames tile the rest exactly
 }
 
 // ARCHIVE.md asks for a zstd frame that records its content size: a skippable frame, which zstd
@@ -91,35 +98,98 @@ TEST(ZstdFrames, ASkippableFrameIsNotAFrame) {
 }
 
 TEST(ZstdFrames, EverySizeAroundTheBlocksDecodesExactly) {
-  const std::string dir = testing_support::scratch_dir("ZstdFrames.EverySize");
-  const uint64_t s = kShuffleBlock, f = kFrameBlock;
-  std::vector<std::vector<uint8_t>> raw;
-  uint32_t seed = 10;
-  for (uint64_t size : {uint64_t{0}, uint64_t{1}, uint64_t{3}, uint64_t{4}, s - 1, s + 1, f - 4, f,
-                        f + 1, f + s + 3, 2 * f + 7})
-    raw.push_back(float_bytes(size, seed++));
-  const std::string path = dir + "/sizes.pbrta";
-  const std::string bytes = write_sections(path, raw);
-  for (int threads : {1, 2}) {
-    for (bool from_file : {true, false}) {
-      SCOPED_TRACE("threads " + std::to_string(threads) + (from_file ? " file" : " memory"));
-      ArchiveReader r;
-      std::string error;
-      ASSERT_TRUE((from_file ? r.open(path, &error) : r.open_memory(bytes, "sizes", &error)) &&
-                  r.load_sections(threads, &error))
-          << error;
-      for (uint32_t i = 0; i < raw.size(); ++i) {
-        SCOPED_TRACE("section of " + std::to_string(raw[i].size()) + " bytes");
-        ASSERT_EQ(r.section_size(i), raw[i].size());
-        const uint8_t* d = r.section_data(i);
-        ASSERT_NE(d, nullptr);
-        EXPECT_EQ(reinterpret_cast<uintptr_t>(d) % 16, 0u);
-        if (!raw[i].empty()) {
-          EXPECT_EQ(std::memcmp(d, raw[i].data(), raw[i].size()), 0);
+  for (Codec codec : {Codec::kZstdShuffle4Frames, Codec::kZstdShuffle4Frames1M}) {
+    SCOPED_TRACE("codec " + std::to_string(uint32_t(codec)));
+    const std::string dir = testing_support::scratch_dir("ZstdFrames.EverySize");
+    const uint64_t s = kShuffleBlock, f = frame_block(codec);
+    std::vector<std::vector<uint8_t>> raw;
+    uint32_t seed = 10;
+    for (uint64_t size : {uint64_t{0}, uint64_t{1}, uint64_t{3}, uint64_t{4}, s - 1, s + 1, f - 4,
+                          f, f + 1, f + s + 3, 2 * f + 7})
+      raw.push_back(float_bytes(size, seed++));
+    const std::string path = dir + "/sizes.pbrta";
+    const std::string bytes = write_sections(path, raw, codec);
+    for (uint32_t i = 0; i < raw.size(); ++i) ASSERT_EQ(entry_of(bytes, i).codec, uint32_t(codec));
+    for (int threads : {1, 2}) {
+      for (bool from_file : {true, false}) {
+        SCOPED_TRACE("threads " + std::to_string(threads) + (from_file ? " file" : " memory"));
+        ArchiveReader r;
+        std::string error;
+        ASSERT_TRUE((from_file ? r.open(path, &error) : r.open_memory(bytes, "sizes", &error)) &&
+                    r.load_sections(threads, &error))
+            << error;
+        for (uint32_t i = 0; i < raw.size(); ++i) {
+          SCOPED_TRACE("section of " + std::to_string(raw[i].size()) + " bytes");
+          ASSERT_EQ(r.section_size(i), raw[i].size());
+          const uint8_t* d = r.section_data(i);
+          ASSERT_NE(d, nullptr);
+          EXPECT_EQ(reinterpret_cast<uintptr_t>(d) % 16, 0u);
+          if (!raw[i].empty()) {
+            EXPECT_EQ(std::memcmp(d, raw[i].data(), raw[i].size()), 0);
+          }
+          for (uint64_t k = 0; k < kSectionPadding; ++k) ASSERT_EQ(d[raw[i].size() + k], 0);
         }
-        for (uint64_t k = 0; k < kSectionPadding; ++k) ASSERT_EQ(d[raw[i].size() + k], 0);
       }
     }
+  }
+}
+
+// pbrtc's choice (ArchiveWriter::choose_frame_size): 1 MiB frames for a section of more than 1 MiB
+// and at most 16 MiB when they cost at most 5% more bytes. Bytes that repeat at a distance over
+// 1 MiB (as killeroo-simple's mesh included twice does) compress far better in 4 MiB frames,
+// which can see the repeat.
+TEST(ZstdFrames, TheWriterTakes1MiBFramesWhereTheyCostLittle) {
+  const std::string dir = testing_support::scratch_dir("ZstdFrames.WriterChoice");
+  const uint64_t m = uint64_t{1} << 20;
+  std::vector<uint8_t> repeated = float_bytes(m + 4096, 8);
+  repeated.insert(repeated.end(), repeated.begin(), repeated.end());  // 2 MiB + 8 KiB, twice
+  const std::vector<std::vector<uint8_t>> raw = {
+      float_bytes(m, 1),          // one frame either way: codec 4
+      float_bytes(m + 4, 2),      // two 1 MiB frames, alike in size: codec 6
+      float_bytes(3 * m + 5, 3),  // codec 6
+      repeated,                   // codec 4: the repeat is 1 MiB + 4 KiB away
+      float_bytes(16 * m, 4),     // codec 6: still four 4 MiB frames, but alike in size
+      float_bytes(16 * m + 4, 5)  // codec 4: over kSmallFramesMax
+  };
+  const Codec expected[] = {Codec::kZstdShuffle4Frames,   Codec::kZstdShuffle4Frames1M,
+                            Codec::kZstdShuffle4Frames1M, Codec::kZstdShuffle4Frames,
+                            Codec::kZstdShuffle4Frames1M, Codec::kZstdShuffle4Frames};
+  for (bool choose : {false, true}) {
+    SCOPED_TRACE(choose ? "choosing" : "as asked");
+    ArchiveWriter w;
+    w.choose_frame_size(choose);
+    for (const std::vector<uint8_t>& r : raw)
+      w.add_section(SectionKind::kGeometry, r, 1, Codec::kZstdShuffle4Frames);
+    const std::string path = dir + "/c.pbrta";
+    std::string error;
+    ASSERT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
+    const std::string bytes = testing_support::read_file(path);
+    for (uint32_t i = 0; i < raw.size(); ++i) {
+      const SectionEntry e = entry_of(bytes, i);
+      EXPECT_EQ(e.codec, uint32_t(choose ? expected[i] : Codec::kZstdShuffle4Frames)) << i;
+      EXPECT_EQ(w.table()[i].codec, e.codec);
+      // Codec 6 costs at most 5%: the same section asked for as codec 4 is the yardstick.
+      if (e.codec == uint32_t(Codec::kZstdShuffle4Frames1M)) {
+        std::vector<uint8_t> four;
+        std::string why;
+        ASSERT_TRUE(encode_zstd_frames(raw[i].data(), raw[i].size(), 3, kFrameBlock, &four, &why));
+        EXPECT_LE(e.stored_size, four.size() + four.size() / 20) << i;
+      }
+    }
+    ArchiveReader r;
+    ASSERT_TRUE(r.open(path, &error) && r.load_sections(2, &error)) << error;
+    for (uint32_t i = 0; i < raw.size(); ++i)
+      EXPECT_EQ(std::memcmp(r.section_data(i), raw[i].data(), raw[i].size()), 0) << i;
+    if (!choose) continue;
+    // A flipped byte in a codec-6 frame names that frame, as in codec 4.
+    std::string b = bytes;
+    const SectionEntry e = entry_of(b, 2);
+    FrameEntry f0, f1;
+    std::memcpy(&f0, b.data() + e.offset, sizeof f0);
+    std::memcpy(&f1, b.data() + e.offset + sizeof f0, sizeof f1);
+    b[e.offset + 4 * sizeof(FrameEntry) + f0.stored_size + f1.stored_size / 2] ^= 0x04;
+    EXPECT_EQ(load_error(dir + "/d.pbrta", b),
+              dir + "/d.pbrta: section 'geometry' (#2): frame 1: checksum mismatch");
   }
 }
 
@@ -128,9 +198,9 @@ TEST(ZstdFrames, BytesDoNotDependOnTheThreadCount) {
   std::vector<uint8_t> one, two;
   std::string why;
   tbb::task_arena(1).execute(
-      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, &one, &why)); });
+      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, kFrameBlock, &one, &why)); });
   tbb::task_arena(2).execute(
-      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, &two, &why)); });
+      [&] { ASSERT_TRUE(encode_zstd_frames(raw.data(), raw.size(), 3, kFrameBlock, &two, &why)); });
   EXPECT_EQ(one, two);
 }
 
@@ -143,7 +213,7 @@ class ZstdFramesDamage : public ::testing::Test {
     good_ = write_sections(dir_ + "/good.pbrta",
                            {float_bytes(1000, 5), float_bytes(2 * kFrameBlock + 100, 6)});
     e_ = entry_of(good_, 1);
-    ASSERT_EQ(frame_count(e_.raw_size), 3u);
+    ASSERT_EQ(frame_count(e_.raw_size, kFrameBlock), 3u);
   }
   // File offset of frame k of section 1.
   uint64_t frame_at(uint64_t k) const {
@@ -266,8 +336,9 @@ TEST(ZstdFrames, BoundsFindTheFirstOffenderWhereverItIs) {
       EXPECT_EQ(first[b], plain_first(raw, bounds[b])) << "bound " << b;
     EXPECT_EQ(std::memcmp(r.section_data(0), raw.data(), raw.size()), 0);
   }
-  // The same bounds on the same bytes stored uncompressed and as one zstd frame (codecs 0, 1).
-  for (Codec codec : {Codec::kNone, Codec::kZstd}) {
+  // The same bounds on the same bytes stored uncompressed, as one zstd frame and in 1 MiB frames
+  // (codecs 0, 1, 6).
+  for (Codec codec : {Codec::kNone, Codec::kZstd, Codec::kZstdShuffle4Frames1M}) {
     ArchiveWriter w;
     w.add_section(SectionKind::kGeometry, raw, 1, codec);
     std::string error;

@@ -4,10 +4,10 @@
 // recomputes, in place, every checksum the container reader verifies (each section's over its
 // stored bytes, the table's, the header's) and the recorded file size, wherever the header and
 // table let it find them, so that mutations reach the layout checks, the decoders and the record
-// validation behind them. A codec-4 section's checksum covers only its frame index, whose entries
-// hold each frame's checksum: those are recomputed first, for every entry whose frame lies inside
-// the stored bytes. A codec-5 section's checksum is over its 1 MiB chunks' (chunked_xxh3). The
-// compiler tests of record validation reseal their edits with it too
+// validation behind them. A codec-4 or codec-6 section's checksum covers only its frame index,
+// whose entries hold each frame's checksum: those are recomputed first, for every entry whose frame
+// lies inside the stored bytes. A codec-5 section's checksum is over its 1 MiB chunks'
+// (chunked_xxh3). The compiler tests of record validation reseal their edits with it too
 // (tests/compiler/reseal_and_load.h).
 #pragma once
 
@@ -46,8 +46,10 @@ inline void reseal(std::vector<uint8_t>* b) {
       if (e.offset > b->size() || e.stored_size > b->size() - e.offset) continue;
       uint8_t* stored = b->data() + e.offset;
       uint64_t covered = e.stored_size;
-      if (e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames)) {
-        const uint64_t index_bytes = pbrta::frame_count(e.raw_size) * sizeof(pbrta::FrameEntry);
+      const uint64_t block = pbrta::frame_block(pbrta::Codec(e.codec));
+      if (block != 0) {
+        const uint64_t index_bytes =
+            pbrta::frame_count(e.raw_size, block) * sizeof(pbrta::FrameEntry);
         if (index_bytes > e.stored_size) continue;
         uint64_t frame_at = index_bytes;
         for (uint64_t k = 0; k < index_bytes; k += sizeof(pbrta::FrameEntry)) {

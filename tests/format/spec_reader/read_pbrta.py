@@ -87,11 +87,11 @@ def zstd_frame(data, size):
     return out if size else bytearray()
 
 
-SHUFFLE_BLOCK, FRAME_SIZE, MiB = 262144, 4194304, 1 << 20
+SHUFFLE_BLOCK, MiB = 262144, 1 << 20
 
 
 def unshuffle(src, dst, at):
-    """Undo codecs 2 and 4's byte shuffle of src (blocks counted from its start) into dst[at:]."""
+    """Undo codecs 2, 4 and 6's byte shuffle of src (blocks counted from its start) into dst[at:]."""
     for p in range(0, len(src), SHUFFLE_BLOCK):
         m = min(SHUFFLE_BLOCK, len(src) - p)
         n = m // 4
@@ -149,7 +149,7 @@ def parse_default(p):
 
 NONE = 0xFFFFFFFF
 MAGIC = b"\x89PBRTA\r\n"
-MAJOR, MINOR = 1, 3
+MAJOR, MINOR = 1, 4
 KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "transforms",
          7: "textures", 8: "materials", 9: "media", 10: "lights", 11: "area_lights",
          12: "shapes", 13: "objects", 14: "object_shapes", 15: "instances", 16: "meshes",
@@ -158,7 +158,8 @@ SCENE, STRINGS, ENTITIES, VALUES, WORDS, TRANSFORMS, TEXTURES, MATERIALS, MEDIA,
     AREA_LIGHTS, SHAPES, OBJECTS, OBJECT_SHAPES, INSTANCES, MESHES, GEOMETRY, IMAGES, \
     TEXELS, PROVENANCE = range(1, 21)
 CODECS = {0: "none", 1: "zstd", 2: "zstd_shuffle4", 3: "draco", 4: "zstd_shuffle4_frames",
-          5: "none_chunked"}
+          5: "none_chunked", 6: "zstd_shuffle4_frames_1m"}
+FRAME_SIZES = {4: 4 * (1 << 20), 6: 1 << 20}  # codecs 4 and 6's blocks (section 5)
 CHUNK_SIZE = 1 << 20  # codec 5's checksum chunks (section 5)
 # Array kinds: SceneRecord count field, element size and record layout (section 6 and 7).
 ARRAYS = {ENTITIES: ("num_entities", 16, "<BBHIII"), VALUES: ("num_values", 16, "<4I"),
@@ -300,8 +301,8 @@ class Archive:
     def decode(self, s):
         stored = memoryview(self.data)[s.offset:s.offset + s.stored_size]
         try:
-            if s.codec == 4:
-                s.raw = self.decode_frames(s, stored)
+            if s.codec in FRAME_SIZES:
+                s.raw = self.decode_frames(s, stored, FRAME_SIZES[s.codec])
             elif s.codec == 5:
                 chunks = b"".join(struct.pack("<Q", xxh3(stored[at:at + CHUNK_SIZE]))
                                   for at in range(0, s.stored_size, CHUNK_SIZE))
@@ -322,8 +323,8 @@ class Archive:
         except CodecError as e:
             self.fail(str(e), s)
 
-    def decode_frames(self, s, stored):
-        n = -(-s.raw_size // FRAME_SIZE)
+    def decode_frames(self, s, stored, frame_size):
+        n = -(-s.raw_size // frame_size)
         if 16 * n > s.stored_size:
             self.fail(f"frame index of {n} entries does not fit", s)
         if xxh3(stored[:16 * n]) != s.checksum:
@@ -338,8 +339,8 @@ class Archive:
             if xxh3(frame) != checksum:
                 self.fail(f"frame {i}: checksum mismatch", s)
             try:
-                block = zstd_frame(frame, min(FRAME_SIZE, s.raw_size - i * FRAME_SIZE))
-                unshuffle(block, raw, i * FRAME_SIZE)
+                block = zstd_frame(frame, min(frame_size, s.raw_size - i * frame_size))
+                unshuffle(block, raw, i * frame_size)
             except CodecError as e:
                 self.fail(f"frame {i}: {e}", s)
             s.frames.append(size)
@@ -746,15 +747,15 @@ class Archive:
                f"  entities {n['num_entities']}, values {n['num_values']}, "
                f"transforms {n['num_transforms']}, strings {n['num_strings']}",
                "  sections:",
-               f"  {'#':>5}  {'kind':<14} {'codec':<22} {'count':>6} {'raw':>12} {'stored':>12} {'ratio':>7}"]
+               f"  {'#':>5}  {'kind':<14} {'codec':<23} {'count':>8} {'raw':>12} {'stored':>12} {'ratio':>7}"]
         raw = sum(s.raw_size for s in self.sections)
         stored = sum(s.stored_size for s in self.sections)
         ratio = lambda st, r: f"{100.0 * st / r:.1f}%" if r else "-"
         for s in self.sections:
-            out.append(f"  {s.index:>5}  {KINDS.get(s.kind, 'unknown'):<14} {CODECS[s.codec]:<22} {s.count:>6}"
+            out.append(f"  {s.index:>5}  {KINDS.get(s.kind, 'unknown'):<14} {CODECS[s.codec]:<23} {s.count:>8}"
                        f" {fmt_size(s.raw_size):>12} {fmt_size(s.stored_size):>12}"
                        f" {ratio(s.stored_size, s.raw_size):>7}")
-        out.append(f"  {'':>5}  {'total':<14} {'':<22} {'':>6} {fmt_size(raw):>12} {fmt_size(stored):>12}"
+        out.append(f"  {'':>5}  {'total':<14} {'':<23} {'':>8} {fmt_size(raw):>12} {fmt_size(stored):>12}"
                    f" {ratio(stored, raw):>7}")
         return out
 
@@ -805,7 +806,7 @@ class Archive:
                 out.append(f"  ... {len(records) - limit} more {name} records")
 
         for s in self.sections:
-            if s.codec == 4:
+            if s.codec in FRAME_SIZES:
                 out.append(f"  section #{s.index} {s.name}: {len(s.frames)} frames of {s.frames[:4]}"
                            f"{' ...' if len(s.frames) > 4 else ''} bytes")
             elif s.codec == 3:
