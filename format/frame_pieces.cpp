@@ -20,9 +20,8 @@ uint32_t next_of(uint64_t claim) {
   return static_cast<uint32_t>(claim & kPieceMask);
 }
 
-// A wait on another thread's progress: a few pauses first (a piece takes tens of microseconds),
-// then yielding, so that a load with more threads than cores does not starve the thread waited
-// for.
+}  // namespace
+
 void relax(int* spins) {
   if (++*spins < 64) {
 #if defined(__x86_64__) || defined(__i386__)
@@ -32,8 +31,6 @@ void relax(int* spins) {
   }
   std::this_thread::yield();
 }
-
-}  // namespace
 
 void FramePieces::open(const void* work, uint32_t pieces) {
   work_ = work;

@@ -26,7 +26,8 @@ class FramePieces {
   // Decoding thread. work is whatever a helper needs to unshuffle a piece; it is read only by a
   // thread that claimed a piece of this frame, and must stay valid until wait_all_done returns.
   void open(const void* work, uint32_t pieces);
-  void decoded(uint64_t bytes) { decoded_.store(bytes, std::memory_order_release); }
+  // Where the decoder stores, with release order, how many of the frame's bytes are final
+  // (decode_frame_shuffled in format/zstd_frames.h does).
   std::atomic<uint64_t>* decoded_counter() { return &decoded_; }
   bool claim_own(uint32_t* piece);  // the next unclaimed piece, if any
   void fail();                      // decoding failed: the unclaimed pieces are dropped
@@ -48,5 +49,10 @@ class FramePieces {
   uint64_t generation_ = 0;
   uint32_t pieces_ = 0;
 };
+
+// One turn of a wait on another thread's progress: a few pauses first (a piece takes tens of
+// microseconds), then yielding, so that a load with more threads than cores does not starve the
+// thread waited for. *spins counts the turns of one wait (start it at 0).
+void relax(int* spins);
 
 }  // namespace pbrta::archive_detail

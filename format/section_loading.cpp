@@ -316,8 +316,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   }
 
   // The tasks: codec-4 and codec-6 sections by frame (their indexes read and checked here, on this
-  // thread: 16 bytes per 4 MiB frame), codec-5 sections by checksum chunk, every other section
-  // whole.
+  // thread: 16 bytes per frame), codec-5 sections by checksum chunk, every other section whole.
   std::vector<std::string> errors(n);
   std::vector<LoadTask> tasks;
   // Each codec-4 (codec-5) section's frames (chunks) still to do: the task that finishes its last
@@ -493,7 +492,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
     exceeded.clear();
     unshuffle_frame_piece(w.scratch, w.section + w.raw_offset, w.size, piece, w.bounds,
                           w.num_bounds, w.stream, &exceeded);
-    const uint64_t at = uint64_t{piece} * kShuffleBlock, end = std::min(at + kShuffleBlock, w.size);
+    const uint64_t at = uint64_t{piece} * kShuffleBlock, end = frame_piece_end(piece, w.size);
     for (uint32_t j : exceeded)
       scan(w.bound_ids[j], w.section, w.raw_offset + std::max(w.bounds[j].begin, at),
            w.raw_offset + std::min(w.bounds[j].end, end));
@@ -571,24 +570,24 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   };
   // A thread with no task left to take unshuffles pieces of the frames other threads decode,
   // while any is decoding (format/frame_pieces.h).
-  auto help = [&](int worker) {
-    int idle = 0;
+  // (Its own slot has nothing left to claim by then.)
+  auto help = [&] {
+    int spins = 0;
     while (frames_running.load(std::memory_order_acquire) > 0) {
       bool helped = false;
-      for (size_t w = 0; w < slots.size(); ++w) {
+      for (archive_detail::FramePieces& slot : slots) {
         uint32_t piece = 0;
         const void* claimed = nullptr;
-        if (int(w) == worker || !slots[w].try_claim(&piece, &claimed)) continue;
+        if (!slot.try_claim(&piece, &claimed)) continue;
         const FrameWork& work = *static_cast<const FrameWork*>(claimed);
-        const uint64_t end = std::min(uint64_t{piece + 1} * kShuffleBlock, work.size);
-        if (slots[w].wait_decoded(end)) unshuffle_piece(work, piece);
-        slots[w].piece_done();
+        if (slot.wait_decoded(frame_piece_end(piece, work.size))) unshuffle_piece(work, piece);
+        slot.piece_done();
         helped = true;
       }
-      if (!helped && ++idle > 64) {
-        std::this_thread::yield();
-        idle = 0;
-      }
+      if (helped)
+        spins = 0;
+      else
+        archive_detail::relax(&spins);
     }
   };
   // Two queues, each largest first (so one big section does not start last and leave the other
@@ -698,7 +697,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       if (frame) frames_running.fetch_sub(1, std::memory_order_acq_rel);
       if (!took) break;
     }
-    if (!serial) help(worker);
+    if (!serial) help();
   });
   bool failed = !plan_error.empty();
   for (uint32_t i : order) failed |= !errors[i].empty();

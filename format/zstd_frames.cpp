@@ -157,7 +157,11 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
 }
 
 uint32_t frame_piece_count(uint64_t block_size) {
-  return static_cast<uint32_t>((block_size + kShuffleBlock - 1) / kShuffleBlock);
+  return static_cast<uint32_t>(frame_count(block_size, kShuffleBlock));
+}
+
+uint64_t frame_piece_end(uint32_t piece, uint64_t block_size) {
+  return std::min(uint64_t{piece + 1} * kShuffleBlock, block_size);
 }
 
 bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref,
@@ -205,8 +209,7 @@ bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef
 void unshuffle_frame_piece(const uint8_t* scratch, uint8_t* dst, uint64_t block_size,
                            uint32_t piece, const WordBound* bounds, uint64_t num_bounds,
                            bool stream, std::vector<uint32_t>* exceeded) {
-  const uint64_t at = uint64_t{piece} * kShuffleBlock;
-  const uint64_t end = std::min(at + kShuffleBlock, block_size);
+  const uint64_t at = uint64_t{piece} * kShuffleBlock, end = frame_piece_end(piece, block_size);
   // The bounds' parts inside this piece, relative to it. (Sorted by begin is all this needs:
   // overlapping bounds are each checked whole.)
   thread_local std::vector<WordBound> part;

@@ -83,8 +83,10 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
 // (kShuffleBlock bytes; the last may be shorter) from there into place. A piece may be unshuffled
 // as soon as its bytes have decoded, while the rest of the frame still decodes.
 
-// Pieces of a frame of block_size bytes.
+// Pieces of a frame of block_size bytes, and where piece `piece` ends (it starts at
+// piece * kShuffleBlock).
 uint32_t frame_piece_count(uint64_t block_size);
+uint64_t frame_piece_end(uint32_t piece, uint64_t block_size);
 
 // Verifies a frame's checksum and that it is exactly one zstd frame recording block_size bytes,
 // then decodes it into scratch (at least block_size bytes), one zstd block at a time: after each,

@@ -29,6 +29,11 @@ struct Frame {
   }
 };
 
+// As the decoder publishes its progress.
+void publish(FramePieces* slot, uint64_t bytes) {
+  slot->decoded_counter()->store(bytes, std::memory_order_release);
+}
+
 void do_piece(Frame* f, uint32_t piece) {
   f->out[piece] = f->decoded[piece];
   f->done[piece].fetch_add(1);
@@ -61,7 +66,7 @@ TEST(FramePieces, EveryPieceOfEveryFrameIsDoneOnceWhoeverTakesIt) {
     slot.open(f, pieces);
     for (uint32_t p = 0; p < pieces; ++p) {  // "decode", publishing each piece's bytes
       f->decoded[p] = uint32_t(i * 100 + p + 1);
-      slot.decoded(uint64_t{p + 1} * 4);
+      publish(&slot, uint64_t{p + 1} * 4);
     }
     for (uint32_t piece; slot.claim_own(&piece);) {
       do_piece(f, piece);
@@ -86,7 +91,7 @@ TEST(FramePieces, AFailedFrameDropsItsUnclaimedPiecesAndWaitsForClaimedOnes) {
   FramePieces slot;
   Frame f(8);
   slot.open(&f, 8);
-  slot.decoded(8);  // pieces 0 and 1 decoded
+  publish(&slot, 8);  // pieces 0 and 1 decoded
   uint32_t piece = 0;
   const void* work = nullptr;
   ASSERT_TRUE(slot.try_claim(&piece, &work));  // a helper's claim on piece 0
@@ -147,7 +152,7 @@ TEST(FramePieces, AClaimNeverReachesAFrameThatReplacedTheOneItSaw) {
   for (int i = 0; i < kFrames; ++i) {
     ids[i] = i;
     slot.open(&ids[i], 1);
-    slot.decoded(4);
+    publish(&slot, 4);
     uint32_t piece = 0;
     if (slot.claim_own(&piece)) {
       taken[i].fetch_add(1);
