@@ -249,7 +249,7 @@ bool ArchiveReader::open(const std::string& path, std::string* error) {
       *error = fail("cannot map: " + errno_text(map_errno));
       return false;
     }
-    fd_ = fd;  // kept for load_sections' reads of compressed sections
+    fd_ = fd;  // kept for unchanged_size()
     map_ = map;
     map_size_ = size;
     base_ = static_cast<const uint8_t*>(map);
@@ -441,29 +441,9 @@ bool ArchiveReader::validate(std::string* error) {
   uint64_t gap_begin = table_end;
   for (uint32_t k = 0; k <= n; ++k) {
     const uint64_t gap_end = k < n ? entries_[order[k]].offset : size_;
-    uint64_t nz = gap_end;
-    // The table's gap lies in the page the header was read from, and an uncompressed section's
-    // pages are all read by its checksum anyway: those gaps are read through the mapping, which
-    // costs nothing more (--codec none, best of 200: teapot 118-120 -> 112 us, killeroo 121-137 ->
-    // 109-114 us). Any other gap is read with pread: it lies at the end of a compressed section,
-    // which the load reads with pread too, so faulting its page in would be extra work.
-    const bool after_none = k == 0 || stores_raw(static_cast<Codec>(entries_[order[k - 1]].codec));
-    if (fd_ >= 0 && !after_none) {
-      uint8_t buf[4096];
-      for (uint64_t at = gap_begin; at < gap_end && nz == gap_end;) {
-        const uint64_t m = std::min<uint64_t>(sizeof buf, gap_end - at);
-        std::string why;
-        if (!read_at(at, m, buf, &why)) {
-          *error = fail(why);
-          return false;
-        }
-        const uint64_t i = first_nonzero(buf, 0, m);
-        if (i != m) nz = at + i;
-        at += m;
-      }
-    } else {
-      nz = first_nonzero(base_, gap_begin, gap_end);
-    }
+    // Read through the mapping, as the load reads every section: the gap shares a page with the
+    // end of the section before it, which the load faults in anyway.
+    const uint64_t nz = first_nonzero(base_, gap_begin, gap_end);
     if (nz != gap_end) {
       const std::string reason = "nonzero byte at offset " + std::to_string(nz) +
                                  " in the padding after the " +
@@ -495,9 +475,5 @@ int ArchiveReader::find_section(SectionKind kind) const {
   for (uint32_t i = 0; i < entries_.size(); ++i)
     if (entries_[i].kind == static_cast<uint32_t>(kind)) return static_cast<int>(i);
   return -1;
-}
-
-bool ArchiveReader::read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const {
-  return read_fully(fd_, offset, size, dst, why);
 }
 }  // namespace pbrta

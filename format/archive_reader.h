@@ -21,9 +21,9 @@
 // and every other step works on cached data; the caller's uint32 bounds (triangle indices) are
 // checked in the same pass. Legacy codec-2 sections stream one shuffle block at a time through
 // the scratch block the same way, one section per thread. Each loading thread keeps its zstd
-// context, scratch block and staging buffer for the next load, by any reader, as long as all
-// threads' kept buffers stay within 32 MiB: mapping and zeroing them anew was half of a repeated
-// 1 MB load (a process's first load pays for them once).
+// context and scratch block for the next load, by any reader, as long as all threads' kept
+// buffers stay within 32 MiB: mapping and zeroing them anew was half of a repeated 1 MB load (a
+// process's first load pays for them once).
 // Draco (codec-3) sections decode last, and only when every other section decoded and every
 // Draco stream's checksum matched (checked in this process, before any fork), in up to `threads`
 // child processes with a budget (format/isolated_jobs.h) that write into shared memory, copied
@@ -44,9 +44,8 @@
 // <reason>" for one section. The exception is a file truncated by another process while mapped:
 // touching the lost pages raises SIGBUS, as with any memory-mapped reader (pbrtc never does that:
 // it writes a new file and renames it over the old). A file that shrank between open and
-// load_sections is an error (its size is checked again when the load starts), as is one that
-// shrinks during the load under a compressed section of 64 KiB or more (read with pread); one
-// read whole (64 KiB or less) is a copy, which nothing outside can change.
+// load_sections is an error (its size is checked again when the load starts, before anything
+// reads a section); one read whole (64 KiB or less) is a copy, which nothing outside can change.
 #pragma once
 
 #include <cstddef>
@@ -246,12 +245,6 @@ class ArchiveReader {
   // False, naming the first section cut, when a mapped file is now shorter than when it was
   // opened: it is checked once at the start of each load, before anything reads the mapping.
   bool unchanged_size(std::string* error) const;
-  // pread of exactly size bytes at offset, or false with the reason.
-  bool read_at(uint64_t offset, uint64_t size, uint8_t* dst, std::string* why) const;
-  // The same into the decoder's staging buffer, which it returns; nullptr with the reason when
-  // the buffer cannot be had or the read fails.
-  const uint8_t* read_staged(uint64_t offset, uint64_t size, archive_detail::Decoder* decoder,
-                             std::string* why) const;
   bool typed_array_bytes(uint32_t section, size_t elem_size, size_t elem_align, const void** out,
                          uint32_t* count, std::string* error) const;
   std::string fail(std::string_view reason) const;

@@ -2,7 +2,7 @@
 // a load writes, and the page-population advice it gives the kernel (internal to format/).
 //
 // Why one place: the reader's decoded-section buffers (format/archive_reader.cpp) and each
-// loading thread's scratch and staging blocks (format/thread_decoder.h) follow the same rule
+// loading thread's scratch blocks (format/thread_decoder.h) follow the same rule
 // for when a buffer is worth its own huge-page mapping.
 #pragma once
 

@@ -36,9 +36,6 @@ using archive_detail::add_overflows;
 using archive_detail::kBufferAlignment;
 using archive_detail::thread_decoder;
 
-// Compressed sections from this size on are read with pread (see load_one); smaller ones, the
-// records, are decoded from the mapping, whose pages around them validate() has mostly touched.
-constexpr uint64_t kReadThreshold = uint64_t{64} << 10;
 // Codec-4 sections from this size on are unshuffled with non-temporal stores (unshuffle4_block):
 // far larger than the cache, so ordinary stores would read in every line only to overwrite it
 // and see it evicted before the renderer reads it. mesh200 (109 MB, 2 threads, paired best of
@@ -71,16 +68,14 @@ bool ArchiveReader::load_one(uint32_t index, uint8_t* out, archive_detail::Decod
     return false;
   };
   const Codec codec = static_cast<Codec>(e.codec);
+  // Compressed or not, the stored bytes are read through the mapping (validate(): inside the
+  // file). A pread copy into a staging buffer was cheaper when each fault mapped one 4 KiB page;
+  // ext4 now caches pbrtc's output in large folios, one fault maps a whole folio (see
+  // kSmallFileSize in archive_reader.cpp), and the copy was 12% of mesh200's load CPU. Copy ->
+  // mapping, 2 threads, interleaved: mesh200 16.1-16.2 -> 15.2-15.3 ms (a copy read back from
+  // disk: 15.1-15.3 -> 14.6-14.7), best of 30, 3 rounds; medians of 10 rounds of best of 100:
+  // killeroo 0.36 -> 0.34 ms, caustic glass 0.41 -> 0.38 ms, teapot 0.58 -> 0.57 ms.
   const uint8_t* src = base_ + e.offset;
-  if (codec != Codec::kNone && fd_ >= 0 && e.stored_size >= kReadThreshold) {
-    // The stored bytes of a compressed section are read once and decoded once, so they are read
-    // with pread into this thread's huge-page staging buffer instead of through the mapping:
-    // faulting page-cache pages into the mapping 4 KiB at a time cost twice as much as the copy
-    // (measured on a 23 MB archive: 10.6 ms against 5.2 ms of CPU for mapping + checksum).
-    std::string why;
-    src = read_staged(e.offset, e.stored_size, decoder, &why);
-    if (src == nullptr) return bad(why);
-  }
   // Before anything decodes these bytes.
   if (checksum64(src, e.stored_size) != e.checksum) return bad("checksum mismatch");
   if (codec == Codec::kNone) {
@@ -200,15 +195,8 @@ bool ArchiveReader::load_frame(const LoadTask& t, archive_detail::Decoder* decod
   uint8_t* scratch = decoder->block(t.raw_size);
   if (dctx == nullptr || scratch == nullptr)
     return bad("zstd: cannot allocate a decompression context");
-  const uint8_t* src = base_ + e.offset + t.ref.offset;  // validate(): inside the file
-  if (fd_ >= 0 && t.ref.size >= kReadThreshold) {
-    // Read, not mapped: see load_one (and like load_one, a small one is decoded from the
-    // mapping). A frame is small, so it stays in cache from the read through the checksum to the
-    // decoder.
-    std::string why;
-    src = read_staged(e.offset + t.ref.offset, t.ref.size, decoder, &why);
-    if (src == nullptr) return bad(why);
-  }
+  // Through the mapping, as load_one reads (validate(): inside the file).
+  const uint8_t* src = base_ + e.offset + t.ref.offset;
   work->scratch = scratch;
   slot->open(work, frame_piece_count(t.raw_size));
   std::string why;
@@ -219,17 +207,6 @@ bool ArchiveReader::load_frame(const LoadTask& t, archive_detail::Decoder* decod
     return bad(why);
   }
   return true;
-}
-
-const uint8_t* ArchiveReader::read_staged(uint64_t offset, uint64_t size,
-                                          archive_detail::Decoder* decoder,
-                                          std::string* why) const {
-  uint8_t* stage = decoder->stage(size);
-  if (stage == nullptr) {
-    *why = "cannot allocate " + std::to_string(size) + " bytes to read it";
-    return nullptr;
-  }
-  return read_at(offset, size, stage, why) ? stage : nullptr;
 }
 
 bool ArchiveReader::load_sections(int threads, std::string* error) {
@@ -363,18 +340,11 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       tasks.push_back(LoadTask{i, kWholeSection, 0, e.raw_size, {}});
       continue;
     }
+    // validate(): the index fits in the stored bytes; read through the mapping, as the frames
+    // are, after unchanged_size() above.
     const uint64_t index_bytes = frame_count(e.raw_size, block) * sizeof(FrameEntry);
-    std::vector<uint8_t> index;
     const uint8_t* at = base_ + e.offset;
     std::string why;
-    if (fd_ >= 0 && index_bytes > 0) {
-      index.resize(index_bytes);  // validate(): index_bytes <= stored_size
-      if (!read_at(e.offset, index_bytes, index.data(), &why)) {
-        errors[i] = section_error(i, why);
-        continue;
-      }
-      at = index.data();
-    }
     std::vector<FrameRef> frames;
     if (checksum64(at, index_bytes) != e.checksum) {
       errors[i] = section_error(i, "checksum mismatch");
@@ -704,22 +674,12 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
   for (uint32_t k : now) failed |= !task_errors[k].empty();
   for (uint32_t k : gated) failed |= !task_errors[k].empty();
   // The Draco streams' checksums, here and before any child is forked: a damaged stream fails
-  // for the price of hashing it (microseconds), not of a process (a millisecond or more). Read
-  // with pread from a file, as the frame indexes are, so a file that shrank since it was opened
-  // fails here with an error, not SIGBUS.
+  // for the price of hashing it (microseconds), not of a process (a millisecond or more).
   if (!failed) {
     for (uint32_t k : draco) {
       const uint32_t i = tasks[k].section;
       const SectionEntry& e = entries_[i];
-      std::string why;
-      const uint8_t* at = fd_ >= 0 ? read_staged(e.offset, e.stored_size, &thread_decoder(), &why)
-                                   : base_ + e.offset;
-      if (at == nullptr) {
-        task_errors[k] = section_error(i, why);
-        failed = true;
-        continue;
-      }
-      if (checksum64(at, e.stored_size) != e.checksum) {
+      if (checksum64(base_ + e.offset, e.stored_size) != e.checksum) {
         task_errors[k] = section_error(i, "checksum mismatch");
         failed = true;
       }

@@ -43,7 +43,7 @@ void zstd_free(void*, void* address) {
     std::free(base);
 }
 
-// Bytes of huge-page buffers (scratch and staging) that loading threads keep between loads, in
+// Bytes of huge-page scratch buffers that loading threads keep between loads, in
 // all: each thread keeps its buffers for the next load while the total stays within this.
 constexpr uint64_t kKeptBufferBudget = uint64_t{32} << 20;
 std::atomic<uint64_t> kept_buffer_bytes{0};
@@ -53,29 +53,17 @@ std::atomic<uint64_t> kept_buffer_bytes{0};
 Decoder::~Decoder() {
   ZSTD_freeDCtx(dctx_);
   free_scratch();
-  free_staging();
 }
 
 void Decoder::trim() {
   if (kept_buffer_bytes.load() > kKeptBufferBudget) {
     free_scratch();
-    free_staging();
   }
   if (dctx_ != nullptr && ZSTD_sizeof_DCtx(dctx_) > (size_t{1} << 20)) {
     ZSTD_freeDCtx(dctx_);
     dctx_ = nullptr;
     tried_ = false;
   }
-}
-
-uint8_t* Decoder::stage(uint64_t bytes) {
-  if (bytes > staging_mapped_) {
-    free_staging();
-    staging_ = map_fresh(bytes, &staging_mapped_);
-    if (staging_ == nullptr) staging_mapped_ = 0;
-    kept_buffer_bytes += staging_mapped_;
-  }
-  return staging_;
 }
 
 ZSTD_DCtx* Decoder::context() {
@@ -114,13 +102,6 @@ void Decoder::free_scratch() {
   kept_buffer_bytes -= scratch_mapped_;
   scratch_ = nullptr;
   scratch_size_ = scratch_mapped_ = 0;
-}
-
-void Decoder::free_staging() {
-  if (staging_ != nullptr) munmap(staging_, staging_mapped_);
-  kept_buffer_bytes -= staging_mapped_;
-  staging_ = nullptr;
-  staging_mapped_ = 0;
 }
 
 // Owned through the thread's own storage, where leak checkers see it.

@@ -3,11 +3,11 @@
 //
 // Kept across load_sections calls and across loads (and readers) for the life of the thread: the
 // decompression context (reused across sections, so a streaming window buffer is allocated
-// once), the block that shuffled data is decoded into before it is unshuffled into place, and
-// the buffer stored bytes are read into. Each is made on first need: a thread that only decodes
-// small record sections never maps a scratch block. Keeping the buffers matters in a VM:
-// mapping, zeroing and unmapping fresh huge pages for them was half of a 0.75 ms load of
-// killeroo-simple, repeated. Together the threads keep at most 32 MiB of such buffers.
+// once) and the block that shuffled data is decoded into before it is unshuffled into place.
+// Each is made on first need: a thread that only decodes small record sections never maps a
+// scratch block. Keeping the buffers matters in a VM: mapping, zeroing and unmapping fresh huge
+// pages for them was half of a 0.75 ms load of killeroo-simple, repeated. Together the threads
+// keep at most 32 MiB of such buffers.
 #pragma once
 
 #include <cstdint>
@@ -30,8 +30,6 @@ struct Decoder {
   // After a load: frees the buffers unless they fit the process's budget for kept buffers, and
   // the context if a streamed (codec 2) section grew its window buffer past 1 MiB.
   void trim();
-  // A staging buffer of at least bytes, or nullptr when out of memory.
-  uint8_t* stage(uint64_t bytes);
   // The context, or nullptr when out of memory.
   ZSTD_DCtx_s* context();
   // A scratch block of at least bytes to decode shuffled data into (codec 2: kShuffleBlock, codec
@@ -41,15 +39,12 @@ struct Decoder {
 
  private:
   void free_scratch();
-  void free_staging();
 
   ZSTD_DCtx_s* dctx_ = nullptr;
   bool tried_ = false;
   uint8_t* scratch_ = nullptr;
   uint64_t scratch_size_ = 0;
   uint64_t scratch_mapped_ = 0;  // 0: scratch is on the heap
-  uint8_t* staging_ = nullptr;
-  uint64_t staging_mapped_ = 0;
 };
 
 // This thread's decoder, made on first need and freed when the thread ends; the loading tasks of

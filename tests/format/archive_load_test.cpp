@@ -1,6 +1,6 @@
 // tests/format/archive_load_test.cpp — ArchiveReader::load_sections' fast path: shuffled
 // sections streamed block by block through a scratch block and unshuffled into one shared decode
-// buffer, compressed sections read with pread. Sections of every size around the shuffle block
+// buffer, every section read through the mapping. Sections of every size around the shuffle block
 // decode to their exact bytes on 1 and 2 threads, from a file and from memory; damage in the
 // middle of a large section is still caught (checksum, or zstd itself when the checksum is
 // forged); a file that shrinks between open and load gives an error, not SIGBUS, whether its
@@ -147,8 +147,8 @@ std::pair<std::vector<Raw>, std::vector<Raw>> mid_sized_sections() {
 
 // A file over 64 KiB is mapped, whatever its codecs, and a mapped file can see itself shrink: cut
 // inside either section between open and load, the load is refused before it reads the mapping,
-// naming the first section cut (the uncompressed one read in place, or the compressed one read
-// with pread). Uncut, the same file loads.
+// naming the first section cut (the uncompressed one used in place, or the compressed one
+// decoded from the mapping). Uncut, the same file loads.
 TEST(ArchiveLoad, MidSizedFileThatShrinksBeforeTheLoadIsRefused) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.MidSized");
   const auto [mostly_none, mostly_zstd] = mid_sized_sections();
@@ -264,8 +264,8 @@ TEST_F(ArchiveLoadDamage, ForgedDamageInTheMiddleIsRefusedByZstd) {
   EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
 }
 
-// The file shrinks between open and load: compressed sections are read with pread, so this is an
-// error naming the section, not a SIGBUS from the mapping.
+// The file shrinks between open and load: its size is checked again before a compressed section
+// is read from the mapping, so this is an error naming the section, not a SIGBUS.
 TEST_F(ArchiveLoadDamage, FileThatShrinksAfterOpenIsAnError) {
   const std::string path = dir_ + "/shrinks.pbrta";
   testing_support::write_file(path, good_);

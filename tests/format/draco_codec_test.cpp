@@ -559,11 +559,11 @@ TEST(DracoSection, TheSectionThatStopsTheDecoderIsTheOneReported) {
                        "of CPU time (a forged or damaged stream)");
 }
 
-// The Draco streams' checksums are read with pread before any child is forked, so a mapped file
-// that shrank since it was opened is an error naming the section. Read through the mapping (in a
-// child, as before), the cut pages raised SIGBUS there: "the decoder crashed (signal 7)". The
-// file is over 64 KiB and mostly compressed, so the reader maps it; the big zstd section before
-// the stream is read with pread, and the small one before it lies wholly before the cut.
+// A mapped file that shrank since it was opened is an error naming the section, found when the
+// load starts, before the Draco streams' checksums read the mapping or any child is forked (a
+// child reading the cut pages once raised SIGBUS there: "the decoder crashed (signal 7)"). The
+// file is over 64 KiB and mostly compressed, so the reader maps it; the cut lies in the stream,
+// after the big zstd section.
 TEST(DracoSection, AFileThatShrinksAfterOpenIsAnErrorBeforeAnyDecode) {
   const TestMesh m = torus(20, 12);
   const std::vector<uint8_t> stream = encode(m.view(), 14, false);
