@@ -88,10 +88,9 @@ TEST(ArchiveLoad, EverySizeAroundTheShuffleBlockDecodesExactly) {
   }
 }
 
-// Two archives, the first with frames (and stored frames, read through a staging buffer) larger
-// than the second's, each loaded in turn by three readers on their own threads, each of which
-// loads with two threads: every load must decode exactly, whatever buffers the threads kept from
-// the loads before.
+// Two archives, the first with frames larger than the second's, each loaded in turn by three
+// readers on their own threads, each of which loads with two threads: every load must decode
+// exactly, whatever buffers the threads kept from the loads before.
 TEST(ArchiveLoad, ConcurrentReadersShareTheKeptDecodersSafely) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.ConcurrentReaders");
   const std::vector<Raw> big = {{Codec::kZstdShuffle4Frames, float_bytes(9 * (1u << 20) + 12, 1)},
