@@ -32,13 +32,12 @@ using test_bytes::entry_of;
 using test_bytes::float_bytes;
 using test_bytes::load_error;
 
+// test_bytes::write_sections with every section asked for one codec.
 std::string write_sections(const std::string& path, const std::vector<std::vector<uint8_t>>& raw,
                            Codec codec = Codec::kZstdShuffle4Frames) {
-  ArchiveWriter w;
-  for (const std::vector<uint8_t>& r : raw) w.add_section(SectionKind::kGeometry, r, 1, codec);
-  std::string error;
-  EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
-  return testing_support::read_file(path);
+  std::vector<test_bytes::Raw> sections;
+  for (const std::vector<uint8_t>& r : raw) sections.push_back(test_bytes::Raw{codec, r});
+  return test_bytes::write_sections(path, sections);
 }
 
 FrameEntry frame_entry(const std::string& b, const SectionEntry& e, uint64_t k) {
