@@ -441,8 +441,8 @@ bool ArchiveReader::validate(std::string* error) {
   uint64_t gap_begin = table_end;
   for (uint32_t k = 0; k <= n; ++k) {
     const uint64_t gap_end = k < n ? entries_[order[k]].offset : size_;
-    // Read through the mapping, as the load reads every section: the gap shares a page with the
-    // end of the section before it, which the load faults in anyway.
+    // Read through the mapping, as the load reads every section: a gap as pbrtc writes it (16 to
+    // 31 bytes) starts in the last page of the section before it, which the load faults in anyway.
     const uint64_t nz = first_nonzero(base_, gap_begin, gap_end);
     if (nz != gap_end) {
       const std::string reason = "nonzero byte at offset " + std::to_string(nz) +

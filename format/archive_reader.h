@@ -237,9 +237,10 @@ class ArchiveReader {
   // (a Draco section's reason comes back from a child process, which cannot).
   bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
                 std::string* reason);
-  // Reads, verifies and decodes one frame of a codec-4 section into the decoder's scratch block
-  // (work->scratch), with slot open for it (work) meanwhile, so that other threads may unshuffle
-  // its pieces as they decode; the caller unshuffles those left. On failure the slot is closed.
+  // Reads, verifies and decodes one frame of a codec-4 or 6 section into the decoder's scratch
+  // block (work->scratch), with slot open for it (work) meanwhile, so that other threads may
+  // unshuffle its pieces as they decode; the caller unshuffles those left. On failure the slot is
+  // closed.
   bool load_frame(const LoadTask& task, archive_detail::Decoder* decoder,
                   archive_detail::FramePieces* slot, FrameWork* work, std::string* error);
   // False, naming the first section cut, when a mapped file is now shorter than when it was

@@ -1,5 +1,6 @@
-// format/frame_pieces.h — one loading thread's codec-4 frame in progress, whose pieces other
-// threads may unshuffle (internal to format/: the archive reader's section loading uses it).
+// format/frame_pieces.h — one loading thread's codec-4 (or codec-6) frame in progress, whose
+// pieces other threads may unshuffle (internal to format/: the archive reader's section loading
+// uses it).
 //
 // zstd decodes a frame on one thread, but the frame is then unshuffled piece by piece
 // (format/zstd_frames.h), and a piece need not wait for the rest of the frame, nor for the thread

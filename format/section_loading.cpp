@@ -539,8 +539,7 @@ bool ArchiveReader::load_sections(int threads, const std::vector<uint32_t>& whic
       sections_[t.section].data = out;
   };
   // A thread with no task left to take unshuffles pieces of the frames other threads decode,
-  // while any is decoding (format/frame_pieces.h).
-  // (Its own slot has nothing left to claim by then.)
+  // while any is decoding (format/frame_pieces.h); its own slot has nothing left to claim by then.
   auto help = [&] {
     int spins = 0;
     while (frames_running.load(std::memory_order_acquire) > 0) {

@@ -43,8 +43,8 @@ void zstd_free(void*, void* address) {
     std::free(base);
 }
 
-// Bytes of huge-page scratch buffers that loading threads keep between loads, in
-// all: each thread keeps its buffers for the next load while the total stays within this.
+// Bytes of huge-page scratch blocks that loading threads keep between loads, in all: each thread
+// keeps its block for the next load while the total stays within this.
 constexpr uint64_t kKeptBufferBudget = uint64_t{32} << 20;
 std::atomic<uint64_t> kept_buffer_bytes{0};
 
@@ -56,9 +56,7 @@ Decoder::~Decoder() {
 }
 
 void Decoder::trim() {
-  if (kept_buffer_bytes.load() > kKeptBufferBudget) {
-    free_scratch();
-  }
+  if (kept_buffer_bytes.load() > kKeptBufferBudget) free_scratch();
   if (dctx_ != nullptr && ZSTD_sizeof_DCtx(dctx_) > (size_t{1} << 20)) {
     ZSTD_freeDCtx(dctx_);
     dctx_ = nullptr;

@@ -27,7 +27,7 @@ struct Decoder {
   Decoder(const Decoder&) = delete;
   Decoder& operator=(const Decoder&) = delete;
   ~Decoder();
-  // After a load: frees the buffers unless they fit the process's budget for kept buffers, and
+  // After a load: frees the scratch block unless it fits the process's budget for kept blocks, and
   // the context if a streamed (codec 2) section grew its window buffer past 1 MiB.
   void trim();
   // The context, or nullptr when out of memory.
