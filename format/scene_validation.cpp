@@ -79,40 +79,71 @@ class Checker {
   std::string message_;
 };
 
+// What the entity checks read most, held by value: through references, each entity would first
+// walk from the closure to the archive to the span (the rare checks' calls keep the compiler from
+// hoisting those loads out of the loop).
+struct EntityInputs {
+  const EntityRecord* entities;
+  const ValueRecord* values;
+  const uint32_t* words;
+  const TextureRecord* textures;
+  const SchemaDigest* digest;
+  uint32_t num_textures, num_words, num_values, num_strings;
+  uint16_t minor;
+  bool avx2;
+};
+
 #if defined(PBRTA_VALUES_AVX2)
-// The common case of one entity's values, two at a time: true when values [0, 2 * (n / 2)) have
-// no texture, no unknown flag, a count the parameter's arity allows and words inside
-// [0, num_words); false when any might not (the caller then checks them one by one, which also
-// looks at the textures). The same verdicts as the scalar loop in validate_records().
-[[gnu::target("avx2")]] bool pairs_plain_avx2(const ValueRecord* v, uint32_t n,
-                                              const uint32_t* pair_lanes, uint32_t num_words) {
+// Entities [from, to) in order, up to the first that might be unsound, which it returns (or to).
+// The ones it passes are sound, as entity_sound() in validate_records() judges them: a known
+// type without count rules or string parameters, exactly its parameter count of values, and
+// values with no texture, no unknown flag, a count the parameter's arity allows and words inside
+// [0, num_words). The caller judges the entity it stops at by entity_sound().
+//
+// Why it is shaped so: it runs once per entity (150k for 100k shapes), and a loop over each
+// one's values (3 to 8 in a typical scene) mispredicts as the types change. Here the values go
+// eight at a time, two per vector, against the type's lanes (TypeDigest::value_lanes), which
+// make the values past the type's count pass: those belong to the next entity. An entity whose
+// eight would run past the last value is left to entity_sound().
+[[gnu::target("avx2")]] uint32_t plain_entities_avx2(const EntityInputs& in, uint32_t from,
+                                                     uint32_t to) {
   const __m256i zero = _mm256_setzero_si256();
-  // Lanes of a pair: offset, count, texture, flags; offset, count, texture, flags.
-  const __m256i no_texture = _mm256_setr_epi32(0, 0, -1, 0, 0, 0, -1, 0);
-  const __m256i texture_and_flags =
-      _mm256_setr_epi32(0, 0, -1, ~int32_t(kValueGiven), 0, 0, -1, ~int32_t(kValueGiven));
-  const __m256i counts = _mm256_setr_epi32(0, -1, 0, 0, 0, -1, 0, 0);
-  const __m256i low = _mm256_set1_epi64x(0xFFFFFFFF);
-  const __m256i ends = _mm256_setr_epi64x(-1, 0, -1, 0);  // the 64-bit lanes with the sums
-  const __m256i limit = _mm256_set1_epi64x(int64_t(num_words));
-  __m256i bad = zero;
-  for (uint32_t p = 0; p + 2 <= n; p += 2, pair_lanes += 16) {
-    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v + p));
-    const __m256i arity = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pair_lanes));
-    const __m256i width = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(pair_lanes + 8));
-    bad =
-        _mm256_or_si256(bad, _mm256_and_si256(_mm256_xor_si256(x, no_texture), texture_and_flags));
-    // A count is 0, or the arity, or anything when the arity is 0.
-    const __m256i count_ok =
-        _mm256_or_si256(_mm256_or_si256(_mm256_cmpeq_epi32(x, zero), _mm256_cmpeq_epi32(x, arity)),
-                        _mm256_cmpeq_epi32(arity, zero));
-    bad = _mm256_or_si256(bad, _mm256_andnot_si256(count_ok, counts));
-    // offset + count * width, in 64 bits, against num_words.
-    const __m256i end = _mm256_add_epi64(_mm256_and_si256(x, low),
-                                         _mm256_mul_epu32(_mm256_srli_epi64(x, 32), width));
-    bad = _mm256_or_si256(bad, _mm256_and_si256(_mm256_cmpgt_epi64(end, limit), ends));
+  // Lanes of a pair: offset, count, texture, flags; offset, count, texture, flags. Turns "no
+  // texture" (kNoIndex) into 0.
+  const __m256i texture_lanes = _mm256_setr_epi32(0, 0, -1, 0, 0, 0, -1, 0);
+  const __m256i limit = _mm256_set1_epi64x(int64_t(in.num_words));
+  for (uint32_t i = from; i < to; ++i) {
+    const EntityRecord& e = in.entities[i];
+    if (e.type >= in.digest->num_types(e.category)) return i;
+    const TypeDigest& t = in.digest->type(e.category, e.type);
+    const uint32_t n = t.num_params;
+    if ((t.has_rules | t.has_strings | e.reserved0) != 0 ||
+        (e.reserved1 | (e.num_values ^ n)) != 0 ||
+        uint64_t(e.first_value) + ((n + 7) & ~7u) > in.num_values)
+      return i;
+    const __m256i* v = reinterpret_cast<const __m256i*>(in.values + e.first_value);
+    const __m256i* lanes = reinterpret_cast<const __m256i*>(t.value_lanes);
+    __m256i ok = _mm256_cmpeq_epi32(zero, zero), past = zero;
+    for (uint32_t pair = 0; pair < (n + 7) / 8 * 4; ++pair, ++v, lanes += 4) {
+      const __m256i x = _mm256_loadu_si256(v);
+      // Lane by lane, (y & mask) == 0 or y == expect: the texture 0 after the xor, the count 0
+      // or the arity (or anything: mask 0), the flags none but kValueGiven.
+      const __m256i y = _mm256_xor_si256(x, texture_lanes);
+      ok = _mm256_and_si256(
+          ok,
+          _mm256_or_si256(_mm256_cmpeq_epi32(_mm256_and_si256(y, _mm256_load_si256(lanes)), zero),
+                          _mm256_cmpeq_epi32(y, _mm256_load_si256(lanes + 1))));
+      // offset + count * width, in 64 bits (64-bit lanes 0 and 2; 0 in the others), within
+      // num_words.
+      const __m256i end = _mm256_add_epi64(
+          _mm256_and_si256(x, _mm256_load_si256(lanes + 2)),
+          _mm256_mul_epu32(_mm256_srli_epi64(x, 32), _mm256_load_si256(lanes + 3)));
+      past = _mm256_or_si256(past, _mm256_cmpgt_epi64(end, limit));
+    }
+    if (!_mm256_testc_si256(ok, _mm256_cmpeq_epi32(zero, zero)) || !_mm256_testz_si256(past, past))
+      return i;
   }
-  return _mm256_testz_si256(bad, bad) != 0;
+  return to;
 }
 
 bool have_avx2() {
@@ -135,13 +166,14 @@ bool check_string_offsets(const uint32_t* offsets, uint32_t n, uint64_t data_siz
   return offsets[1] == 0 || c.fail("string 0 is not empty");
 }
 
-// The first i in [0, n) for which check(i, checker) fails, or n; 0, checking nothing, when c has
-// already failed. A large n is checked in blocks on the arena's threads (no arena: on this one),
-// each block stopping at its first failure; the lowest failing one is then checked again on c for
-// the message, so the error is the one a serial check reports (100k shapes: 150k entities and
-// 750k values, 100k shape and 50k mesh records).
-template <class Check>
-uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
+// The first i in [0, n) at which scan stops, or n; 0, checking nothing, when c has already
+// failed. scan(from, to, checker) checks records [from, to) in order and returns the first that
+// fails, or to. A large n is checked in blocks on the arena's threads (no arena: on this one),
+// each block stopping at its first failure; the lowest failing record is then checked again on c
+// for the message, so the error is the one a serial check reports (100k shapes: 150k entities
+// and 750k values, 100k shape and 50k mesh records).
+template <class Scan>
+uint32_t first_failure_scan(uint32_t n, tbb::task_arena* arena, Checker& c, Scan scan) {
   if (c.failed()) return 0;
   constexpr uint32_t kBlock = 8192;
   std::atomic<uint32_t> first_bad{n};
@@ -153,13 +185,13 @@ uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check che
     for (uint32_t from = begin; from < end; from += kStride) {
       if (from >= first_bad.load(std::memory_order_relaxed)) return;
       const uint32_t to = std::min(end, from + kStride);
-      for (uint32_t i = from; i < to; ++i)
-        if (!check(i, local)) {
-          uint32_t seen = first_bad.load();
-          while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
-          }
-          return;
+      const uint32_t i = scan(from, to, local);
+      if (i < to) {
+        uint32_t seen = first_bad.load();
+        while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
         }
+        return;
+      }
     }
   };
   if (arena == nullptr || n < 4 * kBlock) {
@@ -172,15 +204,37 @@ uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check che
     });
   }
   const uint32_t bad = first_bad.load();
-  if (bad < n) check(bad, c);
+  if (bad < n) scan(bad, bad + 1, c);
   return bad;
 }
 
+// The same, one record at a time: check(i, checker) is false when record i fails.
+template <class Check>
+uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
+  return first_failure_scan(n, arena, c, [&](uint32_t from, uint32_t to, Checker& local) {
+    for (uint32_t i = from; i < to; ++i)
+      if (!check(i, local)) return i;
+    return to;
+  });
+}
+
+// A scan of records [from, to) by sound(i), stopping at the first it refuses.
+template <class Sound>
+auto each_record(Sound sound) {
+  return [sound](uint32_t from, uint32_t to) {
+    for (uint32_t i = from; i < to; ++i)
+      if (!sound(i)) return i;
+    return to;
+  };
+}
+
 // The same for the record kinds a large scene has most of, with two checks of each record:
-// sound(i), branch-light and message-free, decides; explain(i, checker) is the readable check
-// that names what is wrong, run only on the record sound() refused. The two must judge every
-// record alike. The fuzz tree (PBRTA_CROSSCHECK_VALIDATION) runs both on every record and stops
-// on any disagreement; should explain() find nothing, the load still fails.
+// sound(from, to), branch-light and message-free, decides (it returns the first record in
+// [from, to) it refuses, or to; each_record() makes one from a check of one record);
+// explain(i, checker) is the readable check that names what is wrong, run only on the record
+// sound() refused. The two must judge every record alike. The fuzz tree
+// (PBRTA_CROSSCHECK_VALIDATION) runs both on every record and stops on any disagreement; should
+// explain() find nothing, the load still fails.
 template <class Sound, class Explain>
 uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const char* record,
                        Sound sound, Explain explain) {
@@ -188,16 +242,16 @@ uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const cha
   (void)record;
   auto both = [&](uint32_t i, Checker& local) {
     Checker scratch = local.blank();
-    const bool verdict = sound(i);
+    const bool verdict = sound(i, i + 1) == i + 1;
     if (verdict != explain(i, scratch)) __builtin_trap();
     return verdict || explain(i, local);
   };
   return first_failure(n, arena, c, both);
 #else
   if (c.failed()) return 0;
-  auto sound_in = [&](uint32_t i, Checker&) { return sound(i); };
+  auto sound_in = [&](uint32_t from, uint32_t to, Checker&) { return sound(from, to); };
   Checker quiet = c.blank();
-  const uint32_t bad = first_failure(n, arena, quiet, sound_in);
+  const uint32_t bad = first_failure_scan(n, arena, quiet, sound_in);
   if (bad < n && explain(bad, c))
     c.fail(std::string(record) + " " + std::to_string(bad) +
            ": refused by a check that names no reason");
@@ -217,6 +271,49 @@ tbb::task_arena* check_arena(int threads, std::optional<tbb::task_arena>* storag
 // Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
 inline bool optional_bad(uint32_t i, uint32_t count) {
   return (i >= count) & (i != kNoIndex);
+}
+
+// A mesh's arrays against its geometry section's size, and its source shape: true when any is
+// wrong. A missing array has offset 0; a present one is aligned and inside the section. (Each
+// term is computed whole: size - offset may wrap, but then offset > size says so.)
+inline bool layout_bad(const MeshRecord& m, uint64_t size, uint32_t num_shapes) {
+  auto array_bad = [size](bool present, uint64_t offset, uint64_t bytes) {
+    return present ? (offset % 16 != 0) | (offset > size) | (bytes > size - offset) : offset != 0;
+  };
+  const uint64_t nv = m.num_vertices, nt = m.num_triangles;
+  return array_bad(true, m.positions, nv * 12) |
+         array_bad(m.flags & kMeshNormals, m.normals, nv * 12) |
+         array_bad(m.flags & kMeshTangents, m.tangents, nv * 12) |
+         array_bad(m.flags & kMeshUV, m.uv, nv * 8) | array_bad(true, m.indices, nt * 12) |
+         array_bad(m.flags & kMeshFaceIndices, m.face_indices, nt * 4) |
+         optional_bad(m.source_shape, num_shapes);
+}
+
+// What tiny_mesh_sound() reads, held by value (as EntityInputs).
+struct TinyMeshInputs {
+  struct Area {
+    const uint8_t* data = nullptr;  // nullptr: not a loaded geometry section, or a Draco one
+    uint64_t size = 0;
+  };
+  const MeshRecord* meshes;
+  const Area* areas;  // by section
+  uint32_t num_sections, num_shapes;
+};
+
+// True when mesh i certainly passes validate_geometry(): at most four triangles, in a geometry
+// section that is not Draco's, with a sound layout and indices below its vertex count. False
+// says nothing: the full check then judges it.
+inline bool tiny_mesh_sound(const TinyMeshInputs& in, uint32_t i) {
+  const MeshRecord& m = in.meshes[i];
+  if (m.section >= in.num_sections || m.num_triangles > 4) return false;
+  const TinyMeshInputs::Area& a = in.areas[m.section];
+  const uint32_t known = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
+  if (a.data == nullptr || (m.flags & ~known) != 0 || layout_bad(m, a.size, in.num_shapes))
+    return false;
+  const uint32_t* v = reinterpret_cast<const uint32_t*>(a.data + m.indices);
+  bool bad = false;
+  for (uint32_t k = 0; k < m.num_triangles * 3; ++k) bad |= v[k] >= m.num_vertices;
+  return !bad;
 }
 
 }  // namespace
@@ -523,26 +620,14 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
   const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
   const uint32_t num_strings = num_strings_;
   const Checker unreported = c.blank();  // for sound()'s fallbacks, whose messages are dropped
-  // What the common case reads, captured by value: by reference, each entity would first walk
-  // from the closure to this object to the span (the rare checks' calls keep the compiler from
-  // hoisting those loads out of the loop).
-  struct Hot {
-    const EntityRecord* entities;
-    const ValueRecord* values;
-    const uint32_t* words;
-    const TextureRecord* textures;
-    const SchemaDigest* digest;
-    uint32_t num_textures, num_words, num_values, num_strings;
-    uint16_t minor;
-    bool avx2;
-  };
 #if defined(PBRTA_VALUES_AVX2)
   const bool avx2 = have_avx2();
 #else
   const bool avx2 = false;
 #endif
-  const Hot hot{entities.data, values.data, words.data,  textures.data, &digest, num_textures,
-                num_words,     num_values,  num_strings, minor,         avx2};
+  const EntityInputs hot{entities.data, values.data,  words.data, textures.data,
+                         &digest,       num_textures, num_words,  num_values,
+                         num_strings,   minor,        avx2};
   auto slow_sound = [&](uint32_t i) {
     Checker scratch = unreported;
     return check_entity(i, scratch) && check_bindings(i, scratch);
@@ -561,13 +646,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
     const uint32_t known = std::min<uint32_t>(e.num_values, t.num_params);
     const ValueRecord* v = hot.values + e.first_value;
     uint32_t bad = 0;
-    uint32_t p = 0;
-#if defined(PBRTA_VALUES_AVX2)
-    // Pairs at a time where none has a texture (the scalar loop checks those).
-    if (hot.avx2 && known >= 2 && pairs_plain_avx2(v, known, t.pair_lanes, hot.num_words))
-      p = known & ~1u;
-#endif
-    for (; p < known; ++p) {
+    for (uint32_t p = 0; p < known; ++p) {
       const ParamDigest& pd = t.params[p];
       bad |= v[p].flags & ~uint32_t(kValueGiven);
       bad |= uint64_t(v[p].offset) + uint64_t(v[p].count) * pd.width > hot.num_words;
@@ -585,8 +664,25 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
             if (hot.words[v[q].offset + k] >= hot.num_strings) return false;
     return true;
   };
+  // Runs of plain entities by the vector check, the rest one by one.
+  auto entities_sound = [hot, &entity_sound](uint32_t from, uint32_t to) {
+#if defined(PBRTA_VALUES_AVX2)
+    if (hot.avx2) {
+      for (uint32_t i = from;; ++i) {
+        const uint32_t stop = plain_entities_avx2(hot, i, to);
+#if defined(PBRTA_CROSSCHECK_VALIDATION)
+        for (uint32_t k = i; k < stop; ++k)
+          if (!entity_sound(k)) __builtin_trap();  // the vector check passed an unsound entity
+#endif
+        if (stop == to || !entity_sound(stop)) return stop;
+        i = stop;
+      }
+    }
+#endif
+    return each_record(entity_sound)(from, to);
+  };
   c.in(sec(SectionKind::kEntities));
-  first_failure(entities.size, par, c, "entity", entity_sound, [&](uint32_t i, Checker& c) {
+  first_failure(entities.size, par, c, "entity", entities_sound, [&](uint32_t i, Checker& c) {
     if (!check_entity(i, c)) return false;
     c.in(sec(SectionKind::kValues));  // a binding is a value's fault
     const bool ok = check_bindings(i, c);
@@ -629,15 +725,13 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
            c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
            c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   };
-  first_failure(
-      materials.size, par, c, "material",
-      [&](uint32_t i) {
-        const MaterialRecord& m = materials[i];
-        return !((m.reserved != 0) | optional_bad(m.mix[0], materials.size) |
-                 optional_bad(m.mix[1], materials.size)) &&
-               entity_is(m.entity, Category::kMaterial);
-      },
-      check_material);
+  first_failure(materials.size, par, c, "material", each_record([&](uint32_t i) {
+                  const MaterialRecord& m = materials[i];
+                  return !((m.reserved != 0) | optional_bad(m.mix[0], materials.size) |
+                           optional_bad(m.mix[1], materials.size)) &&
+                         entity_is(m.entity, Category::kMaterial);
+                }),
+                check_material);
   c.in(sec(SectionKind::kMedia));
   first_failure(media.size, par, c, [&](uint32_t i, Checker& c) {
     const MediumRecord& m = media[i];
@@ -675,8 +769,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
   first_failure(
-      shapes.size, par, c, "shape",
-      [&](uint32_t i) {
+      shapes.size, par, c, "shape", each_record([&](uint32_t i) {
         const ShapeRecord& s = shapes[i];
         const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
         return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
@@ -686,7 +779,7 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
                  index_bad(s.transform, transforms.size) | optional_bad(s.object, objects.size) |
                  ((s.flags & ~known) != 0) | (s.reserved != 0)) &&
                entity_is(s.entity, Category::kShape);
-      },
+      }),
       check_shape);
   c.in(sec(SectionKind::kObjects));
   first_failure(objects.size, par, c, [&](uint32_t i, Checker& c) {
@@ -784,19 +877,7 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
       Checker scratch = unreported;
       return check_mesh(i, scratch);
     }
-    const uint64_t size = r.section_size(m.section);
-    // A missing array has offset 0; a present one is aligned and inside the section. (Each
-    // term is computed whole: size - offset may wrap, but then offset > size says so.)
-    auto array_bad = [size](bool present, uint64_t offset, uint64_t bytes) {
-      return present ? (offset % 16 != 0) | (offset > size) | (bytes > size - offset) : offset != 0;
-    };
-    const uint64_t nv = m.num_vertices, nt = m.num_triangles;
-    return !(array_bad(true, m.positions, nv * 12) |
-             array_bad(m.flags & kMeshNormals, m.normals, nv * 12) |
-             array_bad(m.flags & kMeshTangents, m.tangents, nv * 12) |
-             array_bad(m.flags & kMeshUV, m.uv, nv * 8) | array_bad(true, m.indices, nt * 12) |
-             array_bad(m.flags & kMeshFaceIndices, m.face_indices, nt * 4) |
-             optional_bad(m.source_shape, shapes.size));
+    return !layout_bad(m, r.section_size(m.section), shapes.size);
   };
   // Each laid-out mesh's triangle indices against its vertex count: a large mesh's were checked
   // as they decoded (bound b), a small one's are read here, in the same parallel pass as the
@@ -822,19 +903,35 @@ bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std
       if (v[k] >= limit) return k;
     return n;
   };
-  first_failure(
-      meshes.size, par, c, "mesh",
-      [&](uint32_t i) {
-        return mesh_sound(i) && first_bad_index(i) == uint64_t(meshes[i].num_triangles) * 3;
-      },
-      [&](uint32_t i, Checker& c) {
-        if (!check_mesh(i, c)) return false;
-        const uint64_t k = first_bad_index(i);
-        return k == uint64_t(meshes[i].num_triangles) * 3 ||
-               c.fail("mesh " + std::to_string(i) + ": triangle " + std::to_string(k / 3) +
-                      " has vertex index " + std::to_string(indices(i)[k]) + " (" +
-                      std::to_string(meshes[i].num_vertices) + " vertices)");
-      });
+  auto one_mesh_sound = [&](uint32_t i) {
+    return mesh_sound(i) && first_bad_index(i) == uint64_t(meshes[i].num_triangles) * 3;
+  };
+  // The common case of a few triangles in an uncompressed or zstd geometry section (50k
+  // one-triangle meshes), checked with what it reads held in registers; the rest one by one as
+  // above. 12 indices: first_bad_index() reads that many in place too.
+  std::vector<TinyMeshInputs::Area> areas(r.section_count());
+  for (uint32_t s = 0; s < r.section_count(); ++s)
+    if (r.entry(s).kind == uint32_t(SectionKind::kGeometry) &&
+        r.entry(s).codec != uint32_t(Codec::kDraco) && r.section_data(s) != nullptr)
+      areas[s] = {r.section_data(s), r.section_size(s)};
+  const TinyMeshInputs tiny{meshes.data, areas.data(), r.section_count(), shapes.size};
+  auto meshes_sound = [tiny, &one_mesh_sound](uint32_t from, uint32_t to) {
+    for (uint32_t i = from; i < to; ++i) {
+#if defined(PBRTA_CROSSCHECK_VALIDATION)
+      if (tiny_mesh_sound(tiny, i) && !one_mesh_sound(i)) __builtin_trap();
+#endif
+      if (!tiny_mesh_sound(tiny, i) && !one_mesh_sound(i)) return i;
+    }
+    return to;
+  };
+  first_failure(meshes.size, par, c, "mesh", meshes_sound, [&](uint32_t i, Checker& c) {
+    if (!check_mesh(i, c)) return false;
+    const uint64_t k = first_bad_index(i);
+    return k == uint64_t(meshes[i].num_triangles) * 3 ||
+           c.fail("mesh " + std::to_string(i) + ": triangle " + std::to_string(k / 3) +
+                  " has vertex index " + std::to_string(indices(i)[k]) + " (" +
+                  std::to_string(meshes[i].num_vertices) + " vertices)");
+  });
   // A Draco section holds one mesh (ARCHIVE.md section 8): no two records may name it. Only
   // archives with Draco sections pay for the pass.
   bool any_draco = false;

@@ -1,5 +1,8 @@
 #include "format/schema_digest.h"
 
+#include <new>
+
+#include "format/archive.h"
 #include "format/entity_rules.h"
 
 namespace pbrta {
@@ -17,7 +20,9 @@ SchemaDigest::SchemaDigest() {
   // read it while the process exits, after a static destructor would have run.
   types_ = new TypeDigest[total_types];
   ParamDigest* p = new ParamDigest[total_params];
-  uint32_t* lanes = new uint32_t[8 * total_params]();  // 16 per pair: at most 8 per parameter
+  // 32 per pair, four pairs per eight parameters or part of eight: at most 128 per parameter;
+  // 32-byte aligned for the vector loads.
+  uint32_t* lanes = new (std::align_val_t(32)) uint32_t[128 * total_params]();
   for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
     const CategorySpec& cs = category_spec(Category(c));
     for (uint32_t t = 0; t < cs.num_types; ++t) {
@@ -38,13 +43,23 @@ SchemaDigest::SchemaDigest() {
         p->reserved = 0;
         td.has_strings |= p->is_string;
       }
-      // The pairs' lanes, from the parameters just digested.
-      td.pair_lanes = lanes;
-      for (uint32_t k = 0; k + 1 < td.num_params; k += 2, lanes += 16)
-        for (uint32_t j = 0; j < 2; ++j) {
-          lanes[1 + 4 * j] = td.params[k + j].arity;
-          lanes[8 + 4 * j] = td.params[k + j].width;
-        }
+      // The pairs' lanes (schema_digest.h), from the parameters just digested: the four vectors
+      // of a pair start 8 lanes apart, and a value's fields sit 4 (k % 2) lanes into each.
+      enum : uint32_t { kMask = 0, kExpect = 8, kOffset = 16, kWidth = 24 };
+      enum : uint32_t { kOffsetField = 0, kCountField = 1, kTextureField = 2, kFlagsField = 3 };
+      td.value_lanes = lanes;
+      for (uint32_t k = 0; k < ts.num_params; ++k) {
+        uint32_t* value = lanes + 32 * (k / 2) + 4 * (k % 2);
+        const ParamDigest& pd = td.params[k];
+        value[kMask + kTextureField] = ~0u;
+        value[kMask + kCountField] = pd.arity != 0 ? ~0u : 0;
+        value[kExpect + kCountField] = pd.arity;
+        value[kMask + kFlagsField] = ~uint32_t(kValueGiven);
+        value[kOffset + kOffsetField] = ~0u;
+        // The offset's 64-bit lane: the vector multiply reads the low half of each.
+        value[kWidth + kOffsetField] = pd.width;
+      }
+      lanes += 128 * ((ts.num_params + 7) / 8);
     }
   }
 }

@@ -29,10 +29,17 @@ struct TypeDigest {
   // Counts tied together across parameters (format/entity_rules.h): curve, heterogeneous, and a
   // fourier material's table.
   uint8_t has_rules;
-  // Parameters 2k and 2k + 1 as the lanes of a check over two ValueRecords at once (16 uint32 per
-  // pair, num_params / 2 pairs): the arities in lanes 1 and 5 (the counts), then the widths in
-  // lanes 8 and 12 (the low halves of 64-bit lanes 0 and 2); every other lane 0.
-  const uint32_t* pair_lanes;
+  // What a vector check of two ValueRecords at once (offset, count, texture, flags; the same)
+  // compares parameters 2k and 2k + 1 with: 32 uint32 per pair, 32-byte aligned, padded to whole
+  // groups of four pairs (eight parameters), in four vectors of eight lanes:
+  //   mask and expect: a value passes when, lane by lane, (v & mask) == 0 or v == expect, with the
+  //     texture lanes xored with kNoIndex first: mask ~0 and expect 0 there (no texture), ~0 and
+  //     the arity on the counts (0 or the arity; mask 0 when the arity is 0: any count),
+  //     ~kValueGiven and 0 on the flags;
+  //   offset and width: the words it spans, (v & offset) + (v >> 32) * width in the two 64-bit
+  //     lanes that hold an offset and its count (~0 on the offset, the width); 0 elsewhere.
+  // A padding parameter's lanes are all 0: whatever its value, it passes.
+  const uint32_t* value_lanes;
 };
 
 class SchemaDigest {
