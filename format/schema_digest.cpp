@@ -20,9 +20,9 @@ SchemaDigest::SchemaDigest() {
   // read it while the process exits, after a static destructor would have run.
   types_ = new TypeDigest[total_types];
   ParamDigest* p = new ParamDigest[total_params];
-  // 32 per pair, four pairs per eight parameters or part of eight: at most 128 per parameter;
-  // 32-byte aligned for the vector loads.
-  uint32_t* lanes = new (std::align_val_t(32)) uint32_t[128 * total_params]();
+  // 32 per pair of parameters or odd one out: at most 32 per parameter; 32-byte aligned for the
+  // vector loads.
+  uint32_t* lanes = new (std::align_val_t(32)) uint32_t[32 * total_params]();
   for (uint32_t c = 0; c < uint32_t(Category::kCount); ++c) {
     const CategorySpec& cs = category_spec(Category(c));
     for (uint32_t t = 0; t < cs.num_types; ++t) {
@@ -59,7 +59,7 @@ SchemaDigest::SchemaDigest() {
         // The offset's 64-bit lane: the vector multiply reads the low half of each.
         value[kWidth + kOffsetField] = pd.width;
       }
-      lanes += 128 * ((ts.num_params + 7) / 8);
+      lanes += 32 * ((ts.num_params + 1) / 2);
     }
   }
 }

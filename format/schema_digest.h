@@ -30,8 +30,8 @@ struct TypeDigest {
   // fourier material's table.
   uint8_t has_rules;
   // What a vector check of two ValueRecords at once (offset, count, texture, flags; the same)
-  // compares parameters 2k and 2k + 1 with: 32 uint32 per pair, 32-byte aligned, padded to whole
-  // groups of four pairs (eight parameters), in four vectors of eight lanes:
+  // compares parameters 2k and 2k + 1 with: 32 uint32 per pair (an odd count's last parameter
+  // pairs with padding), 32-byte aligned, in four vectors of eight lanes:
   //   mask and expect: a value passes when, lane by lane, (v & mask) == 0 or v == expect, with the
   //     texture lanes xored with kNoIndex first: mask ~0 and expect 0 there (no texture), ~0 and
   //     the arity on the counts (0 or the arity; mask 0 when the arity is 0: any count),
