@@ -27,6 +27,8 @@
 
 namespace pbrta {
 
+class CheckThreads;  // format/check_threads.h
+
 template <class T>
 struct Span {
   const T* data = nullptr;
@@ -128,11 +130,11 @@ class SceneArchive {
   void forget_records();
   // What the records say, checked against the schema and each other: every section of a kind
   // read_by_record_checks() must be loaded (load() runs it while the others load).
-  bool validate_records(int threads, std::string* error);
+  bool validate_records(CheckThreads* threads, std::string* error);
   // All but the transforms, geometry and texels: the one list load() and the checks go by.
   static bool read_by_record_checks(uint32_t kind);
   // Then, with every section loaded: the meshes' layouts and triangle indices, and the images.
-  bool validate_geometry(int threads, const IndexChecks& checks, std::string* error);
+  bool validate_geometry(CheckThreads* threads, const IndexChecks& checks, std::string* error);
 
   ArchiveReader reader_;
   std::string path_;

@@ -19,6 +19,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "format/archive_names.h"
+#include "format/check_threads.h"
 #include "format/draco_codec.h"
 #include "format/entity_rules.h"
 #include "format/fourier_table.h"
@@ -261,15 +262,6 @@ uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const cha
 #endif
 }
 
-// The threads for one pass of checks: nullptr (this thread alone) for 1, else an arena in
-// *storage of that many (0: as many as the machine has). One arena serves every check of a pass:
-// a new one each time woke the workers again (3 of them for 100k shapes).
-tbb::task_arena* check_arena(int threads, std::optional<tbb::task_arena>* storage) {
-  if (threads == 1) return nullptr;
-  storage->emplace(threads > 0 ? threads : int(tbb::task_arena::automatic));
-  return &**storage;
-}
-
 // Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
 inline bool optional_bad(uint32_t i, uint32_t count) {
   return (i >= count) & (i != kNoIndex);
@@ -320,9 +312,8 @@ inline bool tiny_mesh_sound(const TinyMeshInputs& in, uint32_t i) {
 
 }  // namespace
 
-bool SceneArchive::validate_records(int threads, std::string* error) {
-  std::optional<tbb::task_arena> arena;
-  tbb::task_arena* const par = check_arena(threads, &arena);
+bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
+  tbb::task_arena* const par = threads->arena();
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -466,12 +457,18 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
         pstring_data_ = reinterpret_cast<const char*>(d + head);
         num_pstrings_ = nstr;
         ok = check_string_offsets(pstring_offsets_, nstr, size - head, c);
-        for (uint32_t i = 0; i < nrec && ok; ++i) {
-          const ProvenanceRecord& p = provenance[i];
-          if (p.file >= nstr || p.name >= nstr || p.path >= nstr)
-            ok = c.fail("record " + std::to_string(i) + ": string out of range (" +
-                        std::to_string(nstr) + " strings)");
-        }
+        const ProvenanceRecord* records = provenance.data;
+        auto record_sound = [records, nstr](uint32_t i) {
+          const ProvenanceRecord& p = records[i];
+          return !((p.file >= nstr) | (p.name >= nstr) | (p.path >= nstr));
+        };
+        first_failure(nrec, par, c, "record", each_record(record_sound),
+                      [&](uint32_t i, Checker& c) {
+                        return record_sound(i) ||
+                               c.fail("record " + std::to_string(i) + ": string out of range (" +
+                                      std::to_string(nstr) + " strings)");
+                      });
+        ok = !c.failed();
       }
     }
   }
@@ -813,9 +810,9 @@ bool SceneArchive::validate_records(int threads, std::string* error) {
   return true;
 }
 
-bool SceneArchive::validate_geometry(int threads, const IndexChecks& checks, std::string* error) {
-  std::optional<tbb::task_arena> arena;
-  tbb::task_arena* const par = check_arena(threads, &arena);
+bool SceneArchive::validate_geometry(CheckThreads* threads, const IndexChecks& checks,
+                                     std::string* error) {
+  tbb::task_arena* const par = threads->arena();
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   auto sec = [&](SectionKind k) { return r.find_section(k); };  // each once: validate_records()

@@ -344,6 +344,35 @@ TEST_F(EntityCheck, FirstBadMaterialInOrder) {
       "material 3000: mix material 1 123456789 out of range");
 }
 
+// Provenance records name strings of the section's own table (ARCHIVE.md section 6); 80k of
+// them are checked in parallel blocks, and the first bad one in order is reported.
+TEST_F(EntityCheck, FirstBadProvenanceRecordInOrder) {
+  const uint32_t s = testing_support::section_entry(archive_, pbrta::SectionKind::kProvenance);
+  ASSERT_NE(s, pbrta::kNoIndex);
+  ASSERT_GT(archive_.provenance.size, 4u * 8192u);
+  uint32_t strings;  // the section opens with the record count, then this
+  std::memcpy(&strings, good_.data() + offset_of(s) + 4, 4);
+  // Record i's field (file, name or path) set to v, after the two counts.
+  auto set = [&](std::string* b, uint32_t i, size_t field, uint32_t v) {
+    std::memcpy(&(*b)[offset_of(s) + 8 + uint64_t(i) * sizeof(pbrta::ProvenanceRecord) + field], &v,
+                4);
+  };
+  const uint32_t late = archive_.provenance.size - 3, early = 9000;
+  std::string b = good_;
+  set(&b, late, offsetof(pbrta::ProvenanceRecord, path), strings);
+  const std::string only_late = error_of(b);
+  EXPECT_NE(only_late.find("section 'provenance' (#" + std::to_string(s) + "): record " +
+                           std::to_string(late) + ": string out of range (" +
+                           std::to_string(strings) + " strings)"),
+            std::string::npos)
+      << only_late;
+  set(&b, early, offsetof(pbrta::ProvenanceRecord, file), 0xFFFFFFFFu);
+  const std::string both = error_of(b);
+  EXPECT_NE(both.find("record " + std::to_string(early) + ": string out of range"),
+            std::string::npos)
+      << both;
+}
+
 TEST_F(EntityCheck, FirstBadShapeInOrder) {
   expect_first_wins<pbrta::ShapeRecord>(
       pbrta::SectionKind::kShapes, 38000, [](pbrta::ShapeRecord* s) { s->reserved = 7; },
