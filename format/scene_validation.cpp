@@ -11,7 +11,7 @@
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
-#define PBRTA_VALUES_AVX2 1  // built with a target attribute, chosen at run time
+#define PBRTA_CHECKS_AVX2 1  // built with a target attribute, chosen at run time
 #endif
 
 #include <oneapi/tbb/blocked_range.h>
@@ -94,7 +94,7 @@ struct EntityInputs {
   bool avx2;
 };
 
-#if defined(PBRTA_VALUES_AVX2)
+#if defined(PBRTA_CHECKS_AVX2)
 // Entities [from, to) in order, up to the first that might be unsound, which it returns (or to).
 // The ones it passes are sound, as entity_sound() in validate_records() judges them: a known
 // type without count rules or string parameters, exactly its parameter count of values, and
@@ -144,6 +144,40 @@ struct EntityInputs {
       past = _mm256_or_si256(past, _mm256_cmpgt_epi64(end, limit));
     }
     if (!_mm256_testc_si256(ok, _mm256_cmpeq_epi32(zero, zero)) || !_mm256_testz_si256(past, past))
+      return i;
+  }
+  return to;
+}
+
+// What plain_shapes_avx2() reads: the shapes, the entities they name, and the bounds of a
+// ShapeRecord's first eight fields (entity, mesh, material, area light, inside and outside medium,
+// transform, object) in their order.
+struct ShapeInputs {
+  const ShapeRecord* shapes;
+  const EntityRecord* entities;
+  uint32_t bounds[8];
+};
+
+// Shapes [from, to) in order, up to the first that might be unsound, which it returns (or to):
+// the ones it passes are sound as the shape check in validate_records() judges them (every index
+// in range, kNoIndex where a field may be absent, known flags, reserved zero, a shape entity).
+// The eight index fields are one vector: 3.7 ns a shape one field at a time (100k shapes).
+[[gnu::target("avx2")]] uint32_t plain_shapes_avx2(const ShapeInputs& in, uint32_t from,
+                                                   uint32_t to) {
+  // x < bound unsigned is (x ^ 2^31) < (bound ^ 2^31) signed.
+  const __m256i bias = _mm256_set1_epi32(INT32_MIN);
+  const __m256i limits =
+      _mm256_xor_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.bounds)), bias);
+  const __m256i none = _mm256_set1_epi32(-1);
+  const __m256i may_be_none = _mm256_setr_epi32(0, -1, 0, -1, -1, -1, 0, -1);
+  const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
+  for (uint32_t i = from; i < to; ++i) {
+    const ShapeRecord& s = in.shapes[i];
+    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s));
+    const __m256i ok = _mm256_or_si256(_mm256_cmpgt_epi32(limits, _mm256_xor_si256(x, bias)),
+                                       _mm256_and_si256(_mm256_cmpeq_epi32(x, none), may_be_none));
+    if (_mm256_movemask_epi8(ok) != -1 || ((s.flags & ~known) | s.reserved) != 0 ||
+        in.entities[s.entity].category != uint8_t(Category::kShape))
       return i;
   }
   return to;
@@ -229,6 +263,23 @@ auto each_record(Sound sound) {
       if (!sound(i)) return i;
     return to;
   };
+}
+
+// A scan of records [from, to) by a vector check, fast(from, to), which passes a run of records
+// and returns the first it cannot vouch for (or to); that one is judged by sound(i), and the
+// scan goes on after it. The verdicts are sound()'s: the fuzz tree (PBRTA_CROSSCHECK_VALIDATION)
+// stops should fast() pass a record sound() refuses.
+template <class Fast, class Sound>
+uint32_t vector_scan(Fast fast, Sound sound, uint32_t from, uint32_t to) {
+  for (uint32_t i = from;; ++i) {
+    const uint32_t stop = fast(i, to);
+#if defined(PBRTA_CROSSCHECK_VALIDATION)
+    for (uint32_t k = i; k < stop; ++k)
+      if (!sound(k)) __builtin_trap();
+#endif
+    if (stop == to || !sound(stop)) return stop;
+    i = stop;
+  }
 }
 
 // The same for the record kinds a large scene has most of, with two checks of each record:
@@ -619,7 +670,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
   const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
   const uint32_t num_strings = num_strings_;
   const Checker unreported = c.blank();  // for sound()'s fallbacks, whose messages are dropped
-#if defined(PBRTA_VALUES_AVX2)
+#if defined(PBRTA_CHECKS_AVX2)
   const bool avx2 = have_avx2();
 #else
   const bool avx2 = false;
@@ -665,17 +716,10 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
   };
   // Runs of plain entities by the vector check, the rest one by one.
   auto entities_sound = [hot, &entity_sound](uint32_t from, uint32_t to) {
-#if defined(PBRTA_VALUES_AVX2)
+#if defined(PBRTA_CHECKS_AVX2)
     if (hot.avx2) {
-      for (uint32_t i = from;; ++i) {
-        const uint32_t stop = plain_entities_avx2(hot, i, to);
-#if defined(PBRTA_CROSSCHECK_VALIDATION)
-        for (uint32_t k = i; k < stop; ++k)
-          if (!entity_sound(k)) __builtin_trap();  // the vector check passed an unsound entity
-#endif
-        if (stop == to || !entity_sound(stop)) return stop;
-        i = stop;
-      }
+      auto fast = [&hot](uint32_t i, uint32_t end) { return plain_entities_avx2(hot, i, end); };
+      return vector_scan(fast, entity_sound, from, to);
     }
 #endif
     return each_record(entity_sound)(from, to);
@@ -767,19 +811,33 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
            (s.reserved == 0 ||
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
-  first_failure(
-      shapes.size, par, c, "shape", each_record([&](uint32_t i) {
-        const ShapeRecord& s = shapes[i];
-        const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
-        return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
-                 optional_bad(s.area_light, area_lights.size) |
-                 optional_bad(s.inside_medium, media.size) |
-                 optional_bad(s.outside_medium, media.size) |
-                 index_bad(s.transform, transforms.size) | optional_bad(s.object, objects.size) |
-                 ((s.flags & ~known) != 0) | (s.reserved != 0)) &&
-               entity_is(s.entity, Category::kShape);
-      }),
-      check_shape);
+  auto shape_sound = [&](uint32_t i) {
+    const ShapeRecord& s = shapes[i];
+    const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
+    return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
+             optional_bad(s.area_light, area_lights.size) |
+             optional_bad(s.inside_medium, media.size) |
+             optional_bad(s.outside_medium, media.size) | index_bad(s.transform, transforms.size) |
+             optional_bad(s.object, objects.size) | ((s.flags & ~known) != 0) |
+             (s.reserved != 0)) &&
+           entity_is(s.entity, Category::kShape);
+  };
+#if defined(PBRTA_CHECKS_AVX2)
+  const ShapeInputs shape_inputs{shapes.data,
+                                 entities.data,
+                                 {entities.size, meshes.size, materials.size, area_lights.size,
+                                  media.size, media.size, transforms.size, objects.size}};
+#endif
+  auto shapes_sound = [&](uint32_t from, uint32_t to) {
+#if defined(PBRTA_CHECKS_AVX2)
+    if (avx2) {
+      auto fast = [&](uint32_t i, uint32_t end) { return plain_shapes_avx2(shape_inputs, i, end); };
+      return vector_scan(fast, shape_sound, from, to);
+    }
+#endif
+    return each_record(shape_sound)(from, to);
+  };
+  first_failure(shapes.size, par, c, "shape", shapes_sound, check_shape);
   c.in(sec(SectionKind::kObjects));
   first_failure(objects.size, par, c, [&](uint32_t i, Checker& c) {
     const ObjectRecord& o = objects[i];

@@ -373,6 +373,67 @@ TEST_F(EntityCheck, FirstBadProvenanceRecordInOrder) {
       << both;
 }
 
+// Each of a shape's eight index fields past its table, or missing where it is required, and its
+// entity of the wrong category: refused, naming the field. The shape checks take the eight
+// fields as one vector where the CPU allows (format/scene_validation.cpp).
+TEST_F(EntityCheck, EveryShapeIndexFieldIsChecked) {
+  const uint32_t i = 25000;
+  struct Field {
+    size_t offset;
+    const char* name;
+    uint32_t bound;
+    bool may_be_missing;
+  };
+  const Field fields[] = {
+      {offsetof(pbrta::ShapeRecord, entity), "entity", archive_.entities.size, false},
+      {offsetof(pbrta::ShapeRecord, mesh), "mesh", archive_.meshes.size, true},
+      {offsetof(pbrta::ShapeRecord, material), "material", archive_.materials.size, false},
+      {offsetof(pbrta::ShapeRecord, area_light), "area light", archive_.area_lights.size, true},
+      {offsetof(pbrta::ShapeRecord, inside_medium), "inside medium", archive_.media.size, true},
+      {offsetof(pbrta::ShapeRecord, outside_medium), "outside medium", archive_.media.size, true},
+      {offsetof(pbrta::ShapeRecord, transform), "transform", archive_.transforms.size, false},
+      {offsetof(pbrta::ShapeRecord, object), "object", archive_.objects.size, true},
+  };
+  const std::string at = "shape " + std::to_string(i) + ": ";
+  for (const Field& f : fields) {
+    SCOPED_TRACE(f.name);
+    auto with = [&](uint32_t v) {
+      std::string b = good_;
+      edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, i, [&](pbrta::ShapeRecord* s) {
+        std::memcpy(reinterpret_cast<char*>(s) + f.offset, &v, 4);
+      });
+      return b;
+    };
+    std::string error = error_of(with(f.bound));
+    EXPECT_NE(error.find(at + f.name + " " + std::to_string(f.bound) + " out of range"),
+              std::string::npos)
+        << error;
+    if (f.may_be_missing) {
+      std::string b = with(pbrta::kNoIndex);
+      std::vector<uint8_t> sealed(b.begin(), b.end());
+      fuzz_support::reseal(&sealed);
+      pbrta::SceneArchive a;
+      EXPECT_TRUE(a.load_memory(
+          std::string_view(reinterpret_cast<const char*>(sealed.data()), sealed.size()), "none", 2,
+          &error))
+          << error;
+    } else {
+      error = error_of(with(pbrta::kNoIndex));
+      EXPECT_NE(error.find(at + f.name + " is missing"), std::string::npos) << error;
+    }
+  }
+  // A material's entity where the shape's belongs.
+  std::string b = good_;
+  const uint32_t material_entity = archive_.materials[7].entity;
+  edit<pbrta::ShapeRecord>(&b, pbrta::SectionKind::kShapes, i,
+                           [&](pbrta::ShapeRecord* s) { s->entity = material_entity; });
+  const std::string error = error_of(b);
+  EXPECT_NE(error.find(at + "entity entity " + std::to_string(material_entity) +
+                       " is a material, not a shape"),
+            std::string::npos)
+      << error;
+}
+
 TEST_F(EntityCheck, FirstBadShapeInOrder) {
   expect_first_wins<pbrta::ShapeRecord>(
       pbrta::SectionKind::kShapes, 38000, [](pbrta::ShapeRecord* s) { s->reserved = 7; },
