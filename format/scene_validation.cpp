@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstring>
 #include <optional>
 
@@ -80,6 +81,10 @@ class Checker {
   std::string message_;
 };
 
+// The record flags this reader knows; any other bit refuses the record.
+constexpr uint32_t kKnownShapeFlags = kShapeReverseOrientation | kShapeSwapsHandedness;
+constexpr uint32_t kKnownMeshFlags = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
+
 // What the entity checks read most, held by value: through references, each entity would first
 // walk from the closure to the archive to the span (the rare checks' calls keep the compiler from
 // hoisting those loads out of the loop).
@@ -115,6 +120,7 @@ struct EntityInputs {
   // texture" (kNoIndex) into 0.
   const __m256i texture_lanes = _mm256_setr_epi32(0, 0, -1, 0, 0, 0, -1, 0);
   const __m256i limit = _mm256_set1_epi64x(int64_t(in.num_words));
+  const __m256i ones = _mm256_cmpeq_epi32(zero, zero);
   for (uint32_t i = from; i < to; ++i) {
     const EntityRecord& e = in.entities[i];
     if (e.type >= in.digest->num_types(e.category)) return i;
@@ -126,7 +132,7 @@ struct EntityInputs {
       return i;
     const __m256i* v = reinterpret_cast<const __m256i*>(in.values + e.first_value);
     const __m256i* lanes = reinterpret_cast<const __m256i*>(t.value_lanes);
-    __m256i ok = _mm256_cmpeq_epi32(zero, zero), past = zero;
+    __m256i ok = ones, past = zero;
     for (uint32_t pair = 0; pair < (n + 1) / 2; ++pair, ++v, lanes += 4) {
       const __m256i x = _mm256_loadu_si256(v);
       // Lane by lane, (y & mask) == 0 or y == expect: the texture 0 after the xor, the count 0
@@ -143,8 +149,7 @@ struct EntityInputs {
           _mm256_mul_epu32(_mm256_srli_epi64(x, 32), _mm256_load_si256(lanes + 3)));
       past = _mm256_or_si256(past, _mm256_cmpgt_epi64(end, limit));
     }
-    if (!_mm256_testc_si256(ok, _mm256_cmpeq_epi32(zero, zero)) || !_mm256_testz_si256(past, past))
-      return i;
+    if (!_mm256_testc_si256(ok, ones) || !_mm256_testz_si256(past, past)) return i;
   }
   return to;
 }
@@ -157,6 +162,8 @@ struct ShapeInputs {
   const EntityRecord* entities;
   uint32_t bounds[8];
 };
+static_assert(offsetof(ShapeRecord, entity) == 0 && offsetof(ShapeRecord, object) == 28,
+              "plain_shapes_avx2 reads a ShapeRecord's eight index fields as one vector");
 
 // Shapes [from, to) in order, up to the first that might be unsound, which it returns (or to):
 // the ones it passes are sound as the shape check in validate_records() judges them (every index
@@ -170,13 +177,12 @@ struct ShapeInputs {
       _mm256_xor_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.bounds)), bias);
   const __m256i none = _mm256_set1_epi32(-1);
   const __m256i may_be_none = _mm256_setr_epi32(0, -1, 0, -1, -1, -1, 0, -1);
-  const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
   for (uint32_t i = from; i < to; ++i) {
     const ShapeRecord& s = in.shapes[i];
     const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s));
     const __m256i ok = _mm256_or_si256(_mm256_cmpgt_epi32(limits, _mm256_xor_si256(x, bias)),
                                        _mm256_and_si256(_mm256_cmpeq_epi32(x, none), may_be_none));
-    if (_mm256_movemask_epi8(ok) != -1 || ((s.flags & ~known) | s.reserved) != 0 ||
+    if (_mm256_movemask_epi8(ok) != -1 || ((s.flags & ~kKnownShapeFlags) | s.reserved) != 0 ||
         in.entities[s.entity].category != uint8_t(Category::kShape))
       return i;
   }
@@ -245,16 +251,6 @@ uint32_t first_failure_scan(uint32_t n, tbb::task_arena* arena, Checker& c, Scan
   return bad;
 }
 
-// The same, one record at a time: check(i, checker) is false when record i fails.
-template <class Check>
-uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
-  return first_failure_scan(n, arena, c, [&](uint32_t from, uint32_t to, Checker& local) {
-    for (uint32_t i = from; i < to; ++i)
-      if (!check(i, local)) return i;
-    return to;
-  });
-}
-
 // A scan of records [from, to) by sound(i), stopping at the first it refuses.
 template <class Sound>
 auto each_record(Sound sound) {
@@ -265,12 +261,20 @@ auto each_record(Sound sound) {
   };
 }
 
-// A scan of records [from, to) by a vector check, fast(from, to), which passes a run of records
-// and returns the first it cannot vouch for (or to); that one is judged by sound(i), and the
-// scan goes on after it. The verdicts are sound()'s: the fuzz tree (PBRTA_CROSSCHECK_VALIDATION)
+// first_failure_scan() one record at a time: check(i, checker) is false when record i fails.
+template <class Check>
+uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
+  return first_failure_scan(n, arena, c, [&](uint32_t from, uint32_t to, Checker& local) {
+    return each_record([&](uint32_t i) { return check(i, local); })(from, to);
+  });
+}
+
+// A scan of records [from, to) by a fast path, fast(from, to), which passes a run of records and
+// returns the first it cannot vouch for (or to); that one is judged by sound(i), and the scan
+// goes on after it. The verdicts are sound()'s: the fuzz tree (PBRTA_CROSSCHECK_VALIDATION)
 // stops should fast() pass a record sound() refuses.
 template <class Fast, class Sound>
-uint32_t vector_scan(Fast fast, Sound sound, uint32_t from, uint32_t to) {
+uint32_t fast_path_scan(Fast fast, Sound sound, uint32_t from, uint32_t to) {
   for (uint32_t i = from;; ++i) {
     const uint32_t stop = fast(i, to);
 #if defined(PBRTA_CROSSCHECK_VALIDATION)
@@ -282,7 +286,7 @@ uint32_t vector_scan(Fast fast, Sound sound, uint32_t from, uint32_t to) {
   }
 }
 
-// The same for the record kinds a large scene has most of, with two checks of each record:
+// first_failure() for the record kinds a large scene has most of, with two checks of each record:
 // sound(from, to), branch-light and message-free, decides (it returns the first record in
 // [from, to) it refuses, or to; each_record() makes one from a check of one record);
 // explain(i, checker) is the readable check that names what is wrong, run only on the record
@@ -352,8 +356,8 @@ inline bool tiny_mesh_sound(const TinyMeshInputs& in, uint32_t i) {
   const MeshRecord& m = in.meshes[i];
   if (m.section >= in.num_sections || m.num_triangles > 4) return false;
   const TinyMeshInputs::Area& a = in.areas[m.section];
-  const uint32_t known = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
-  if (a.data == nullptr || (m.flags & ~known) != 0 || layout_bad(m, a.size, in.num_shapes))
+  if (a.data == nullptr || (m.flags & ~kKnownMeshFlags) != 0 ||
+      layout_bad(m, a.size, in.num_shapes))
     return false;
   const uint32_t* v = reinterpret_cast<const uint32_t*>(a.data + m.indices);
   bool bad = false;
@@ -719,7 +723,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
 #if defined(PBRTA_CHECKS_AVX2)
     if (hot.avx2) {
       auto fast = [&hot](uint32_t i, uint32_t end) { return plain_entities_avx2(hot, i, end); };
-      return vector_scan(fast, entity_sound, from, to);
+      return fast_path_scan(fast, entity_sound, from, to);
     }
 #endif
     return each_record(entity_sound)(from, to);
@@ -806,19 +810,18 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
            c.index(s.outside_medium, media.size, "shape", i, "outside medium", "media", true) &&
            c.index(s.transform, transforms.size, "shape", i, "transform", "transforms", false) &&
            c.index(s.object, objects.size, "shape", i, "object", "objects", true) &&
-           ((s.flags & ~uint32_t(kShapeReverseOrientation | kShapeSwapsHandedness)) == 0 ||
+           ((s.flags & ~kKnownShapeFlags) == 0 ||
             c.fail("shape " + std::to_string(i) + ": unknown flags")) &&
            (s.reserved == 0 ||
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
   auto shape_sound = [&](uint32_t i) {
     const ShapeRecord& s = shapes[i];
-    const uint32_t known = kShapeReverseOrientation | kShapeSwapsHandedness;
     return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
              optional_bad(s.area_light, area_lights.size) |
              optional_bad(s.inside_medium, media.size) |
              optional_bad(s.outside_medium, media.size) | index_bad(s.transform, transforms.size) |
-             optional_bad(s.object, objects.size) | ((s.flags & ~known) != 0) |
+             optional_bad(s.object, objects.size) | ((s.flags & ~kKnownShapeFlags) != 0) |
              (s.reserved != 0)) &&
            entity_is(s.entity, Category::kShape);
   };
@@ -832,7 +835,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
 #if defined(PBRTA_CHECKS_AVX2)
     if (avx2) {
       auto fast = [&](uint32_t i, uint32_t end) { return plain_shapes_avx2(shape_inputs, i, end); };
-      return vector_scan(fast, shape_sound, from, to);
+      return fast_path_scan(fast, shape_sound, from, to);
     }
 #endif
     return each_record(shape_sound)(from, to);
@@ -887,8 +890,7 @@ bool SceneArchive::validate_geometry(CheckThreads* threads, const IndexChecks& c
     if (m.section >= r.section_count() ||
         r.entry(m.section).kind != uint32_t(SectionKind::kGeometry))
       return c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
-    if (m.flags & ~uint32_t(kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices))
-      return c.fail(at() + "unknown flags");
+    if (m.flags & ~kKnownMeshFlags) return c.fail(at() + "unknown flags");
     if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
       // A Draco section decodes to exactly one mesh's layout: the record must describe it.
       MeshRecord expect = m;
@@ -926,9 +928,9 @@ bool SceneArchive::validate_geometry(CheckThreads* threads, const IndexChecks& c
   };
   auto mesh_sound = [&](uint32_t i) {
     const MeshRecord& m = meshes[i];
-    const uint32_t known = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
     if (m.section >= r.section_count() ||
-        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry) || (m.flags & ~known) != 0)
+        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry) ||
+        (m.flags & ~kKnownMeshFlags) != 0)
       return false;
     if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
       Checker scratch = unreported;
@@ -972,14 +974,12 @@ bool SceneArchive::validate_geometry(CheckThreads* threads, const IndexChecks& c
         r.entry(s).codec != uint32_t(Codec::kDraco) && r.section_data(s) != nullptr)
       areas[s] = {r.section_data(s), r.section_size(s)};
   const TinyMeshInputs tiny{meshes.data, areas.data(), r.section_count(), shapes.size};
-  auto meshes_sound = [tiny, &one_mesh_sound](uint32_t from, uint32_t to) {
-    for (uint32_t i = from; i < to; ++i) {
-#if defined(PBRTA_CROSSCHECK_VALIDATION)
-      if (tiny_mesh_sound(tiny, i) && !one_mesh_sound(i)) __builtin_trap();
-#endif
-      if (!tiny_mesh_sound(tiny, i) && !one_mesh_sound(i)) return i;
-    }
-    return to;
+  auto tiny_meshes = [tiny](uint32_t i, uint32_t end) {
+    while (i < end && tiny_mesh_sound(tiny, i)) ++i;
+    return i;
+  };
+  auto meshes_sound = [&](uint32_t from, uint32_t to) {
+    return fast_path_scan(tiny_meshes, one_mesh_sound, from, to);
   };
   first_failure(meshes.size, par, c, "mesh", meshes_sound, [&](uint32_t i, Checker& c) {
     if (!check_mesh(i, c)) return false;
