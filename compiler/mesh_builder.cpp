@@ -150,10 +150,13 @@ bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag,
   if (has_drc_extension(path)) return load_drc(path, filename_loc, diag, mesh);
   pbrta::PlyMesh ply;
   pbrta::PlyError err;
-  if (!pbrta::read_ply(path, &ply, &err)) {
+  std::vector<std::string> warnings;
+  if (!pbrta::read_ply(path, &ply, &err, &warnings)) {
     diag->error(filename_loc, "cannot read PLY file \"" + path + "\": " + err.message);
     return false;
   }
+  for (const std::string& w : warnings)
+    diag->warning(filename_loc, "PLY file \"" + path + "\": " + w);
   mesh->P = std::move(ply.positions);
   mesh->N = std::move(ply.normals);
   mesh->uv = std::move(ply.uvs);

@@ -148,20 +148,26 @@ struct SceneBuilder::State {
   std::vector<PendingPly> pending_ply;
   BuildProgress* progress = nullptr;
 
-  // Reads every pending PLY file in parallel; errors are reported in scene
+  // Reads every pending PLY file in parallel; errors and warnings are reported in scene
   // order afterwards, so messages do not depend on thread timing.
   void load_pending_ply() {
     if (progress && !pending_ply.empty()) progress->phase("PLY meshes", pending_ply.size());
-    std::vector<std::string> errors(pending_ply.size());
+    std::vector<std::vector<Diagnostic>> said(pending_ply.size());
     tbb::parallel_for(size_t(0), pending_ply.size(), [&](size_t i) {
       const PendingPly& p = pending_ply[i];
       SourceFiles none;
       Diagnostics local(&none, nullptr);
-      if (!load_plymesh(p.path, Loc{}, &local, &scene->meshes[size_t(p.mesh)]))
-        errors[i] = local.all().empty() ? "cannot read PLY file" : local.all()[0].message;
+      if (!load_plymesh(p.path, Loc{}, &local, &scene->meshes[size_t(p.mesh)]) && !local.failed())
+        local.error(Loc{}, "cannot read PLY file");
+      said[i] = local.all();
     });
     for (size_t i = 0; i < pending_ply.size(); ++i)
-      if (!errors[i].empty()) diag->error(pending_ply[i].loc, errors[i]);
+      for (const Diagnostic& d : said[i]) {
+        if (d.severity == Severity::kError)
+          diag->error(pending_ply[i].loc, d.message);
+        else
+          diag->warning(pending_ply[i].loc, d.message);
+      }
     pending_ply.clear();
   }
 

@@ -288,7 +288,8 @@ inline const char* skip_plus(const char* first, const char* last) {
 
 class PlyParser {
  public:
-  PlyParser(std::string_view bytes, PlyMesh* mesh) : bytes_(bytes), mesh_(mesh) {}
+  PlyParser(std::string_view bytes, PlyMesh* mesh, std::vector<std::string>* warnings)
+      : bytes_(bytes), mesh_(mesh), warnings_(warnings) {}
 
   bool parse() {
     if (!parse_header() || !resolve_roles() || !check_counts()) return false;
@@ -381,7 +382,12 @@ class PlyParser {
       } else if (keyword == "property") {
         if (!parse_property(words, n)) return false;
       } else {
-        return fail(line_label() + ": unknown keyword " + quote(keyword));
+        // Old exporters wrote free text without "comment" (Blender 2.4's "Created by ...").
+        // A line that is not format, element, property or end_header cannot change the layout,
+        // so it is skipped, and said.
+        if (warnings_ != nullptr)
+          warnings_->push_back(line_label() + ": skipped " + quote(line) +
+                               " (not a PLY header keyword)");
       }
     }
     if (!have_format) return fail("header: no format line");
@@ -949,6 +955,7 @@ class PlyParser {
 
   std::string_view bytes_;
   PlyMesh* mesh_;
+  std::vector<std::string>* warnings_;  // header lines skipped
   std::string message_;
 
   // Header
@@ -995,11 +1002,13 @@ struct FileDescriptor {
 
 }  // namespace
 
-bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error) {
+bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error,
+               std::vector<std::string>* warnings) {
   if (mesh == nullptr) return report(error, "no output mesh given");
   *mesh = PlyMesh();
   PlyMesh result;
-  PlyParser parser(bytes, &result);
+  std::vector<std::string> said;
+  PlyParser parser(bytes, &result, &said);
   bool ok;
   try {
     ok = parser.parse();
@@ -1011,10 +1020,12 @@ bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error) {
   }
   if (!ok) return report(error, parser.message());
   *mesh = std::move(result);
+  if (warnings != nullptr) warnings->insert(warnings->end(), said.begin(), said.end());
   return true;
 }
 
-bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error) {
+bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error,
+              std::vector<std::string>* warnings) {
   if (mesh != nullptr) *mesh = PlyMesh();
   // Read in one block rather than memory-map: a mapped file that shrinks under us would fault
   // (SIGBUS), and the copy costs little next to parsing.
@@ -1043,7 +1054,7 @@ bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error) {
     if (n == 0) break;  // the file shrank since fstat; parse what is there
     got += static_cast<size_t>(n);
   }
-  return parse_ply(std::string_view(buffer.get(), got), mesh, error);
+  return parse_ply(std::string_view(buffer.get(), got), mesh, error, warnings);
 }
 
 }  // namespace pbrta

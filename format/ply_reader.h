@@ -12,6 +12,11 @@
 // the input bytes. Thread safety: the functions are stateless and reentrant; distinct calls may
 // run concurrently on distinct meshes.
 //
+// Header lines that cannot change the layout (anything but format, element, property and
+// end_header, such as Blender 2.4's bare "Created by ..." line) are skipped, each with a warning
+// "header line N: skipped '<its first 40 bytes>' (not a PLY header keyword)"; comment and
+// obj_info lines silently.
+//
 // Failure: the input is untrusted. Any problem (bad header, a count the file cannot hold,
 // truncated data, a token that is not a number, a NaN or infinite value, an index out of range, a
 // face with fewer than 3 vertices) makes the call return false, leave *mesh empty and put one
@@ -46,11 +51,14 @@ struct PlyError {
 };
 
 // Reads the PLY file at path (in one block). Returns false and sets *error on any problem,
-// including an unreadable file; *mesh is then empty.
-[[nodiscard]] bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error);
+// including an unreadable file; *mesh is then empty. On success the warnings, if any, are
+// appended to *warnings when it is given.
+[[nodiscard]] bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error,
+                            std::vector<std::string>* warnings = nullptr);
 
 // Same as read_ply, from bytes in memory (for tests and fuzzers). bytes need not be
 // NUL-terminated.
-[[nodiscard]] bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error);
+[[nodiscard]] bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error,
+                             std::vector<std::string>* warnings = nullptr);
 
 }  // namespace pbrta

@@ -407,6 +407,42 @@ TEST(PlyReader, AcceptsCommentsObjInfoAndCrlfHeaderLines) {
   EXPECT_EQ(mesh.indices, u32({0, 1, 2}));
 }
 
+// Blender 2.4's exporter wrote "Created by Blender3D 247 - www.blender.org, source file: ..."
+// without the comment keyword. A line that is not format, element, property or end_header cannot
+// change the layout: it is skipped, with a warning naming its line (quoted up to 40 bytes).
+TEST(PlyReader, SkipsHeaderLinesThatAreNoKeywordWithAWarningEach) {
+  const std::string long_line = "Exported " + std::string(80, 'x');
+  const std::string text =
+      "ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org\n"
+      "element vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\n" +
+      long_line +
+      "\nelement face 1\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  PlyMesh mesh;
+  PlyError error;
+  std::vector<std::string> warnings{"kept"};
+  ASSERT_TRUE(parse_ply(text, &mesh, &error, &warnings)) << error.message;
+  EXPECT_EQ(mesh.indices, u32({0, 1, 2}));
+  EXPECT_EQ(warnings,
+            (std::vector<std::string>{
+                "kept",
+                "header line 3: skipped 'Created by Blender3D 247 - www.blender.o...' (not a PLY "
+                "header keyword)",
+                "header line 8: skipped '" + long_line.substr(0, 40) +
+                    "...' (not a PLY header keyword)"}));
+  // Without a list to append to, the same file reads the same.
+  EXPECT_EQ(parse_ok(text).indices, u32({0, 1, 2}));
+  // A failed parse says nothing but its error.
+  warnings.clear();
+  EXPECT_FALSE(parse_ply(text.substr(0, text.size() - 4), &mesh, &error, &warnings));
+  EXPECT_TRUE(warnings.empty());
+  // Lines that do shape the layout are still checked: a skipped line never hides a bad one.
+  EXPECT_EQ(parse_error("ply\nformat ascii 1.0\nelephant 3\nelement vertex 1\nproperty flot x\n"
+                        "end_header\n"),
+            "header line 5: unknown type 'flot'");
+}
+
 TEST(PlyReader, AcceptsAsciiNumbersInAnyLayoutAndSpelling) {
   // Records split and joined across lines, tabs, CRLF, a leading '+', exponents.
   const std::string text =
@@ -499,8 +535,6 @@ TEST(PlyReader, RejectsMalformedHeaderLines) {
             "header line 4: unknown type 'quad'");
   EXPECT_EQ(parse_error(start + "element face 3\nproperty list float int v\nend_header\n"),
             "header line 4: list count type 'float' is not an integer type");
-  EXPECT_EQ(parse_error(start + "elephant 3\nend_header\n"),
-            "header line 3: unknown keyword 'elephant'");
   EXPECT_EQ(parse_error(start + "element vertex 1\nelement vertex 1\nend_header\n"),
             "header line 4: second vertex element");
 }

@@ -5,6 +5,8 @@
 // "pbrt-mesh: error: <file>: <reason>").
 #pragma once
 
+#include <string>
+
 namespace CLI {
 class App;
 }
@@ -15,5 +17,10 @@ void add_convert_command(CLI::App* app, int* exit_code);
 void add_info_command(CLI::App* app, int* exit_code);
 void add_normals_command(CLI::App* app, int* exit_code);
 void add_simplify_command(CLI::App* app, int* exit_code);
+
+struct Mesh;
+// A subcommand's input: read_mesh, with its warnings printed as "pbrt-mesh: warning: ..." (not
+// when quiet) and a failure as "pbrt-mesh: error: ...". False on failure.
+bool read_input_mesh(const std::string& path, Mesh* mesh, bool quiet);
 
 }  // namespace meshtools

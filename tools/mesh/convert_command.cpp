@@ -57,10 +57,7 @@ pbrta::MeshArrays arrays_of(const Mesh& m) {
 int run_convert(const ConvertArgs& args) {
   Mesh mesh;
   std::string error;
-  if (!read_mesh(args.in, &mesh, &error, args.quiet)) {
-    std::fprintf(stderr, "pbrt-mesh: error: %s\n", error.c_str());
-    return 1;
-  }
+  if (!read_input_mesh(args.in, &mesh, args.quiet)) return 1;
   WriteOptions opt;
   opt.ply_ascii = args.ascii;
   opt.pbrt = args.plymesh ? PbrtStyle::kPlymesh : PbrtStyle::kInline;

@@ -22,11 +22,7 @@ namespace {
 
 int run_info(const std::string& path) {
   Mesh m;
-  std::string error;
-  if (!read_mesh(path, &m, &error, false)) {
-    std::fprintf(stderr, "pbrt-mesh: error: %s\n", error.c_str());
-    return 1;
-  }
+  if (!read_input_mesh(path, &m, false)) return 1;
   const TopologyCounts t = count_topology(m);
   float lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {

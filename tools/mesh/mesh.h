@@ -36,8 +36,11 @@ struct WriteOptions {
   bool draco_sequential = false;  // .drc: keep vertex and face order
 };
 
-// Reads path by its extension. Reports progress on large meshes to stderr unless quiet.
-bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool quiet = true);
+// Reads path by its extension. Reports progress on large meshes to stderr unless quiet. What
+// the reader skipped but could read past (a PLY header line that is no keyword) is appended to
+// *warnings, if given, as "path: what".
+bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool quiet = true,
+               std::vector<std::string>* warnings = nullptr);
 bool write_mesh(const std::string& path, const Mesh& mesh, const WriteOptions& options,
                 std::string* error);
 

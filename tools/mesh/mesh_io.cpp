@@ -901,7 +901,8 @@ std::string extension_of(const std::string& path) {
   return ext;
 }
 
-bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool quiet) {
+bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool quiet,
+               std::vector<std::string>* warnings) {
   *mesh = Mesh();
   const std::string ext = extension_of(path);
   Mesh m;
@@ -913,7 +914,10 @@ bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool qui
     progress.note("reading");
     pbrta::PlyMesh p;
     pbrta::PlyError pe;
-    if (!pbrta::parse_ply(bytes, &p, &pe)) return fail(error, path, pe.message);
+    std::vector<std::string> said;
+    if (!pbrta::parse_ply(bytes, &p, &pe, &said)) return fail(error, path, pe.message);
+    if (warnings != nullptr)
+      for (const std::string& w : said) warnings->push_back(path + ": " + w);
     m.positions = std::move(p.positions);
     m.normals = std::move(p.normals);
     m.uvs = std::move(p.uvs);

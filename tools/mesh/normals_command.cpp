@@ -33,10 +33,7 @@ int run_normals(const NormalsArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   Mesh mesh;
   std::string error;
-  if (!read_mesh(args.in, &mesh, &error, args.quiet)) {
-    std::fprintf(stderr, "pbrt-mesh: error: %s\n", error.c_str());
-    return 1;
-  }
+  if (!read_input_mesh(args.in, &mesh, args.quiet)) return 1;
   const Mesh input = mesh;
   NormalsOptions options;
   options.weighting = args.weight == "area" ? NormalWeighting::kArea : NormalWeighting::kAngle;

@@ -30,10 +30,7 @@ int run_simplify(const SimplifyArgs& args) {
   const auto start = std::chrono::steady_clock::now();
   Mesh mesh;
   std::string error;
-  if (!read_mesh(args.in, &mesh, &error, args.quiet)) {
-    std::fprintf(stderr, "pbrt-mesh: error: %s\n", error.c_str());
-    return 1;
-  }
+  if (!read_input_mesh(args.in, &mesh, args.quiet)) return 1;
   SimplifyOptions options;
   options.ratio = args.ratio;
   options.max_quadric_error = args.max_error;
