@@ -9,6 +9,7 @@
 // result survives the archive round trip. Malformed input fails with "file:line:" messages.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -352,10 +353,58 @@ TEST(ObjScene, MalformedInputGivesFileAndLine) {
                {"bad.obj:5:", "vertex index 4 out of range"});
   expect_error("# nothing yet\nmtllib missing.mtl\n", dir,
                {"bad.obj:2:", "material library \"missing.mtl\" not found"});
-  write_file(dir + "/notex.mtl", "newmtl m\nKd 1 1 1\nmap_Kd gone.png\n");
-  expect_error("mtllib notex.mtl\n", dir, {"bad.obj:1:", "notex.mtl:3:", "gone.png", "not found"});
   write_file(dir + "/badnum.mtl", "newmtl m\nNs inf\n");
   expect_error("mtllib badnum.mtl\n", dir, {"badnum.mtl:2:", "out of range"});
+}
+
+// Maps named as their authors' machines named them: Windows separators, absolute paths from
+// elsewhere, another letter case. The file that came along with the model is found.
+TEST(ObjScene, TextureNamesFromOtherMachinesAreFound) {
+  const std::string dir = scratch_dir("ObjScene.TextureNames");
+  write_file(dir + "/wall.jpg", "x");  // beside the OBJ (never decoded here)
+  write_file(dir + "/mtl/sub/floor.png", "x");
+  write_file(dir + "/mtl/Roof.PNG", "x");
+  write_file(dir + "/mtl/lib.mtl",
+             "newmtl a\nmap_Kd .\\sub\\floor.png\n"  // `\` as a separator, beside the MTL
+             "newmtl b\nmap_Kd C:\\Users\\me\\Tex\\Wall.JPG\n"  // its file name, beside the OBJ
+             "newmtl c\nmap_Kd /home/me/roof.png\n");           // beside the MTL, letter case aside
+  ObjScene scene;
+  std::string error;
+  ASSERT_TRUE(parse_obj_scene("m.obj", "mtllib mtl/lib.mtl\n", dir, &scene, &error)) << error;
+  ASSERT_EQ(scene.materials.size(), 3u);
+  EXPECT_EQ(scene.materials[0].map_kd, dir + "/mtl/sub/floor.png");
+  EXPECT_EQ(scene.materials[1].map_kd, dir + "/wall.jpg");
+  EXPECT_EQ(scene.materials[2].map_kd, dir + "/mtl/Roof.PNG");
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0];
+}
+
+// A converter converts what it can and says what it could not: a map that cannot be found is a
+// warning, and its material keeps its constant colour; --strict makes it the error it was.
+TEST(ObjScene, MissingTextureIsAWarningUnlessStrict) {
+  const std::string dir = scratch_dir("ObjScene.MissingTexture");
+  write_file(dir + "/notex.mtl", "newmtl m\nKd 1 0.5 1\nmap_Kd gone.png\n");
+  const std::string obj = "mtllib notex.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n";
+  ObjScene scene;
+  std::string error;
+  ASSERT_TRUE(parse_obj_scene("m.obj", obj, dir, &scene, &error)) << error;
+  ASSERT_EQ(scene.materials.size(), 1u);
+  EXPECT_TRUE(scene.materials[0].map_kd.empty());
+  EXPECT_EQ(scene.materials[0].kd, (std::array<float, 3>{1, 0.5f, 1}));
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_EQ(scene.warnings[0],
+            dir + "/notex.mtl:3: map_Kd file \"gone.png\" not found (looked in \"" + dir +
+                "\"); the material keeps its constant value");
+  ObjPbrtStats stats;
+  ASSERT_TRUE(write_obj_scene_pbrt(scene, dir + "/out.pbrt", ObjPbrtOptions(), &stats, &error))
+      << error;
+  EXPECT_EQ(stats.textures, 0u);
+  EXPECT_NE(testing_support::read_file(dir + "/out.pbrt").find("\"rgb Kd\" [ 1 0.5 1 ]"),
+            std::string::npos);
+
+  EXPECT_FALSE(parse_obj_scene("bad.obj", obj, dir, &scene, &error, /*strict=*/true));
+  for (const char* piece : {"bad.obj:1:", "notex.mtl:3:", "gone.png", "not found"})
+    EXPECT_NE(error.find(piece), std::string::npos) << error;
+  EXPECT_TRUE(scene.shapes.empty());
 }
 
 TEST(ObjScene, MultipleLibrariesAndWarnings) {

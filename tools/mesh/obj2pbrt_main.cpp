@@ -1,6 +1,6 @@
 // obj2pbrt — a Wavefront OBJ scene with its MTL materials to pbrt-v3 scene text.
 //
-//   obj2pbrt scene.obj scene.pbrt [--plymesh] [--scene] [--absolute-paths] [--quiet]
+//   obj2pbrt scene.obj scene.pbrt [--plymesh] [--scene] [--absolute-paths] [--strict] [--quiet]
 //
 // The materials are mapped as pbrt-v3's own obj2pbrt maps them (tools/mesh/obj_scene.h). The
 // output is a fragment to Include after WorldBegin, unless --scene wraps it in a minimal scene.
@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
       "each OBJ object/group and material becomes one shape. --scene writes a complete scene\n"
       "instead (camera looking at the bounds, an infinite light) that compiles directly."};
   std::string input, output;
-  bool plymesh = false, quiet = false, complete = false, absolute = false;
+  bool plymesh = false, quiet = false, complete = false, absolute = false, strict = false;
   app.add_option("input", input, "the .obj file (mtllib files are read beside it)")->required();
   app.add_option("output", output, "the .pbrt file to write")->required();
   app.add_flag("--plymesh", plymesh,
@@ -34,12 +34,15 @@ int main(int argc, char** argv) {
                "infinite light, WorldEnd)");
   app.add_flag("--absolute-paths", absolute,
                "write texture and PLY file names as absolute paths, not relative to the output");
+  app.add_flag("--strict", strict,
+               "a texture file that cannot be found is an error (by default a warning, and the "
+               "material keeps its constant colour)");
   app.add_flag("--quiet,-q", quiet, "print errors only");
   CLI11_PARSE(app, argc, argv);
 
   meshtools::ObjScene scene;
   std::string error;
-  if (!meshtools::read_obj_scene(input, &scene, &error)) {
+  if (!meshtools::read_obj_scene(input, &scene, &error, strict)) {
     std::fprintf(stderr, "obj2pbrt: error: %s\n", error.c_str());
     return 1;
   }

@@ -236,27 +236,52 @@ bool map_file_name(const std::vector<std::string_view>& tokens, std::string* nam
   return true;
 }
 
-// Finds a texture named in an MTL file: relative to the MTL's directory, then with Windows
-// separators turned around (MTL files written on Windows often use them).
-bool find_texture(const std::string& mtl_dir, const std::string& name, std::string* found) {
+// Finds a texture named in an MTL file, first found wins:
+//   1. the name as written, relative to the MTL's directory;
+//   2. with `\` read as a separator (MTL files written on Windows use it: `.\wall.jpg`);
+//   3. its file name alone in the MTL's directory, then in the OBJ's (a path from the author's
+//      machine, `C:\Models\tex\wall.jpg`, while the file came along beside the model);
+//   4. the same file name in those directories, letter case aside (files copied from a
+//      case-insensitive file system), as a last resort.
+bool find_texture(const std::string& mtl_dir, const std::string& obj_dir, const std::string& name,
+                  std::string* found) {
   std::error_code ec;
-  std::string p = join_path(mtl_dir, name);
-  if (fs::is_regular_file(p, ec)) {
+  auto exists = [&](const std::string& p) {
+    if (!fs::is_regular_file(p, ec)) return false;
     *found = p;
     return true;
-  }
+  };
   std::string slashed = name;
   std::replace(slashed.begin(), slashed.end(), '\\', '/');
-  p = join_path(mtl_dir, slashed);
-  if (slashed != name && fs::is_regular_file(p, ec)) {
-    *found = p;
-    return true;
+  if (exists(join_path(mtl_dir, name)) || exists(join_path(mtl_dir, slashed))) return true;
+  const std::string file = fs::path(slashed).filename().string();
+  if (file.empty()) return false;
+  const std::string dirs[2] = {mtl_dir, obj_dir};
+  for (const std::string& dir : dirs)
+    if (exists(join_path(dir, file))) return true;
+  auto lower = [](std::string t) {
+    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  const std::string wanted = lower(file);
+  for (const std::string& dir : dirs) {
+    // Sorted, so that two files differing only in case resolve the same way on every machine.
+    std::vector<std::string> matches;
+    for (fs::directory_iterator it(dir.empty() ? "." : dir, ec), end; !ec && it != end;
+         it.increment(ec))
+      if (lower(it->path().filename().string()) == wanted && it->is_regular_file(ec))
+        matches.push_back(join_path(dir, it->path().filename().string()));
+    if (!matches.empty()) {
+      *found = *std::min_element(matches.begin(), matches.end());
+      return true;
+    }
   }
   return false;
 }
 
-bool parse_mtl(const std::string& path, std::vector<ObjMaterial>* materials,
-               std::map<std::string, int>* by_name, WarningSink* warn, std::string* error) {
+bool parse_mtl(const std::string& path, const std::string& obj_dir, bool strict,
+               std::vector<ObjMaterial>* materials, std::map<std::string, int>* by_name,
+               WarningSink* warn, std::string* error) {
   std::string text;
   if (!read_text(path, &text, error)) return false;
   const std::string dir = dir_of(path);
@@ -321,10 +346,17 @@ bool parse_mtl(const std::string& path, std::vector<ObjMaterial>* materials,
           if (had_options)
             warn->once(path, line, "map-options",
                        std::string(key) + " options are ignored (pbrt-v3's imagemap has none)");
-          if (!find_texture(dir, name, dst)) {
-            *message = std::string(key) + " file " + in_quotes(name) + " not found (looked in " +
-                       in_quotes(dir.empty() ? "." : dir) + ")";
-            return false;
+          if (!find_texture(dir, obj_dir, name, dst)) {
+            std::string where = in_quotes(dir.empty() ? "." : dir);
+            if (obj_dir != dir) where += " and " + in_quotes(obj_dir.empty() ? "." : obj_dir);
+            const std::string what = std::string(key) + " file " + in_quotes(name) +
+                                     " not found (looked in " + where + ")";
+            if (strict) {
+              *message = what;
+              return false;
+            }
+            // A converter converts what it can: the material keeps its constant colour.
+            warn->always(path, line, what + "; the material keeps its constant value");
           }
           return true;
         };
@@ -438,7 +470,8 @@ float roughness_from_ns(float ns) {
 }
 
 bool parse_obj_scene(const std::string& display_path, const std::string& text,
-                     const std::string& base_dir, ObjScene* scene, std::string* error) {
+                     const std::string& base_dir, ObjScene* scene, std::string* error,
+                     bool strict) {
   *scene = ObjScene();
   WarningSink warn(&scene->warnings);
   std::vector<float> v, vt, vn;
@@ -574,7 +607,8 @@ bool parse_obj_scene(const std::string& display_path, const std::string& text,
               }
               path = alt;
             }
-            if (!parse_mtl(path, &scene->materials, &material_by_name, &warn, &mtl_error)) {
+            if (!parse_mtl(path, base_dir, strict, &scene->materials, &material_by_name, &warn,
+                           &mtl_error)) {
               *message = "in material library " + in_quotes(lib) + ": " + mtl_error;
               return false;
             }
@@ -630,13 +664,13 @@ bool parse_obj_scene(const std::string& display_path, const std::string& text,
   return true;
 }
 
-bool read_obj_scene(const std::string& path, ObjScene* scene, std::string* error) {
+bool read_obj_scene(const std::string& path, ObjScene* scene, std::string* error, bool strict) {
   std::string text;
   if (!read_text(path, &text, error)) {
     *scene = ObjScene();
     return false;
   }
-  return parse_obj_scene(path, text, dir_of(path), scene, error);
+  return parse_obj_scene(path, text, dir_of(path), scene, error, strict);
 }
 
 // ---- pbrt-v3 output --------------------------------------------------------------------------

@@ -15,11 +15,15 @@
 // The output is meant to be Included by a scene (no camera, no WorldBegin) unless
 // ObjPbrtOptions::complete_scene asks for a minimal scene around it.
 //
+// Texture files are looked for as find_texture (obj_scene.cpp) says: the name as written, with
+// `\` as a separator, the file name alone beside the MTL or the OBJ, then letter case aside.
+//
 // Failure: the input is untrusted text. A bad number (NaN, infinite, garbage), an index out of
-// range or zero, a face of fewer than 3 vertices, an unreadable MTL library or a missing texture
-// file makes read_obj_scene return false with one message "path:line: reason". Things pbrt-v3's
-// obj2pbrt ignores (unknown statements, usemtl of an undefined material, map options) are kept
-// as warnings. Every function is reentrant.
+// range or zero, a face of fewer than 3 vertices or an unreadable MTL library makes
+// read_obj_scene return false with one message "path:line: reason". A texture file that cannot
+// be found is a warning (the material keeps its constant colour), or that error when strict.
+// Things pbrt-v3's obj2pbrt ignores (unknown statements, usemtl of an undefined material, map
+// options) are kept as warnings. Every function is reentrant.
 #pragma once
 
 #include <array>
@@ -35,7 +39,7 @@ struct ObjMaterial {
   // tinyobjloader's defaults, which pbrt-v3's obj2pbrt inherits: black colours, Ns 1, Ni 1, d 1.
   std::array<float, 3> kd{}, ks{}, kt{}, ke{};
   float ns = 1, ni = 1, d = 1;
-  // Texture files, as found on disk: the MTL's name joined to the MTL's directory.
+  // Texture files as found on disk (see find_texture); "" when none was named or found.
   std::string map_kd, map_ks, map_bump;
 };
 
@@ -51,10 +55,12 @@ struct ObjScene {
   std::vector<std::string> warnings;  // "path:line: text", each kind reported once per file
 };
 
-bool read_obj_scene(const std::string& path, ObjScene* scene, std::string* error);
+bool read_obj_scene(const std::string& path, ObjScene* scene, std::string* error,
+                    bool strict = false);
 // The same for OBJ text in memory; mtllib and map names resolve against base_dir.
 bool parse_obj_scene(const std::string& display_path, const std::string& text,
-                     const std::string& base_dir, ObjScene* scene, std::string* error);
+                     const std::string& base_dir, ObjScene* scene, std::string* error,
+                     bool strict = false);
 
 struct ObjPbrtOptions {
   PbrtStyle style = PbrtStyle::kInline;  // kPlymesh: one "<out stem>-<n>.ply" beside the output
