@@ -120,18 +120,6 @@ LevelView level_view(const DecodedImage& im, int level) {
           std::max(1, int(im.height >> level)), int(im.channels), im.wrap};
 }
 
-// Reads the file as pbrt-v3's ReadImage does, through the image module (image_reader.h). The
-// extension is checked here, so an unsupported file is refused without loading the module.
-bool read_rgb(const std::string& path, RgbImage* image, std::string* error) {
-  const std::string ext = image_file_extension(path);
-  if (ext != ".exr" && ext != ".png" && ext != ".tga" && ext != ".pfm" && ext != ".hdr") {
-    *error = "unsupported image format \"" + ext +
-             "\" (pbrt-v3 reads .exr, .png, .tga and .pfm; pbrtc also .hdr)";
-    return false;
-  }
-  return read_image_rgb(path, image, error);
-}
-
 void flip_rows(std::vector<float>* texels, uint32_t width, uint32_t height, uint32_t channels) {
   const size_t row = size_t(width) * channels;
   for (uint32_t y = 0; y < height / 2; ++y)
@@ -193,7 +181,13 @@ ImageOptions ImageOptions::for_texture(const std::string& path, bool float_textu
   ImageOptions o;
   o.channels = float_texture ? 1 : 3;
   const std::string ext = image_file_extension(path);
-  o.gamma = gamma_given ? gamma : (ext == ".png" || ext == ".tga");
+  if (gamma_given) {
+    o.gamma = gamma;
+  } else if (ext == ".png" || ext == ".tga" || ext == ".exr" || ext == ".pfm") {
+    o.gamma = ext == ".png" || ext == ".tga";  // pbrt-v3's own rule for its own formats
+  } else {
+    o.gamma_if_integer = true;  // 8-bit JPEG, BMP, ... as pbrt-v3 treats its 8-bit formats
+  }
   o.scale = scale;
   o.wrap = parse_image_wrap(wrap);
   o.flip = true;
@@ -276,8 +270,9 @@ std::vector<std::vector<float>> build_mip_pyramid(std::vector<float> texels, uin
 bool decode_image(const std::string& path, const ImageOptions& options, DecodedImage* out,
                   std::string* error) {
   RgbImage image;
-  if (!read_rgb(path, &image, error)) return false;
+  if (!read_image_rgb(path, &image, error)) return false;
   const uint32_t w = image.width, h = image.height;
+  const bool gamma = options.gamma || (options.gamma_if_integer && image.integer_samples);
   const bool float_grey = image.float_grey;
   std::vector<float> rgb = std::move(image.rgb);
   if (options.flip) flip_rows(&rgb, w, h, 3);
@@ -291,13 +286,13 @@ bool decode_image(const std::string& path, const ImageOptions& options, DecodedI
       // A one-channel PFM is what pbrtc --dump writes for a float texture: taken as it is, so
       // it reads back bit for bit (y() of the replicated grey may differ by an ulp or two).
       float y = float_grey ? rgb[i * 3] : luminance(&rgb[i * 3]);
-      texels[i] = options.scale * (options.gamma ? inverse_gamma(y) : y);
+      texels[i] = options.scale * (gamma ? inverse_gamma(y) : y);
     }
   } else {
     // Converted in place: one image-sized buffer less at the peak.
     texels.swap(rgb);
     for (size_t i = 0; i < n * 3; ++i)
-      texels[i] = options.scale * (options.gamma ? inverse_gamma(texels[i]) : texels[i]);
+      texels[i] = options.scale * (gamma ? inverse_gamma(texels[i]) : texels[i]);
   }
   rgb = {};
 

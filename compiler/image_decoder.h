@@ -11,7 +11,10 @@
 // What pbrt-v3 does per use (textures/imagemap.cpp, lights/*.cpp, core/imageio.cpp):
 //   - ReadImage gives RGB: 8-bit PNG/TGA values v / 255 (alpha dropped, grey replicated), EXR
 //     R, G, B rounded to half floats (it reads through Imf::RgbaInputFile), PFM floats. pbrt-v3
-//     reads no .hdr; pbrtc reads it as float RGB (see /work/shared/PBRT-V3-NOTES.md).
+//     refuses every other format (it renders the texture as a constant); pbrtc reads what
+//     OpenImageIO reads (.hdr, .jpg, .tif, .bmp, .gif, .webp, ...) as image_reader.h says, and
+//     applies pbrt-v3's 8-bit rule to those whose samples are integers: the sRGB curve is undone
+//     unless "bool gamma" is "false" (see /work/shared/PBRT-V3-NOTES.md).
 //   - imagemap: rows flipped (t = 0 is the bottom row), then per texel
 //     scale * (gamma ? sRGB-to-linear(v) : v); a float texture keeps one channel, computed from
 //     the RGB luminance y() *before* the sRGB curve. pbrt-v3 has no "invert". One deliberate
@@ -46,12 +49,16 @@ ImageWrap parse_image_wrap(const std::string& word);
 struct ImageOptions {
   uint32_t channels = 3;  // 3: RGB; 1: a float texture (pbrt-v3 keeps the luminance)
   bool gamma = false;     // undo the sRGB curve (imagemap "gamma")
-  float scale = 1;        // imagemap "scale", multiplied after the curve
+  // Undo it if the file stores integers (known once it is read): the default for formats
+  // pbrt-v3 does not read, since their 8-bit files are sRGB as its PNGs are.
+  bool gamma_if_integer = false;
+  float scale = 1;  // imagemap "scale", multiplied after the curve
   ImageWrap wrap = ImageWrap::kRepeat;
   bool flip = false;  // imagemap: pbrt-v3 flips rows before building its MIPMap
 
   // The options an imagemap texture's parameters ask for (channels 1 for a float texture).
-  // gamma_given false: pbrt-v3's default, true for .png and .tga files.
+  // gamma_given false: pbrt-v3's default, true for .png and .tga files, false for .exr and
+  // .pfm; for any other format, gamma_if_integer.
   static ImageOptions for_texture(const std::string& path, bool float_texture,
                                   const std::string& wrap, float scale, bool gamma_given,
                                   bool gamma);
@@ -72,7 +79,7 @@ struct DecodedImage {
   std::vector<float> source;
 };
 
-// Decodes path (.png, .tga, .pfm, .hdr or .exr, by its extension, any case) and builds the
+// Decodes path (any format read_image_rgb reads, by its extension, any case) and builds the
 // pyramid. False with *error set if the file cannot be read or is not such an image.
 bool decode_image(const std::string& path, const ImageOptions& options, DecodedImage* out,
                   std::string* error);

@@ -29,6 +29,7 @@ struct RgbImage {
   uint32_t width = 0, height = 0;
   std::vector<float> rgb;   // width x height x 3
   bool float_grey = false;  // a one-channel PFM, whose floats a float texture takes as they are
+  bool integer_samples = false;  // the file stores integers (8- or 16-bit), not floats
 };
 
 // Images above these sizes (after resampling to powers of two) are refused rather than
@@ -53,7 +54,10 @@ inline uint32_t round_up_pow2(uint32_t v) {
   return p;
 }
 
-// Reads path (.png, .tga, .pfm, .hdr or .exr; the caller has checked the extension).
+// Reads path: pbrt-v3's formats (.png, .tga, .pfm, .exr) as pbrt-v3 reads them, and every other
+// format OpenImageIO reads (.hdr, .jpg, .tif, .bmp, .gif, .webp, ...): 8-bit samples as v / 255,
+// wider integers as v / (2^bits - 1), floats as they are. A file whose extension OpenImageIO
+// knows no reader for fails with "unsupported image format ...".
 bool read_image_rgb(const std::string& path, RgbImage* out, std::string* error);
 
 // The module file read_image_rgb loads (the first of the places above that exists), or "" if
@@ -65,6 +69,6 @@ std::string image_module_file();
 // this tree by the same compiler, so C++ types may cross; the name's version changes with the
 // signature, so a stale module is refused rather than called wrongly.
 using ReadImageRgbFn = bool (*)(const std::string& path, RgbImage* out, std::string* error);
-inline constexpr char kReadImageRgbSymbol[] = "pbrtc_read_image_rgb_v1";
+inline constexpr char kReadImageRgbSymbol[] = "pbrtc_read_image_rgb_v2";
 
 }  // namespace pbrtc

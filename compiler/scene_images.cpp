@@ -25,10 +25,10 @@ struct Job {
 // Everything that changes the decoded texels, exactly (floats by their bits).
 std::string job_key(const Job& j) {
   char buf[160];
-  std::snprintf(buf, sizeof buf, "|%u|%d|%a|%u|%d|%d|%a|%a|%a", j.options.channels,
-                int(j.options.gamma), double(j.options.scale), uint32_t(j.options.wrap),
-                int(j.options.flip), int(j.environment), double(j.L[0]), double(j.L[1]),
-                double(j.L[2]));
+  std::snprintf(buf, sizeof buf, "|%u|%d%d|%a|%u|%d|%d|%a|%a|%a", j.options.channels,
+                int(j.options.gamma), int(j.options.gamma_if_integer), double(j.options.scale),
+                uint32_t(j.options.wrap), int(j.options.flip), int(j.environment), double(j.L[0]),
+                double(j.L[1]), double(j.L[2]));
   return j.path + buf;
 }
 

@@ -25,10 +25,37 @@ void pack_rgb(const float* in, int nch, const int src[3], size_t count, float* o
   }
 }
 
-// The entry point's work; image_decoder.cpp has checked the extension.
+// True if OpenImageIO has a reader for files ending in ext (".jpg"); its "extension_list" reads
+// "tiff:tif,tiff;jpeg:jpg,jpeg;...".
+bool known_extension(const std::string& ext) {
+  if (ext.size() < 2) return false;
+  const std::string list = OIIO::get_string_attribute("extension_list");
+  const std::string want = ext.substr(1);
+  size_t at = 0;
+  while (at < list.size()) {
+    const size_t end = std::min(list.find(';', at), list.size());
+    const size_t colon = list.find(':', at);
+    for (size_t p = colon == std::string::npos || colon > end ? end : colon + 1; p < end;) {
+      const size_t q = std::min(list.find(',', p), end);
+      if (list.compare(p, q - p, want) == 0) return true;
+      p = q + 1;
+    }
+    at = end + 1;
+  }
+  return false;
+}
+
+// The entry point's work.
 bool read(const std::string& path, RgbImage* image, std::string* error) {
   const std::string ext = image_file_extension(path);
-  const bool exr = ext == ".exr", eight_bit = ext == ".png" || ext == ".tga";
+  if (!known_extension(ext)) {
+    *error = "unsupported image format \"" + ext +
+             "\" (pbrtc reads what OpenImageIO reads: .exr, .png, .tga, .pfm, .hdr, .jpg, .tif, "
+             ".bmp, .gif, .webp, ...)";
+    return false;
+  }
+  // pbrt-v3's own 8-bit formats are read exactly as pbrt-v3 reads them.
+  const bool exr = ext == ".exr", pbrt_eight_bit = ext == ".png" || ext == ".tga";
   std::vector<float>* rgb = &image->rgb;
   // pbrt-v3's PNG and TGA readers drop alpha without premultiplying by it; OpenImageIO would
   // premultiply unless told not to.
@@ -72,6 +99,7 @@ bool read(const std::string& path, RgbImage* image, std::string* error) {
   }
   const size_t n = size_t(spec.width) * size_t(spec.height);
   std::vector<float> all(exr ? 0 : n * size_t(nch));  // EXR halves are widened in chunks
+  image->integer_samples = !spec.format.is_floating_point();
   bool ok;
   if (exr) {
     // pbrt-v3 reads EXR through Imf::RgbaInputFile, which hands out half floats. They are
@@ -88,9 +116,9 @@ bool read(const std::string& path, RgbImage* image, std::string* error) {
                                       OIIO::TypeDesc::FLOAT, wide.data(), int(m * size_t(nch)));
       if (ok) pack_rgb(wide.data(), nch, src, m, rgb->data() + at * 3);
     }
-  } else if (eight_bit) {
+  } else if (pbrt_eight_bit || spec.format == OIIO::TypeDesc::UINT8) {
     // lodepng's 24-bit decode keeps the high byte of 16-bit PNG samples.
-    if (spec.format == OIIO::TypeDesc::UINT16) {
+    if (pbrt_eight_bit && spec.format == OIIO::TypeDesc::UINT16) {
       std::vector<uint16_t> raw(all.size());
       ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT16, raw.data());
       for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i] >> 8) / 255.f;
@@ -100,6 +128,7 @@ bool read(const std::string& path, RgbImage* image, std::string* error) {
       for (size_t i = 0; ok && i < raw.size(); ++i) all[i] = float(raw[i]) / 255.f;
     }
   } else {
+    // Floats as they are; other integers normalized by OpenImageIO to [0, 1].
     ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data());
   }
   if (!ok) {
@@ -128,10 +157,11 @@ bool read(const std::string& path, RgbImage* image, std::string* error) {
 }  // namespace pbrtc
 
 // Reads the file as pbrt-v3's ReadImage does: 8-bit PNG and TGA as v / 255 with alpha dropped,
-// EXR through half floats, PFM and HDR as floats; grey replicated to RGB.
-extern "C" __attribute__((visibility("default"))) bool pbrtc_read_image_rgb_v1(
+// EXR through half floats, PFM as floats; grey replicated to RGB. Other formats as image_reader.h
+// says.
+extern "C" __attribute__((visibility("default"))) bool pbrtc_read_image_rgb_v2(
     const std::string& path, pbrtc::RgbImage* out, std::string* error) {
-  static_assert(std::is_same_v<decltype(&pbrtc_read_image_rgb_v1), pbrtc::ReadImageRgbFn>,
+  static_assert(std::is_same_v<decltype(&pbrtc_read_image_rgb_v2), pbrtc::ReadImageRgbFn>,
                 "the entry point's type is the one image_reader.h looks up");
   *out = {};
   return pbrtc::read(path, out, error);

@@ -297,14 +297,76 @@ TEST(ImageDecoder, UnsupportedAndBrokenFilesSayWhy) {
   const std::string dir = testing_support::scratch_dir("image_broken");
   DecodedImage im;
   std::string error;
-  const std::string jpg = testing_support::write_file(dir + "/t.jpg", "x");
-  EXPECT_FALSE(decode_image(jpg, texture_options(jpg), &im, &error));
+  const std::string doc = testing_support::write_file(dir + "/t.docx", "x");
+  EXPECT_FALSE(decode_image(doc, texture_options(doc), &im, &error));
   EXPECT_EQ(error,
-            "unsupported image format \".jpg\" (pbrt-v3 reads .exr, .png, .tga and .pfm; "
-            "pbrtc also .hdr)");
-  const std::string png = testing_support::write_file(dir + "/t.png", "not a png at all");
-  EXPECT_FALSE(decode_image(png, texture_options(png), &im, &error));
-  EXPECT_FALSE(error.empty());
+            "unsupported image format \".docx\" (pbrtc reads what OpenImageIO reads: .exr, .png, "
+            ".tga, .pfm, .hdr, .jpg, .tif, .bmp, .gif, .webp, ...)");
+  for (const char* name : {"/t.png", "/t.jpg", "/t.tif"}) {
+    const std::string bad = testing_support::write_file(dir + name, "not an image at all");
+    error.clear();
+    EXPECT_FALSE(decode_image(bad, texture_options(bad), &im, &error)) << name;
+    EXPECT_FALSE(error.empty()) << name;
+    EXPECT_EQ(error.find("unsupported"), std::string::npos) << error;
+  }
+}
+
+// Formats pbrt-v3 refuses, read as users expect: 8-bit samples as v / 255 and, unless "gamma" is
+// given false, through the sRGB curve (pbrt-v3's rule for its own 8-bit PNG and TGA); 16-bit
+// samples as v / 65535, also curved; floats as they are, not curved.
+TEST(ImageDecoder, OtherFormatsFollowPbrtV3sEightBitRule) {
+  const std::string dir = testing_support::scratch_dir("image_other_formats");
+  DecodedImage im;
+  std::string error;
+  const uint8_t px[2][2][3] = {{{0, 10, 128}, {255, 64, 200}}, {{1, 2, 3}, {90, 91, 250}}};
+  for (const char* name : {"/t.bmp", "/T.TIF"}) {
+    const std::string path = dir + name;
+    write_image(path, 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+    ASSERT_TRUE(decode_image(path, texture_options(path), &im, &error)) << name << error;
+    ASSERT_EQ(im.levels[0].size(), 12u) << name;
+    for (size_t i = 0; i < 12; ++i)
+      EXPECT_NEAR(im.levels[0][i], srgb_to_linear((&px[0][0][0])[i] / 255.0), 2e-6) << name << i;
+    const ImageOptions raw = ImageOptions::for_texture(path, false, "repeat", 1.f, true, false);
+    ASSERT_TRUE(decode_image(path, raw, &im, &error)) << name << error;
+    for (size_t i = 0; i < 12; ++i)
+      EXPECT_EQ(im.levels[0][i], float((&px[0][0][0])[i]) / 255.f) << name << i;
+  }
+  // JPEG is lossy: whatever it decodes to, the default is the curve applied to it. A smooth grey
+  // ramp survives it closely.
+  uint8_t ramp[2][2][3];
+  for (int k = 0; k < 12; ++k) (&ramp[0][0][0])[k] = uint8_t(100 + 10 * (k / 3));
+  const std::string jpg = dir + "/t.jpg";
+  write_image(jpg, 2, 2, 3, OIIO::TypeDesc::UINT8, ramp);
+  DecodedImage curved;
+  ASSERT_TRUE(decode_image(jpg, texture_options(jpg), &curved, &error)) << error;
+  ASSERT_TRUE(decode_image(jpg, ImageOptions::for_texture(jpg, false, "repeat", 1.f, true, false),
+                           &im, &error))
+      << error;
+  ASSERT_EQ(curved.levels[0].size(), 12u);
+  for (size_t i = 0; i < 12; ++i) {
+    const float v = im.levels[0][i];
+    EXPECT_EQ(v * 255.f, std::round(v * 255.f)) << i;  // an 8-bit value
+    EXPECT_NEAR(curved.levels[0][i], srgb_to_linear(v), 2e-6) << i;
+    EXPECT_NEAR(v, (&ramp[0][0][0])[i] / 255.0, 0.05) << i;  // and near what was written
+  }
+  // 16-bit TIFF: v / 65535, curved.
+  const uint16_t wide[1][2][3] = {{{0, 32768, 65535}, {1000, 20000, 60000}}};
+  const std::string tif16 = dir + "/w.tiff";
+  write_image(tif16, 2, 1, 3, OIIO::TypeDesc::UINT16, wide);
+  ASSERT_TRUE(decode_image(tif16, texture_options(tif16), &im, &error)) << error;
+  for (size_t i = 0; i < 6; ++i)
+    EXPECT_NEAR(im.levels[0][i], srgb_to_linear((&wide[0][0][0])[i] / 65535.0), 2e-6) << i;
+  // Float TIFF: as stored, no curve.
+  const float linear[1][2][3] = {{{0.25f, 3.5f, 0.f}, {1e-3f, 0.5f, 12.f}}};
+  const std::string tiff = dir + "/f.tif";
+  write_image(tiff, 2, 1, 3, OIIO::TypeDesc::FLOAT, linear);
+  ASSERT_TRUE(decode_image(tiff, texture_options(tiff), &im, &error)) << error;
+  for (size_t i = 0; i < 6; ++i) EXPECT_EQ(im.levels[0][i], (&linear[0][0][0])[i]) << i;
+  // Asked for, the curve applies to floats too, as pbrt-v3's gamma does to an EXR.
+  ASSERT_TRUE(decode_image(tiff, ImageOptions::for_texture(tiff, false, "repeat", 1.f, true, true),
+                           &im, &error))
+      << error;
+  EXPECT_NEAR(im.levels[0][0], srgb_to_linear(0.25), 2e-6);
 }
 
 // A scene in dir naming files there; returns the diagnostics' messages.
