@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "compiler/parser.h"
+#include "compiler/pbrt_v4_names.h"
 #include "compiler/spectrum.h"
 
 namespace pbrtc {
@@ -135,6 +136,15 @@ bool ParamResolver::begin(Category c, std::string_view type, Loc loc, Entity* e)
   if (t < 0) {
     std::string msg =
         "unknown " + std::string(pbrta::category_name(c)) + " type \"" + std::string(type) + "\"";
+    std::string v4_hint;
+    if (pbrt_v4_type_hint(c, type, &v4_hint)) {
+      // Each pbrt-v4 name is explained where it first appears; its later uses only say whence.
+      const std::string key = std::string(pbrta::category_name(c)) + " " + std::string(type);
+      const bool first = v4_names_seen_.insert(key).second;
+      msg += " (" + (first ? v4_hint : std::string("a pbrt-v4 name")) + ")";
+      diag_->error(loc, msg);
+      return false;
+    }
     // A near miss is almost always a typo: name it.
     const pbrta::CategorySpec& cs = pbrta::category_spec(c);
     std::string_view best;
@@ -249,6 +259,7 @@ bool ParamResolver::assign(Entity* e, int slot, const ParsedParam& p, const Para
       diag_->error(params.string_locs[p.offset], msg);
       return false;
     }
+    if (it->second == kNone) return false;  // its definition failed, and said why
     v.texture = it->second;
     // The constant slot keeps the default so a reader always finds a value.
     v.offset = uint32_t(e->floats.size());

@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "compiler/diagnostics.h"
@@ -59,6 +60,8 @@ class ParamResolver {
   void report_unused(const ParamList& params, const Entity* e);
 
   const std::string& base_dir() const { return base_dir_; }
+  // True once a pbrt-v4 type name was reported: later messages may say the scene is pbrt-v4's.
+  bool saw_pbrt_v4_names() const { return !v4_names_seen_.empty(); }
   // Records a file the compile read (deduplicated, in first-read order).
   void note_input(const std::string& path);
 
@@ -70,6 +73,7 @@ class ParamResolver {
   std::string base_dir_;
   std::vector<std::string>* input_files_;
   std::unordered_map<std::string, std::array<float, 3>> spd_cache_;
+  std::unordered_set<std::string> v4_names_seen_;  // "material diffuse": hinted once each
 };
 
 // "sphere shape", "matte material": how messages name an entity's type.

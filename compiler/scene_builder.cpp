@@ -294,6 +294,7 @@ struct SceneBuilder::State {
           diag->error(where, "undefined named material \"" + ref + "\" in mix material");
           continue;
         }
+        if (it->second == kNone) continue;  // its definition failed, and said why
         m.mix[i] = it->second;
       }
     }
@@ -716,7 +717,10 @@ void SceneBuilder::EndOfInput(Loc loc) {
     if (!s_->saw_world_begin)
       s_->diag->error(loc, "missing WorldBegin: the file describes no scene");
     else if (!s_->world_ended)
-      s_->diag->error(loc, "missing WorldEnd at end of input");
+      s_->diag->error(loc, s_->resolver.saw_pbrt_v4_names()
+                               ? "missing WorldEnd at end of input (pbrt-v4 scenes end without "
+                                 "one; pbrt-v3 needs it)"
+                               : "missing WorldEnd at end of input");
   }
   s_->stack.clear();
   s_->load_pending_ply();
@@ -796,9 +800,13 @@ void SceneBuilder::MakeNamedMaterial(Loc loc, std::string_view name, const Param
   tp->looked_up = true;
   std::string n(name);
   int32_t m = s_->add_material(tp->value_loc, params.strings[tp->offset], params, n);
-  if (m == kNone) return;
-  s_->scene->materials[size_t(m)].params.loc = loc;
   NameMap& names = writable(&s_->gs.named_materials);
+  if (m == kNone) {
+    // Defined, though in error (reported): its uses are not "undefined" errors on top of it.
+    names[n] = kNone;
+    return;
+  }
+  s_->scene->materials[size_t(m)].params.loc = loc;
   if (names.count(n)) s_->diag->warning(loc, "named material \"" + n + "\" redefined");
   names[n] = m;
 }
@@ -810,6 +818,7 @@ void SceneBuilder::NamedMaterial(Loc loc, std::string_view name) {
     s_->diag->error(loc, "undefined named material \"" + std::string(name) + "\"");
     return;
   }
+  if (it->second == kNone) return;  // its definition failed, and said why
   s_->gs.material = it->second;
 }
 
@@ -828,15 +837,22 @@ void SceneBuilder::Texture(Loc loc, std::string_view name, std::string_view klas
   }
   TextureDesc t;
   t.name = std::string(name);
-  if (!s_->resolver.begin(c, type, loc, &t.params)) return;
+  SharedNames* map =
+      c == Category::kFloatTexture ? &s_->gs.float_textures : &s_->gs.spectrum_textures;
+  if (!s_->resolver.begin(c, type, loc, &t.params)) {
+    // Defined, though in error (reported): its uses are not "undefined" errors on top of it.
+    writable(map)[t.name] = kNone;
+    return;
+  }
   s_->resolver.assign_all(&t.params, params, s_->scope(), false);
   s_->resolver.report_unused(params, &t.params);
-  if (!s_->resolver.check_required(t.params, loc, &params)) return;
+  if (!s_->resolver.check_required(t.params, loc, &params)) {
+    writable(map)[t.name] = kNone;
+    return;
+  }
   t.world_from_texture = s_->cur.t[0];
   s_->scene->textures.push_back(std::move(t));
   int32_t idx = int32_t(s_->scene->textures.size() - 1);
-  SharedNames* map =
-      c == Category::kFloatTexture ? &s_->gs.float_textures : &s_->gs.spectrum_textures;
   NameMap& names = writable(map);
   if (names.count(std::string(name)))
     s_->diag->warning(loc, std::string(klass == "float" ? "float" : "spectrum") + " texture \"" +

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "compiler/diagnostics.h"
+#include "compiler/pbrt_v4_names.h"
 #include "compiler/scene_builder.h"
 #include "test_support.h"
 
@@ -99,8 +100,8 @@ TEST(FrontendErrors, UnknownCameraType) {
 }
 
 TEST(FrontendErrors, UnknownSamplerType) {
-  EXPECT_EQ(first_error("Sampler \"pmj02bn\"\nWorldBegin\nWorldEnd\n"),
-            "scene.pbrt:1:1: error: unknown sampler type \"pmj02bn\"");
+  EXPECT_EQ(first_error("Sampler \"bluenoise\"\nWorldBegin\nWorldEnd\n"),
+            "scene.pbrt:1:1: error: unknown sampler type \"bluenoise\"");
 }
 
 TEST(FrontendErrors, UnknownFilterType) {
@@ -108,9 +109,9 @@ TEST(FrontendErrors, UnknownFilterType) {
             "scene.pbrt:1:1: error: unknown filter type \"lanczos\"");
 }
 
-TEST(FrontendErrors, UnknownFilmTypeSuchAsV4Rgb) {
-  EXPECT_EQ(first_error("Film \"rgb\"\nWorldBegin\nWorldEnd\n"),
-            "scene.pbrt:1:1: error: unknown film type \"rgb\"");
+TEST(FrontendErrors, UnknownFilmType) {
+  EXPECT_EQ(first_error("Film \"hdr\"\nWorldBegin\nWorldEnd\n"),
+            "scene.pbrt:1:1: error: unknown film type \"hdr\"");
 }
 
 TEST(FrontendErrors, UnknownIntegratorType) {
@@ -733,6 +734,44 @@ TEST(FrontendErrors, SingularCameraTransform) {
 }
 
 // ---- pbrt-v4 syntax ----
+
+// pbrt-v4's type names get pbrt-v3's nearest equivalent where each first appears, in every
+// category; later uses only say whence. A definition that failed is not "undefined" later.
+TEST(FrontendErrors, PbrtV4TypeNamesNamePbrtV3Equivalents) {
+  Compile c(
+      "Sampler \"pmj02bn\"\nIntegrator \"aov\"\nWorldBegin\n"
+      "Texture \"t\" \"float\" \"directionmix\"\n"
+      "MakeNamedMedium \"fog\" \"string type\" \"cloud\"\n"
+      "Material \"coatedconductor\" \"texture roughness\" \"t\"\n"
+      "Material \"matte\" \"texture sigma\" \"t\"\n"
+      "Shape \"bilinearmesh\"\nShape \"bilinearmesh\"\nWorldEnd\n");
+  EXPECT_EQ(c.errors(),
+            (std::vector<std::string>{
+                "scene.pbrt:1:1: error: unknown sampler type \"pmj02bn\" (a pbrt-v4 name; "
+                "pbrt-v3 calls it \"02sequence\")",
+                "scene.pbrt:2:1: error: unknown integrator type \"aov\" (a pbrt-v4 name; "
+                "pbrt-v3 has no equivalent)",
+                "scene.pbrt:4:1: error: unknown float texture type \"directionmix\" (a pbrt-v4 "
+                "name; pbrt-v3 calls it \"mix\")",
+                "scene.pbrt:5:37: error: unknown medium type \"cloud\" (a pbrt-v4 name; "
+                "pbrt-v3 has no equivalent)",
+                "scene.pbrt:6:1: error: unknown material type \"coatedconductor\" (a pbrt-v4 "
+                "name; pbrt-v3 comes nearest with \"metal\", without the coating)",
+                "scene.pbrt:8:1: error: unknown shape type \"bilinearmesh\" (a pbrt-v4 name; "
+                "pbrt-v3 comes nearest with \"trianglemesh\", two triangles per quad)",
+                "scene.pbrt:9:1: error: unknown shape type \"bilinearmesh\" (a pbrt-v4 name)"}));
+}
+
+TEST(FrontendErrors, EveryPbrtV4HintNamesARealPbrtV3Type) {
+  size_t n = 0;
+  const PbrtV4Name* names = pbrt_v4_names(&n);
+  ASSERT_GE(n, 20u);
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_LT(pbrta::find_type(names[i].category, names[i].v4), 0) << names[i].v4;
+    if (!names[i].v3.empty())
+      EXPECT_GE(pbrta::find_type(names[i].category, names[i].v3), 0) << names[i].v3;
+  }
+}
 
 TEST(FrontendErrors, BareTrueIsV4SyntaxAndReportedOnce) {
   Compile c(in_world("AreaLightSource \"diffuse\" \"bool twosided\" true\n"));
