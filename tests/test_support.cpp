@@ -26,6 +26,19 @@ std::string shared_dir() {
   return dir;
 }
 
+std::string assimp_models_dir() {
+  const char* env = std::getenv("PBRTC_ASSIMP_MODELS");
+  std::string dir = env && *env ? env : "/usr/share/assimp/models";
+  if (!fs::is_directory(fs::path(dir) / "OBJ")) {
+    std::fprintf(stderr,
+                 "FATAL: assimp's test models not found at '%s' (install Debian's "
+                 "assimp-testmodels: bash tools/install-deps.sh, or set PBRTC_ASSIMP_MODELS)\n",
+                 dir.c_str());
+    std::abort();
+  }
+  return dir;
+}
+
 std::vector<std::string> shared_entry_scenes() {
   std::vector<std::string> out;
   for (const fs::directory_entry& e : fs::recursive_directory_iterator(shared_dir() + "/scenes")) {

@@ -13,6 +13,10 @@ namespace testing_support {
 // The shared corpus directory; aborts the process with a message if absent.
 std::string shared_dir();
 
+// Debian's assimp-testmodels (/usr/share/assimp/models, or $PBRTC_ASSIMP_MODELS): real OBJ, MTL,
+// PLY files nobody here wrote, installed by tools/install-deps.sh. Aborts with a message if absent.
+std::string assimp_models_dir();
+
 // Every entry scene of the shared corpus: the .pbrt files under
 // shared_dir()/scenes that contain "WorldBegin" (the others are Included), sorted.
 std::vector<std::string> shared_entry_scenes();

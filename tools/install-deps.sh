@@ -23,6 +23,8 @@ packages=(
   libembree-dev libopenexr-dev libimath-dev libpng-dev
   # tests and benchmarks; python3 runs the archive reader written from the spec alone
   libgtest-dev libgmock-dev libbenchmark-dev python3
+  # real files nobody here wrote, for the first-contact tests (OBJ/MTL with JPEG maps, old PLY)
+  assimp-testmodels
 )
 
 missing=()
