@@ -263,6 +263,7 @@ TEST(MeshIo, SharedPlyMeshesThroughDraco) {
 // ---- malformed input ----
 
 void expect_read_fails(const std::string& path, const std::string& reason_part) {
+  ASSERT_FALSE(reason_part.empty()) << "say what the failure must say";
   Mesh m;
   std::string error;
   EXPECT_FALSE(read_mesh(path, &m, &error)) << path;
@@ -274,7 +275,8 @@ void expect_read_fails(const std::string& path, const std::string& reason_part) 
 
 TEST(MeshIo, EmptyFilesAreErrors) {
   const std::string dir = scratch_dir("mesh_io_empty");
-  for (const std::string ext : kFormats) expect_read_fails(write_file(dir + "/e." + ext, ""), "");
+  for (const std::string ext : kFormats)
+    expect_read_fails(write_file(dir + "/e." + ext, ""), "empty file");
   expect_read_fails(write_file(dir + "/c.obj", "# only a comment\n"), "no vertices");
   expect_read_fails(dir + "/missing.obj", "cannot open");
   expect_read_fails(write_file(dir + "/x.xyz", "1 2 3\n"), "unknown mesh format");
@@ -287,7 +289,7 @@ TEST(MeshIo, TruncatedBinaryPly) {
   const std::string bytes = testing_support::read_file(dir + "/m.ply");
   for (size_t cut : {bytes.size() - 1, bytes.size() / 2, bytes.find("end_header") + 11})
     expect_read_fails(write_file(dir + "/t" + std::to_string(cut) + ".ply", bytes.substr(0, cut)),
-                      "");
+                      "exceeds what the file can hold");
 }
 
 TEST(MeshIo, CountsThatLie) {
@@ -295,7 +297,7 @@ TEST(MeshIo, CountsThatLie) {
   expect_read_fails(write_file(dir + "/huge.off", "OFF\n1000000000 1 0\n0 0 0\n"), "header");
   expect_read_fails(write_file(dir + "/faces.off", "OFF\n3 1000000000 0\n0 0 0\n"), "header");
   expect_read_fails(write_file(dir + "/short.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
-                    "");
+                    "header promises 4 vertices and 1 faces, but only 26 bytes follow");
   // Binary STL: a header promising 1e9 triangles in a file of one.
   std::string stl(84 + 50, '\0');
   uint32_t n = 1000000000;
@@ -308,10 +310,10 @@ TEST(MeshIo, CountsThatLie) {
                                "ply\nformat binary_little_endian 1.0\n"
                                "element vertex 1000000000\nproperty float x\n"
                                "property float y\nproperty float z\n"
-                               "element face 0\nproperty list uchar int "
+                               "element face 1\nproperty list uchar int "
                                "vertex_indices\nend_header\n"),
-                    "");
-  expect_read_fails(write_file(dir + "/junk.drc", "DRACO\x02\x02\x01\x01\0\0garbage"), "");
+                    "vertex count 1000000000 exceeds what the file can hold (0 bytes left)");
+  expect_read_fails(write_file(dir + "/junk.drc", "DRACO\x02\x02\x01\x01\0\0garbage"), "draco: ");
 }
 
 // A .drc file forged to keep Draco busy for seconds (format/draco_forgery.h) is refused within
@@ -349,7 +351,7 @@ TEST(MeshIo, NanCoordinatesAreRejected) {
                                "property float z\nelement face 1\n"
                                "property list uchar int vertex_indices\n"
                                "end_header\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"),
-                    "");
+                    "vertex 1: coordinate is NaN");
   expect_read_fails(write_file(dir + "/n.stl",
                                "solid x\nfacet normal 0 0 1\nouter loop\n"
                                "vertex 0 0 0\nvertex 1 0 NaN\nvertex 0 1 0\n"
@@ -364,7 +366,7 @@ TEST(MeshIo, NanCoordinatesAreRejected) {
   expect_read_fails(write_file(dir + "/n.pbrt",
                                "Shape \"trianglemesh\" \"integer indices\" "
                                "[0 1 2] \"point P\" [0 0 0 1 0 0 0 1 nan]\n"),
-                    "");
+                    ":1:75: expected a number or ']', got 'nan'");
 }
 
 TEST(MeshIo, OutOfRangeIndicesAreRejected) {
@@ -388,11 +390,11 @@ TEST(MeshIo, OutOfRangeIndicesAreRejected) {
                                "property float z\nelement face 1\n"
                                "property list uchar int vertex_indices\n"
                                "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
-                    "");
+                    "face 0: index 7 out of range (3 vertices)");
   expect_read_fails(write_file(dir + "/h.pbrt",
                                "Shape \"trianglemesh\" \"integer indices\" "
                                "[0 1 5] \"point P\" [0 0 0 1 0 0 0 1 0]\n"),
-                    "");
+                    ":1:41: trianglemesh index 5 (entry 2) is out of range: 3 vertices");
   // And nothing invalid is written either.
   Mesh bad = test_mesh();
   bad.indices[4] = 1000;

@@ -15,7 +15,9 @@ of `pbrtc --info FILE` must equal the summary this reader prints in the same
 layout (a unified diff shows any difference). -v prints that summary and the
 records read. Per file, the last line is `FILE: ok (...)` or
 `FILE: error: <reason>`. Exit status: 0 if every file is ok, 1 if any is not,
-2 for usage errors.
+2 for usage errors and for an exception none of the reader's checks raised (a
+check it lacks, or a bug: printed with its traceback, never taken for a
+correct refusal).
 
 Standard library only, plus libzstd and libxxhash through ctypes.
 """
@@ -30,6 +32,7 @@ import shutil
 import struct
 import subprocess
 import sys
+import traceback
 from collections import namedtuple
 
 
@@ -852,8 +855,15 @@ class Archive:
         return out
 
 
+class ReaderCrash(Exception):
+    """An exception none of the reader's own checks raised: a check it lacks, or a bug."""
+
+
 def check_file(path, schema, pbrtc, verbose):
-    """Print what -v asks for and the file's verdict; return True if it is ok."""
+    """Print what -v asks for and the file's verdict; return True if it is ok, False if the
+    reader refused it with one of its own errors. Any other exception is the reader's failure,
+    not a verdict on the file: it raises ReaderCrash, so a damaged archive that crashes the reader
+    never counts as correctly refused."""
     try:
         a = Archive(path, schema)
         a.read()
@@ -866,9 +876,8 @@ def check_file(path, schema, pbrtc, verbose):
     except OSError as e:
         print(f"{path}: error: cannot read: {e.strerror}")
         return False
-    except Exception as e:  # a check this reader lacks, or a bug: never a traceback
-        print(f"{path}: error: reader failed: {type(e).__name__}: {e}")
-        return False
+    except Exception as e:
+        raise ReaderCrash(f"{path}: reader crashed: {type(e).__name__}: {e}") from e
     if pbrtc:
         info = subprocess.run([pbrtc, "--info", path], capture_output=True, text=True)
         if info.returncode:
@@ -898,7 +907,12 @@ def main():
         schema = Schema(args.schema)
     except (OSError, ValueError, IndexError) as e:
         ap.error(f"cannot read schema {args.schema}: {e}")
-    ok = [check_file(f, schema, args.pbrtc, args.verbose) for f in args.files]
+    try:
+        ok = [check_file(f, schema, args.pbrtc, args.verbose) for f in args.files]
+    except ReaderCrash as e:
+        traceback.print_exc()
+        print(e)
+        return 2
     return 0 if all(ok) else 1
 
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <vector>
 
 #include "runtime/sampler/radical_inverse.h"
 #include "sampler_test_support.h"
@@ -291,26 +292,45 @@ TEST(Samplers, LowDiscrepancyIntegratesBetterThanRandom) {
   }
 }
 
+// Pearson's chi-square of counts against equal expected counts.
+double chi_square_uniform(const std::vector<int>& counts) {
+  double total = 0;
+  for (int c : counts) total += c;
+  const double expected = total / double(counts.size());
+  double chi2 = 0;
+  for (int c : counts) chi2 += (c - expected) * (c - expected) / expected;
+  return chi2;
+}
+
 TEST(Samplers, HighDimensionsStayUniform) {
-  // Past the tables (Sobol 128 dims, Halton 1000) values are hashed: check
-  // their mean over many pixels and samples.
+  // Past the tables (Sobol 128 dims, Halton 1000) values are hashed. Over many pixels and
+  // samples, dimensions 1000-1099 must be uniform (16 bins), and consecutive dimensions must be
+  // independent (8 x 8 bins of pairs): a hash that repeats, sticks, or ties one dimension to the
+  // next fails one or the other. The thresholds are where the chi-square distribution's tail is
+  // 2e-4 (15 and 63 degrees of freedom), and the values are a fixed sequence, so the test is
+  // deterministic.
   for (const char* line : {R"(Sampler "sobol")", R"(Sampler "halton")"}) {
     auto s = sampler_from_text("high", line, 16);
-    double sum = 0;
-    int n = 0;
-    for (int p = 0; p < 20; ++p) {
+    std::vector<int> bins(16, 0), pairs(64, 0), per_pixel_first(16, 0);
+    for (int p = 0; p < 40; ++p) {
       s->start_pixel({p, 2 * p});
       do {
+        float previous = 0;
         for (int d = 0; d < 1100; ++d) {
-          float v = s->get_1d();
-          if (d >= 1000) {
-            sum += v;
-            ++n;
-          }
+          const float v = s->get_1d();
+          ASSERT_TRUE(v >= 0 && v < 1) << line << " dimension " << d << ": " << v;
+          if (d < 1000) continue;
+          ++bins[size_t(v * 16)];
+          if (d % 2 == 1) ++pairs[size_t(previous * 8) * 8 + size_t(v * 8)];
+          if (d == 1000) ++per_pixel_first[size_t(v * 16)];
+          previous = v;
         }
       } while (s->start_next_sample());
     }
-    EXPECT_NEAR(sum / n, 0.5, 0.01) << line;
+    EXPECT_LT(chi_square_uniform(bins), 42.6) << line;    // 64000 values
+    EXPECT_LT(chi_square_uniform(pairs), 111.0) << line;  // 32000 pairs
+    // One dimension across the 640 samples of 40 pixels: not one value over and over.
+    EXPECT_LT(chi_square_uniform(per_pixel_first), 42.6) << line;
   }
 }
 
