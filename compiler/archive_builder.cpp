@@ -451,24 +451,21 @@ class Builder {
     sr.num_images = uint32_t(s.images.size());
 
     using K = pbrta::SectionKind;
-    pbrta::Codec plain = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone;
-    // A record section of a frame or more (100k shapes make 26 MB of transforms) is cut into
-    // frames like the geometry, so the loading threads share it instead of one taking it whole.
+    // ARCHIVE.md section 5: zstd (raw with --codec none); arrays of 4-byte numbers (records,
+    // words, geometry, texels) shuffled, the bytes of the scene record, strings and provenance
+    // not.
+    const pbrta::Codec codec = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kRaw;
+    const bool numbers = opt.compress;
     auto add_records = [&](K kind, const auto& records) {
-      std::vector<uint8_t> bytes = bytes_of(records);
-      const pbrta::Codec codec = opt.compress && bytes.size() >= pbrta::kFrameBlock
-                                     ? pbrta::Codec::kZstdShuffle4Frames
-                                     : plain;
-      w->add_section(kind, std::move(bytes), uint32_t(records.size()), codec);
+      w->add_section(kind, bytes_of(records), uint32_t(records.size()), codec, numbers);
     };
-    pbrta::Codec shuffled = opt.compress ? pbrta::Codec::kZstdShuffle4Frames : pbrta::Codec::kNone;
     std::vector<uint8_t> scene_bytes;
     append(&scene_bytes, sr);
-    w->add_section(K::kScene, std::move(scene_bytes), 1, plain);
-    w->add_section(K::kStrings, std::move(strings), uint32_t(strings_.size()), plain);
+    w->add_section(K::kScene, std::move(scene_bytes), 1, codec);
+    w->add_section(K::kStrings, std::move(strings), uint32_t(strings_.size()), codec);
     add_records(K::kEntities, entities_);
     add_records(K::kValues, values_);
-    w->add_section(K::kWords, bytes_of(words_), uint32_t(words_.size()), shuffled);
+    add_records(K::kWords, words_);
     add_records(K::kTransforms, transforms_);
     if (!textures.empty()) add_records(K::kTextures, textures);
     if (!materials.empty()) add_records(K::kMaterials, materials);
@@ -490,9 +487,9 @@ class Builder {
         w->add_encoded_section(K::kGeometry, std::move(chunks[c]), std::move(draco_streams[c]),
                                chunk_counts[c], pbrta::Codec::kDraco);
       else
-        w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], shuffled);
+        w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], codec, numbers);
     }
-    add_images(w, opt, shuffled);
+    add_images(w, opt);
     // Provenance goes last: an archive recompiled from its own dump then
     // matches byte for byte up to this section's offset.
     std::vector<uint8_t> prov;
@@ -506,13 +503,14 @@ class Builder {
       append(&prov, poff);
     }
     for (const std::string& str : pstrings_) prov.insert(prov.end(), str.begin(), str.end());
-    w->add_section(K::kProvenance, std::move(prov), uint32_t(provenance_.size()), plain);
+    w->add_section(K::kProvenance, std::move(prov), uint32_t(provenance_.size()), codec);
   }
 
   // Images: the records, then texels chunks holding whole images (every level of an image in
   // one chunk, each level 16-byte aligned), so large scenes decompress in parallel. The records
   // name their chunk by table index, so the chunks follow the images section.
-  void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt, pbrta::Codec codec) {
+  void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt) {
+    const pbrta::Codec codec = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kRaw;
     const std::vector<ImageDesc>& in = scene_.images;
     if (in.empty()) return;
     std::vector<pbrta::ImageRecord> images;
@@ -557,10 +555,11 @@ class Builder {
       }
       images.push_back(r);
     }
-    w->add_section(pbrta::SectionKind::kImages, bytes_of(images), uint32_t(images.size()),
-                   opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kNone);
+    w->add_section(pbrta::SectionKind::kImages, bytes_of(images), uint32_t(images.size()), codec,
+                   opt.compress);
     for (size_t c = 0; c < chunks.size(); ++c)
-      w->add_section(pbrta::SectionKind::kTexels, std::move(chunks[c]), chunk_counts[c], codec);
+      w->add_section(pbrta::SectionKind::kTexels, std::move(chunks[c]), chunk_counts[c], codec,
+                     opt.compress);
   }
 
   const std::vector<DracoMeshStats>& draco_stats() const { return draco_stats_; }
@@ -604,8 +603,6 @@ bool write_archive(const SceneDesc& scene, const SourceFiles& files, const std::
                    std::string* error) {
   if (!check_texture_format(scene, options.texture_format, error)) return false;
   pbrta::ArchiveWriter writer;
-  // 1 MiB frames where they cost little, so a section of a few MiB loads on every thread.
-  writer.choose_frame_size(true);
   Builder builder(scene, files, base_dir);
   builder.build(&writer, options);
   pbrta::ArchiveWriter::CompressProgress on_compressed;

@@ -58,7 +58,7 @@ void print_archive_info(std::ostream& out, const std::string& path, const pbrta:
       << s.num_transforms << ", strings " << s.num_strings << "\n";
   out << "  sections:\n";
   char line[160];
-  std::snprintf(line, sizeof line, "    %3s  %-14s %-23s %8s %12s %12s %7s\n", "#", "kind", "codec",
+  std::snprintf(line, sizeof line, "    %3s  %-14s %-5s %8s %12s %12s %7s\n", "#", "kind", "codec",
                 "count", "raw", "stored", "ratio");
   out << line;
   uint64_t raw = 0, stored = 0;
@@ -67,14 +67,14 @@ void print_archive_info(std::ostream& out, const std::string& path, const pbrta:
     const pbrta::SectionEntry& e = r.entry(i);
     raw += e.raw_size;
     stored += e.stored_size;
-    std::snprintf(line, sizeof line, "    %3u  %-14s %-23s %8u %12s %12s %6.1f%%\n", i,
+    std::snprintf(line, sizeof line, "    %3u  %-14s %-5s %8u %12s %12s %6.1f%%\n", i,
                   std::string(pbrta::section_kind_name(pbrta::SectionKind(e.kind))).c_str(),
                   std::string(pbrta::codec_name(pbrta::Codec(e.codec))).c_str(), e.count,
                   human(e.raw_size).c_str(), human(e.stored_size).c_str(),
                   e.raw_size ? 100.0 * double(e.stored_size) / double(e.raw_size) : 100.0);
     out << line;
   }
-  std::snprintf(line, sizeof line, "    %3s  %-14s %-23s %8s %12s %12s %6.1f%%\n", "", "total", "",
+  std::snprintf(line, sizeof line, "    %3s  %-14s %-5s %8s %12s %12s %6.1f%%\n", "", "total", "",
                 "", human(raw).c_str(), human(stored).c_str(),
                 raw ? 100.0 * double(stored) / double(raw) : 100.0);
   out << line;

@@ -1,8 +1,8 @@
 #include "compiler/params.h"
 
-#include <sys/mman.h>
-
 #include <cstdint>
+
+#include "format/huge_pages.h"
 
 namespace pbrtc {
 
@@ -116,20 +116,6 @@ std::vector<uint32_t>* ParamList::new_ints(uint32_t* index) {
   return v;
 }
 
-void advise_huge_pages(void* data, size_t bytes) {
-  // A large buffer about to be filled: ask for transparent huge pages (the
-  // usual kernel default is "madvise"), so filling it faults once per 2 MiB
-  // rather than per 4 KiB (perf showed the fault path as a fifth of a
-  // mesh-heavy parse). A hint: where THP is unavailable nothing changes.
-  // (Prefaulting with MADV_POPULATE_WRITE was measured too: no gain.)
-  constexpr uintptr_t kHuge = uintptr_t(2) << 20;
-  if (bytes < 2 * kHuge) return;
-  uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
-  uintptr_t end = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
-  if (end <= begin) return;
-  ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-}
-
 namespace {
 // Moves a pooled array out, leaving a same-sized reservation behind.
 template <class T>
@@ -139,7 +125,7 @@ std::vector<T> take_pooled(std::vector<T>* slot) {
   // Reserving is only address space until written: the next mesh of similar
   // size parses without reallocating.
   slot->reserve(out.capacity());
-  advise_huge_pages(slot->data(), slot->capacity() * sizeof(T));
+  pbrta::advise_huge_pages(slot->data(), slot->capacity() * sizeof(T));
   // Do not hand the scene much unused capacity.
   if (out.capacity() > out.size() + out.size() / 4 + 1024) out.shrink_to_fit();
   return out;

@@ -60,10 +60,6 @@ struct ParsedParam {
   mutable bool looked_up = false;
 };
 
-// Asks for transparent huge pages over a large buffer about to be written (a
-// no-op for small buffers or where the kernel gives none).
-void advise_huge_pages(void* data, size_t bytes);
-
 // Numeric and bool values live in one pooled array per parameter, so a bulk
 // array (mesh vertices) can be moved into the scene instead of copied; the pool
 // keeps a same-sized replacement so the next mesh parses without regrowing.

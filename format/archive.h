@@ -22,8 +22,8 @@
 namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
-inline constexpr uint16_t kMajorVersion = 1;
-inline constexpr uint16_t kMinorVersion = 4;
+inline constexpr uint16_t kMajorVersion = 2;
+inline constexpr uint16_t kMinorVersion = 0;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;
@@ -45,7 +45,7 @@ struct Header {
   uint8_t magic[8];
   uint16_t major;
   uint16_t minor;
-  uint32_t flags;  // reserved, 0 in 1.x
+  uint32_t flags;  // reserved, 0 in 2.x
   uint64_t effects;
   uint32_t section_count;
   uint32_t reserved0;
@@ -56,30 +56,34 @@ struct Header {
 };
 static_assert(sizeof(Header) == 64, "Header is 64 bytes");
 
+// How a section's bytes are stored (ARCHIVE.md section 5 says which sections use which, and why).
 enum class Codec : uint32_t {
-  kNone = 0,                  // stored bytes are the raw bytes
-  kZstd = 1,                  // one zstd frame
-  kZstdShuffle4 = 2,          // one zstd frame of the raw bytes byte-shuffled in 4-byte lanes
-  kDraco = 3,                 // a Draco mesh stream (lossy); only a geometry section of one mesh
-  kZstdShuffle4Frames = 4,    // a FrameEntry index, then one zstd frame per 4 MiB block (shuffled)
-  kNoneChunked = 5,           // stored bytes are the raw bytes, checksummed by kChecksumChunk
-  kZstdShuffle4Frames1M = 6,  // as 4, with 1 MiB blocks
+  kRaw = 0,    // the raw bytes, checksummed by kRawChunk chunks; usable in place from a mapping
+  kZstd = 1,   // a FrameIndexHeader, a FrameEntry per frame, then independent zstd frames
+  kDraco = 2,  // a Draco mesh stream (lossy); only a geometry section of one mesh
   kCount
 };
 
-// Codec 5's checksum is XXH3-64 of the XXH3-64 values (u64 each, in order) of the stored bytes cut
-// into chunks of this many bytes (the last shorter): chunks hash on every thread at once, where
-// one XXH3 over a 16 MiB image runs on one.
-inline constexpr uint64_t kChecksumChunk = uint64_t{1} << 20;
+// A raw section's checksum is XXH3-64 of the XXH3-64 values (u64 each, in order) of its bytes cut
+// into chunks of this many bytes (the last shorter): the chunks hash on every thread at once.
+inline constexpr uint64_t kRawChunk = uint64_t{1} << 20;
 
-// Whether a section in this codec stores its raw bytes, to be used in place.
-constexpr bool stores_raw(Codec c) {
-  return c == Codec::kNone || c == Codec::kNoneChunked;
-}
+// A zstd section's stored bytes start with this header, then frame_count FrameEntry, one per
+// block of frame_size raw bytes (the last shorter), then the frames in block order. The section's
+// checksum covers the header and the entries; each entry's checksum covers its frame.
+struct FrameIndexHeader {
+  uint32_t frame_size;  // a power of two in [kMinFrameSize, kMaxFrameSize]
+  uint32_t flags;       // FrameFlag
+  uint64_t reserved;    // 0
+};
+static_assert(sizeof(FrameIndexHeader) == 16, "FrameIndexHeader is 16 bytes");
+inline constexpr uint64_t kMinFrameSize = uint64_t{64} << 10;
+inline constexpr uint64_t kMaxFrameSize = uint64_t{16} << 20;
 
-// Codec 4's (and 6's) frame index (format/zstd_frames.h): the first entries of the stored bytes,
-// one per block, followed by the frames in block order. The section's checksum covers the index
-// only; each entry's checksum covers its frame.
+enum FrameFlag : uint32_t {
+  kFrameShuffle4 = 1u << 0,  // each block was byte-shuffled in 4-byte lanes before compression
+};
+
 struct FrameEntry {
   uint32_t stored_size;  // the frame's bytes
   uint32_t reserved;     // 0
@@ -117,7 +121,7 @@ struct SectionEntry {
   uint64_t offset;       // from the start of the file; a multiple of 16
   uint64_t stored_size;  // bytes in the file (before padding)
   uint64_t raw_size;     // bytes after decoding
-  uint64_t checksum;     // XXH3-64 (seed 0) of the stored bytes (codec 4: of its frame index)
+  uint64_t checksum;     // by codec: chunked (raw), of the frame index (zstd), plain (draco)
   uint32_t count;        // records (or elements) in the section
   uint32_t reserved;     // 0
 };

@@ -2,8 +2,6 @@
 // and the accessors. Decoding the sections is in format/section_loading.cpp.
 #include "format/archive_reader.h"
 
-#include "format/archive_writer.h"
-
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -18,8 +16,7 @@
 
 #include "format/archive_names.h"
 #include "format/checksum.h"
-#include "format/fresh_memory.h"
-#include "format/zstd_frames.h"
+#include "format/huge_pages.h"
 
 namespace pbrta {
 
@@ -29,10 +26,11 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 namespace {
 
 using archive_detail::add_overflows;
-using archive_detail::kBufferAlignment;
-using archive_detail::kHugeBufferThreshold;
-using archive_detail::map_fresh;
+using archive_detail::allocate;
 using archive_detail::mul_overflows;
+
+constexpr size_t kBufferAlignment = 64;  // a cache line; more than the 16 the format promises
+constexpr uint64_t kHugeBufferThreshold = uint64_t{256} << 10;
 
 // Files up to this size are read whole into memory when opened; larger ones are mapped, and
 // their pages are faulted in by whatever reads them first, with no MADV_POPULATE_READ ahead of it.
@@ -87,14 +85,10 @@ uint64_t first_nonzero(const uint8_t* base, uint64_t begin, uint64_t end) {
 bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_size) {
   if (raw_size > kMaxRawSize) return false;
   switch (codec) {
-    case Codec::kNone:
-    case Codec::kNoneChunked:
+    case Codec::kRaw:
       return raw_size == stored_size;
     case Codec::kZstd:
-    case Codec::kZstdShuffle4:
-    case Codec::kDraco:
-    case Codec::kZstdShuffle4Frames:
-    case Codec::kZstdShuffle4Frames1M: {
+    case Codec::kDraco: {
       uint64_t limit = 0;
       if (mul_overflows(stored_size, kMaxZstdRatio, &limit) ||
           add_overflows(limit, kZstdRatioSlack, &limit))
@@ -122,19 +116,16 @@ void archive_detail::BufferFree::operator()(uint8_t* p) const {
     ::operator delete[](p, std::align_val_t(kBufferAlignment));
 }
 
-// Large buffers are mapped with transparent huge pages requested: decoding writes every byte of
-// fresh memory, and faulting it in 4 KiB at a time costs more than decompressing (measured 10x
-// slower in a VM). Returns an empty buffer when out of memory.
-ArchiveReader::Buffer ArchiveReader::allocate(uint64_t bytes) {
+archive_detail::Buffer archive_detail::allocate(uint64_t bytes) {
   if (bytes >= kHugeBufferThreshold) {
     uint64_t mapped = 0;
-    uint8_t* p = map_fresh(bytes, &mapped);
-    return Buffer(p, archive_detail::BufferFree{p != nullptr ? mapped : 0});
+    uint8_t* p = static_cast<uint8_t*>(map_huge(bytes, &mapped));
+    return Buffer(p, BufferFree{p != nullptr ? mapped : 0});
   }
   return Buffer(
       static_cast<uint8_t*>(::operator new[](std::max<uint64_t>(bytes, 1),
                                              std::align_val_t(kBufferAlignment), std::nothrow)),
-      archive_detail::BufferFree{0});
+      BufferFree{0});
 }
 
 ArchiveReader::ArchiveReader() = default;
@@ -171,7 +162,7 @@ ArchiveReader& ArchiveReader::operator=(ArchiveReader&& other) noexcept {
 void ArchiveReader::reset() {
   sections_.clear();
   entries_.clear();
-  decoded_.clear();
+  decoded_.reset();
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (map_ != nullptr) munmap(map_, map_size_);
@@ -306,15 +297,13 @@ bool ArchiveReader::validate(std::string* error) {
     return false;
   }
   const std::string version = std::to_string(header_.major) + "." + std::to_string(header_.minor);
-  const std::string supported = std::to_string(kMajorVersion) + ".x";
-  if (header_.major > kMajorVersion) {
-    *error = fail("archive version " + version + "; this reader supports " + supported +
-                  " — update pbrtc/pbrtrun");
+  if (header_.major < kMajorVersion) {
+    *error = fail("archive version " + version + ": recompile with this pbrtc");
     return false;
   }
-  if (header_.major < kMajorVersion) {
-    *error = fail("archive version " + version + "; this reader supports " + supported +
-                  " — recompile the scene with this pbrtc");
+  if (header_.major > kMajorVersion) {
+    *error = fail("archive version " + version + ": this reader reads " +
+                  std::to_string(kMajorVersion) + ".x; update pbrtc and pbrtrun");
     return false;
   }
   if (header_.flags != 0 || header_.reserved0 != 0) {
@@ -387,7 +376,7 @@ bool ArchiveReader::validate(std::string* error) {
     if (e.raw_size > kMaxRawSize)
       return bad("raw size " + std::to_string(e.raw_size) + " exceeds the limit of 2^40 bytes");
     const Codec codec = static_cast<Codec>(e.codec);
-    if (stores_raw(codec) && e.raw_size != e.stored_size)
+    if (codec == Codec::kRaw && e.raw_size != e.stored_size)
       return bad("raw size " + std::to_string(e.raw_size) + " differs from stored size " +
                  std::to_string(e.stored_size) + " with codec '" + std::string(codec_name(codec)) +
                  "'");
@@ -395,11 +384,6 @@ bool ArchiveReader::validate(std::string* error) {
       return bad("raw size " + std::to_string(e.raw_size) + " is implausible for " +
                  std::to_string(e.stored_size) + " bytes of " + std::string(codec_name(codec)) +
                  " (at most " + std::to_string(kMaxZstdRatio) + "x + 1 MiB)");
-    const uint64_t block = frame_block(codec);
-    if (block != 0 &&
-        frame_count(e.raw_size, block) * sizeof(FrameEntry) > e.stored_size)  // raw_size <= 2^40
-      return bad("the frame index of " + std::to_string(frame_count(e.raw_size, block)) +
-                 " entries does not fit in " + std::to_string(e.stored_size) + " stored bytes");
     total_raw += e.raw_size;  // n < 2^32 sections of < 2^40 bytes: no overflow
   }
 

@@ -3,33 +3,19 @@
 // The generic container layer of the archive (format/archive.h describes the layout): the reader
 // maps the file read-only (reads it whole when it is 64 KiB or less), validates the header, the
 // section table and the layout of every section, then load_sections() verifies each section's
-// checksum and decodes it, in parallel over sections. Uncompressed (kNone, kNoneChunked) sections
-// are used in place from the mapping (or the copy), 16-byte aligned and followed by 16 bytes of
-// padding, a kNoneChunked one checksummed 1 MiB chunk by chunk on every thread;
-// compressed ones are decoded into one owned buffer, each at a 64-byte aligned offset with 16 zero
-// bytes after its data. What the sections mean is the caller's business. Opening and the table
-// checks are in archive_reader.cpp, the decoding in section_loading.cpp (threads' buffers:
-// thread_decoder.h).
+// checksum and decodes it, on every thread: raw sections by 1 MiB chunk, zstd sections by frame.
+// Raw sections are used in place from the mapping (or the copy), 16-byte aligned and followed by
+// 16 bytes of padding; compressed ones are decoded into one owned buffer, each at a 64-byte
+// aligned offset with 16 zero bytes after its data. What the sections mean is the caller's
+// business. Opening and the table checks are in archive_reader.cpp, the decoding in
+// section_loading.cpp.
 //
-// Speed (issue 4's load target): fresh memory is the dominant cost after decompression itself,
-// and 4 KiB page faults are very slow under virtualization, so everything large the load writes
-// (the decoded sections, zstd's contexts and window buffers, the unshuffle scratch) lives in
-// mappings with transparent huge pages requested, and the decoded sections of one call share one
-// mapping so small ones do not each round up to a page. Codec-4 sections are loaded frame by
-// frame on every thread: each frame is read, verified, decoded one-shot into a scratch block and
-// unshuffled from there straight into its place, so the decoded bytes are written to memory once
-// and every other step works on cached data; the caller's uint32 bounds (triangle indices) are
-// checked in the same pass. Legacy codec-2 sections stream one shuffle block at a time through
-// the scratch block the same way, one section per thread. Each loading thread keeps its zstd
-// context and scratch block for the next load, by any reader, as long as all threads' kept
-// buffers stay within 32 MiB: mapping and zeroing them anew was half of a repeated 1 MB load (a
-// process's first load pays for them once).
-// Draco (codec-3) sections decode last, and only when every other section decoded and every
-// Draco stream's checksum matched (checked in this process, before any fork), in up to `threads`
-// child processes with a budget (format/isolated_jobs.h) that write into shared memory, copied
-// into place: Draco's work on a forged stream is not bounded otherwise. That costs a fork per
-// child: killeroo compiled with --draco-bits 14 loads in 38 ms instead of 28 ms in a new process
-// (archive_bench --once load, best of 10).
+// Draco sections decode last, and only when every other section decoded and every Draco stream's
+// checksum matched (checked in this process, before any fork), in up to `threads` child processes
+// with a budget (format/isolated_jobs.h) that write into shared memory, copied into place:
+// Draco's work on a forged stream is not bounded otherwise. That costs a fork per child: killeroo
+// compiled with --draco-bits 14 loads in 38 ms instead of 28 ms in a new process.
+//
 // Ownership: the reader owns the mapping and the open file (or, for open_memory, borrows the
 // caller's bytes) and the decoded buffer; every pointer it hands out lives until the reader is
 // destroyed or moved from.
@@ -50,7 +36,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -58,7 +43,6 @@
 #include <vector>
 
 #include "format/archive.h"
-#include "format/byte_shuffle.h"
 
 namespace pbrta {
 
@@ -78,15 +62,11 @@ inline constexpr uint64_t kZstdRatioSlack = uint64_t{1} << 20;
 inline constexpr uint64_t kTotalRatioSlack = uint64_t{64} << 20;
 
 // True when a section of this codec with these stored and raw sizes is within the bounds above
-// (for kNone and kNoneChunked: raw == stored). Codecs outside the enum are not plausible.
+// (for kRaw: raw == stored). Codecs outside the enum are not plausible.
 bool section_sizes_plausible(Codec codec, uint64_t stored_size, uint64_t raw_size);
 
 // The most decoded bytes, over all sections, an archive of file_size bytes may hold.
 uint64_t max_total_raw_size(uint64_t file_size);
-
-// The index of the first of n values that is >= limit, or n: the check of a U32Bound (below),
-// vectorized.
-uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit);
 
 namespace archive_detail {
 // Size arithmetic on numbers read from the file: true when a + b (a * b) does not fit in uint64.
@@ -101,8 +81,11 @@ struct BufferFree {
   uint64_t mapped_size = 0;
   void operator()(uint8_t* p) const;
 };
-struct Decoder;     // one loading thread's zstd context and buffers (format/thread_decoder.h)
-class FramePieces;  // one loading thread's frame in progress (format/frame_pieces.h)
+using Buffer = std::unique_ptr<uint8_t[], BufferFree>;
+// Uninitialized memory, 64-byte aligned; from 256 KiB on a mapping of its own with transparent
+// huge pages asked for (format/huge_pages.h): a load writes every byte of it, and faulting it in
+// 4 KiB at a time costs more than decompressing. Empty when out of memory.
+Buffer allocate(uint64_t bytes);
 }  // namespace archive_detail
 
 class ArchiveReader {
@@ -130,51 +113,6 @@ class ArchiveReader {
   // (later steps do not run once one fails).
   [[nodiscard]] bool load_sections(int threads, std::string* error);
 
-  // A check made while a section decodes, block by block while the data is in cache: every
-  // uint32 in bytes [begin, end) of the section's decoded data is below limit (a mesh's triangle
-  // indices against its vertex count). begin and end are multiples of 4 within the raw size.
-  struct U32Bound {
-    uint32_t section;
-    uint64_t begin, end;
-    uint32_t limit;
-  };
-  // Loads the sections listed in `which` that are not loaded yet (skipped kinds are left out),
-  // as above, and checks the bounds, which must lie in those sections. On success,
-  // (*first_out)[b] is the byte offset in its section of bounds[b]'s first value >= limit, or
-  // bounds[b].end when there is none: which one is an error is the caller's business. On failure
-  // the sections of this call are left unloaded; earlier calls' stay loaded.
-  [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,
-                                   const std::vector<U32Bound>& bounds,
-                                   std::vector<uint64_t>* first_out, std::string* error);
-
-  // Bounds that are known only once other sections are loaded (a mesh's triangle indices lie
-  // where its record, in the mesh records, says). Once every section of `first` has loaded (or
-  // failed), plan() is called once, on one of the loading threads, and returns the bounds, which
-  // must stay valid until load_sections returns and must lie in `gated` sections; no gated
-  // section starts before then. Every other section loads whenever a thread is free, so the plan
-  // is no barrier: a separate pass for 100k shapes' mesh records kept one thread idle for 1 ms.
-  //
-  // Work that reads only some sections can run while the others load: once every section of
-  // `needs` has loaded, when_loaded(bytes) is called once, on the loading thread that finished
-  // the last of them (before any loading when none is loaded here), with the decoded size of the
-  // tasks no thread has started yet: what there is to overlap with. It is not called when one of
-  // them failed, and nothing waits for it but the end of load_sections. With needs_first, those
-  // sections are taken right after `first`'s, so that the work starts early; otherwise in the
-  // usual largest-first order. None may be a Draco section. (The scene's record checks run there
-  // while 100k shapes' 26 MB of transforms decode.)
-  struct BoundPlan {
-    std::vector<uint32_t> first;
-    std::vector<uint32_t> gated;
-    std::function<const std::vector<U32Bound>&()> plan;
-    std::vector<uint32_t> needs;
-    std::function<void(uint64_t bytes_not_started)> when_loaded;
-    bool needs_first = false;
-  };
-  // Loads `which` as above, with bounds from plan; first_out as above, one per planned bound.
-  [[nodiscard]] bool load_sections(int threads, const std::vector<uint32_t>& which,
-                                   const BoundPlan& plan, std::vector<uint64_t>* first_out,
-                                   std::string* error);
-
   // The archive as opened. header() and the entries are copies of the validated file structures.
   const Header& header() const { return header_; }
   const std::string& path() const { return path_; }
@@ -193,10 +131,9 @@ class ArchiveReader {
   const uint8_t* section_data(uint32_t index) const { return sections_[index].data; }
   uint64_t section_size(uint32_t index) const { return entries_[index].raw_size; }
 
-  // True when section_data points into the mapped file (kNone and kNoneChunked sections), not
-  // into a copy.
+  // True when section_data points into the mapped file (raw sections), not into a copy.
   bool in_place(uint32_t index) const { return sections_[index].in_place; }
-  // After load_sections, for a Draco (codec 3) section: the vertex and triangle counts its stream
+  // After load_sections, for a Draco section: the vertex and triangle counts its stream
   // decoded to (ARCHIVE.md: the mesh record must carry them); 0 and 0 for any other section.
   uint32_t decoded_vertices(uint32_t index) const { return sections_[index].decoded_counts[0]; }
   uint32_t decoded_triangles(uint32_t index) const { return sections_[index].decoded_counts[1]; }
@@ -217,8 +154,7 @@ class ArchiveReader {
   std::string section_error(uint32_t index, std::string_view reason) const;
 
  private:
-  using Buffer = std::unique_ptr<uint8_t[], archive_detail::BufferFree>;
-  static Buffer allocate(uint64_t bytes);
+  using Buffer = archive_detail::Buffer;
   struct Section {
     const uint8_t* data = nullptr;
     bool in_place = false;
@@ -226,23 +162,18 @@ class ArchiveReader {
     uint32_t decoded_counts[2] = {0, 0};  // a Draco section's decoded vertices and triangles
   };
 
-  static constexpr uint32_t kWholeSection = 0xFFFFFFFFu;
-  struct LoadTask;
-  struct FrameWork;
+  struct Task;
   bool validate(std::string* error);
   // validate(), and on failure reset() with the path kept for messages.
   bool validate_or_reset(std::string* error);
-  // Checks and decodes section index into out (raw_size bytes plus zeroed padding, unless in
-  // place). On failure *reason says why, without the file and section: the caller names them
-  // (a Draco section's reason comes back from a child process, which cannot).
-  bool load_one(uint32_t index, uint8_t* out, archive_detail::Decoder* decoder,
-                std::string* reason);
-  // Reads, verifies and decodes one frame of a codec-4 or 6 section into the decoder's scratch
-  // block (work->scratch), with slot open for it (work) meanwhile, so that other threads may
-  // unshuffle its pieces as they decode; the caller unshuffles those left. On failure the slot is
-  // closed.
-  bool load_frame(const LoadTask& task, archive_detail::Decoder* decoder,
-                  archive_detail::FramePieces* slot, FrameWork* work, std::string* error);
+  // A zstd section's frame index, read and checked against the section's checksum, appended to
+  // tasks; or the reason it is refused.
+  bool plan_frames(uint32_t index, std::vector<Task>* tasks, std::string* reason) const;
+  // One task (a raw chunk or a zstd frame) of load_sections; false with the reason.
+  bool run_task(const Task& t, uint8_t* out, uint64_t* chunk_sum, std::string* reason) const;
+  // The Draco sections, once everything else has loaded: checksums here, decoding isolated.
+  bool load_draco(const std::vector<uint32_t>& draco, const std::vector<uint8_t*>& out, int threads,
+                  std::vector<std::string>* errors);
   // False, naming the first section cut, when a mapped file is now shorter than when it was
   // opened: it is checked once at the start of each load, before anything reads the mapping.
   bool unchanged_size(std::string* error) const;
@@ -257,9 +188,8 @@ class ArchiveReader {
   size_t map_size_ = 0;
   Buffer copy_;  // a file read whole (up to 64 KiB, kept for the reader's life), or unaligned
                  // open_memory bytes
-  // The decoded (not in-place) sections, one buffer per load_sections call, each section at its
-  // own 64-byte aligned offset.
-  std::vector<Buffer> decoded_;
+  // The decoded (not in-place) sections, each at its own 64-byte aligned offset.
+  Buffer decoded_;
   const uint8_t* base_ = nullptr;
   uint64_t size_ = 0;
   Header header_{};

@@ -35,57 +35,31 @@ std::string errno_text(int err) {
   return std::error_code(err, std::generic_category()).message();
 }
 
-// How a section of this size is stored uncompressed: codec 5 once it spans more than one
-// chunk, so that the reader can checksum it on every thread.
-Codec raw_codec(uint64_t size) {
-  return size > kChecksumChunk ? Codec::kNoneChunked : Codec::kNone;
-}
-
 // The table's checksum of a section's stored bytes, by codec (ARCHIVE.md, section 5).
 uint64_t section_checksum(Codec codec, const uint8_t* stored, uint64_t stored_size,
                           uint64_t raw_size) {
   switch (codec) {
-    case Codec::kZstdShuffle4Frames:  // its frame index; the index covers the frames
-    case Codec::kZstdShuffle4Frames1M:
-      return checksum64(stored, frame_count(raw_size, frame_block(codec)) * sizeof(FrameEntry));
-    case Codec::kNoneChunked:
+    case Codec::kRaw:
       return chunked_checksum64(stored, stored_size);
+    case Codec::kZstd: {  // its frame index, which covers the frames
+      FrameIndexHeader h;
+      std::memcpy(&h, stored, sizeof h);
+      return checksum64(stored,
+                        sizeof h + frame_count(raw_size, h.frame_size) * sizeof(FrameEntry));
+    }
     default:
       return checksum64(stored, stored_size);
   }
 }
 
-// One section's stored form. For a codec that stores_raw(), stored is empty and the raw bytes
-// are written.
+// One section's stored form. For kRaw, stored is empty and the raw bytes are written.
 struct Encoded {
-  Codec codec = Codec::kNone;
+  Codec codec = Codec::kRaw;
   std::vector<uint8_t> stored;
   uint64_t stored_size = 0;
   uint64_t checksum = 0;
   std::string error;
 };
-
-bool zstd_compress(const uint8_t* src, size_t size, int level, std::vector<uint8_t>* out,
-                   std::string* error) {
-  ZSTD_CCtx* cctx = ZSTD_createCCtx();
-  if (cctx == nullptr) {
-    *error = "zstd: cannot create a compression context";
-    return false;
-  }
-  // A context per section, never multithreaded: the frame depends only on the bytes and level.
-  ZSTD_CCtx_setParameter(cctx, ZSTD_c_compressionLevel, level);
-  ZSTD_CCtx_setParameter(cctx, ZSTD_c_contentSizeFlag, 1);
-  ZSTD_CCtx_setParameter(cctx, ZSTD_c_checksumFlag, 0);  // the table's XXH3 covers it
-  out->resize(ZSTD_compressBound(size));
-  const size_t n = ZSTD_compress2(cctx, out->data(), out->size(), src, size);
-  ZSTD_freeCCtx(cctx);
-  if (ZSTD_isError(n)) {
-    *error = std::string("zstd: ") + ZSTD_getErrorName(n);
-    return false;
-  }
-  out->resize(n);
-  return true;
-}
 
 bool write_all(int fd, const void* data, uint64_t size) {
   const uint8_t* p = static_cast<const uint8_t*>(data);
@@ -119,22 +93,22 @@ uint64_t lay_out(std::vector<SectionEntry>* table) {
 }  // namespace
 
 uint32_t ArchiveWriter::add_section(SectionKind kind, std::vector<uint8_t> raw, uint32_t count,
-                                    Codec codec) {
-  sections_.push_back(Section{kind, codec, count, std::move(raw), {}});
+                                    Codec codec, bool shuffle) {
+  sections_.push_back(Section{kind, codec, shuffle, count, std::move(raw), {}});
   return static_cast<uint32_t>(sections_.size() - 1);
 }
 
 uint32_t ArchiveWriter::add_encoded_section(SectionKind kind, std::vector<uint8_t> raw,
                                             std::vector<uint8_t> stored, uint32_t count,
                                             Codec codec) {
-  sections_.push_back(Section{kind, codec, count, std::move(raw), std::move(stored)});
+  sections_.push_back(Section{kind, codec, false, count, std::move(raw), std::move(stored)});
   return static_cast<uint32_t>(sections_.size() - 1);
 }
 
 uint32_t ArchiveWriter::add_section(SectionKind kind, const void* data, size_t size, uint32_t count,
-                                    Codec codec) {
+                                    Codec codec, bool shuffle) {
   const uint8_t* p = static_cast<const uint8_t*>(data);
-  return add_section(kind, std::vector<uint8_t>(p, p + size), count, codec);
+  return add_section(kind, std::vector<uint8_t>(p, p + size), count, codec, shuffle);
 }
 
 bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_level, int threads,
@@ -155,6 +129,8 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
       problem = "codec 'draco' needs a geometry section of one mesh, encoded by the caller";
     else if (s.codec != Codec::kDraco && !s.stored.empty())
       problem = "only codec 'draco' sections come encoded";
+    else if (s.shuffle && s.codec != Codec::kZstd)
+      problem = "only codec 'zstd' sections are shuffled";
     if (!problem.empty()) {
       *error = what + "section '" + std::string(section_kind_name(s.kind)) + "' (#" +
                std::to_string(i) + "): " + problem;
@@ -170,7 +146,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     return sections_[a].raw.size() > sections_[b].raw.size();
   });
-  auto compresses = [](Codec c) { return !stores_raw(c) && c != Codec::kDraco; };
+  auto compresses = [](Codec c) { return c == Codec::kZstd; };
   uint64_t to_compress = 0;
   for (const Section& s : sections_)
     if (compresses(s.codec)) to_compress += s.raw.size();
@@ -183,46 +159,30 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
             const uint32_t i = order[k];
             const Section& s = sections_[i];
             Encoded& e = enc[i];
-            e.codec = s.codec == Codec::kNone ? raw_codec(s.raw.size()) : s.codec;
-            const uint8_t* src = s.raw.data();
-            std::vector<uint8_t> shuffled;
-            if (s.codec == Codec::kZstdShuffle4) {
-              shuffled.resize(s.raw.size());
-              shuffle4(s.raw.data(), shuffled.data(), s.raw.size());
-              src = shuffled.data();
-            }
+            e.codec = s.codec;
             if (s.codec == Codec::kDraco) {
               e.stored = s.stored;  // encoded by the caller
-              if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
-                e.codec = raw_codec(s.raw.size());
-                e.stored = {};
-              }
-            } else if (!stores_raw(s.codec)) {
-              const bool ok = frame_block(s.codec) != 0
-                                  ? encode_zstd_frames(s.raw.data(), s.raw.size(), level,
-                                                       frame_block(s.codec), &e.stored, &e.error)
-                                  : zstd_compress(src, s.raw.size(), level, &e.stored, &e.error);
-              if (!ok) continue;
-              if (choose_frame_size_ && s.codec == Codec::kZstdShuffle4Frames &&
-                  s.raw.size() > kSmallFrameBlock && s.raw.size() <= kSmallFramesMax) {
+            } else if (s.codec == Codec::kZstd) {
+              if (!encode_zstd_frames(s.raw.data(), s.raw.size(), level, kFrameSize, s.shuffle,
+                                      &e.stored, &e.error))
+                continue;
+              if (s.raw.size() > kSmallFrameSize && s.raw.size() <= kSmallFramesMax) {
                 std::vector<uint8_t> small;
-                if (!encode_zstd_frames(s.raw.data(), s.raw.size(), level, kSmallFrameBlock, &small,
-                                        &e.error))
+                if (!encode_zstd_frames(s.raw.data(), s.raw.size(), level, kSmallFrameSize,
+                                        s.shuffle, &small, &e.error))
                   continue;
-                if (small.size() <= e.stored.size() + e.stored.size() / kSmallFramesSlack) {
-                  e.codec = Codec::kZstdShuffle4Frames1M;
+                if (small.size() <= e.stored.size() + e.stored.size() / kSmallFramesSlack)
                   e.stored = std::move(small);
-                }
-              }
-              if (!section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
-                // Compresses better than the reader believes possible (say, a black image): store
-                // it.
-                e.codec = raw_codec(s.raw.size());
-                e.stored = {};
               }
             }
-            const uint8_t* stored = stores_raw(e.codec) ? s.raw.data() : e.stored.data();
-            e.stored_size = stores_raw(e.codec) ? s.raw.size() : e.stored.size();
+            // Compresses better than the reader believes possible (say, a black image): store it.
+            if (e.codec != Codec::kRaw &&
+                !section_sizes_plausible(e.codec, e.stored.size(), s.raw.size())) {
+              e.codec = Codec::kRaw;
+              e.stored = {};
+            }
+            const uint8_t* stored = e.codec == Codec::kRaw ? s.raw.data() : e.stored.data();
+            e.stored_size = e.codec == Codec::kRaw ? s.raw.size() : e.stored.size();
             e.checksum = section_checksum(e.codec, stored, e.stored_size, s.raw.size());
             if (compresses(s.codec)) compressed.add(s.raw.size());
           }
@@ -261,7 +221,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     int worst = -1;
     uint64_t worst_excess = 0;
     for (uint32_t i = 0; i < n; ++i) {
-      if (stores_raw(enc[i].codec)) continue;
+      if (enc[i].codec == Codec::kRaw) continue;
       const uint64_t excess =
           table[i].raw_size - std::min(table[i].raw_size, table[i].stored_size * kMaxZstdRatio);
       if (worst < 0 || excess > worst_excess) {
@@ -271,7 +231,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     }
     if (worst < 0) break;  // all stored raw: total_raw <= file_size, so unreachable
     Encoded& e = enc[worst];
-    e.codec = raw_codec(sections_[worst].raw.size());
+    e.codec = Codec::kRaw;
     e.stored = {};
     e.stored_size = sections_[worst].raw.size();
     e.checksum =
@@ -321,7 +281,7 @@ bool ArchiveWriter::write(const std::string& path, uint64_t effects, int zstd_le
     return fail_and_clean(errno, true);
   for (uint32_t i = 0; i < n; ++i) {
     const uint8_t* stored =
-        stores_raw(enc[i].codec) ? sections_[i].raw.data() : enc[i].stored.data();
+        enc[i].codec == Codec::kRaw ? sections_[i].raw.data() : enc[i].stored.data();
     if (!pad_to(table[i].offset) || !put(stored, table[i].stored_size))
       return fail_and_clean(errno, true);
   }

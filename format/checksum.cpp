@@ -47,7 +47,7 @@ uint64_t checksum64(const void* data, size_t size) {
 }
 
 uint64_t checksum_chunk_count(uint64_t size) {
-  return size / kChecksumChunk + (size % kChecksumChunk != 0);
+  return size / kRawChunk + (size % kRawChunk != 0);
 }
 
 uint64_t combine_chunk_checksums(const uint64_t* chunk_checksums, size_t count) {
@@ -60,8 +60,8 @@ uint64_t chunked_checksum64(const void* data, size_t size) {
   const auto* bytes = static_cast<const uint8_t*>(data);
   std::vector<uint64_t> chunks(checksum_chunk_count(size));
   for (size_t k = 0; k < chunks.size(); ++k) {
-    const uint64_t at = k * kChecksumChunk;
-    chunks[k] = checksum64(bytes + at, std::min<uint64_t>(kChecksumChunk, size - at));
+    const uint64_t at = k * kRawChunk;
+    chunks[k] = checksum64(bytes + at, std::min<uint64_t>(kRawChunk, size - at));
   }
   return combine_chunk_checksums(chunks.data(), chunks.size());
 }

@@ -12,8 +12,8 @@ namespace pbrta {
 
 uint64_t checksum64(const void* data, size_t size);
 
-// Codec 5's checksum (ARCHIVE.md, section 5): checksum64 of the chunks' checksum64 values, each
-// chunk kChecksumChunk bytes (the last shorter). The loader hashes the chunks on its own threads
+// A raw section's checksum (ARCHIVE.md, section 5): checksum64 of the chunks' checksum64 values,
+// each chunk kRawChunk bytes (the last shorter). The loader hashes the chunks on its own threads
 // and combines them with combine_chunk_checksums; this is the one-call form the writer uses.
 uint64_t chunked_checksum64(const void* data, size_t size);
 uint64_t combine_chunk_checksums(const uint64_t* chunk_checksums, size_t count);

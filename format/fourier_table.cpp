@@ -71,9 +71,7 @@ bool fourier_table_of(const SceneArchive& a, uint32_t entity, FourierTableView* 
   const ValueRecord* coeffs = a.value(entity, "bsdfcoeffs");
   if (!eta || !m_max || !channels || !mu || !cdf || !offsets || !coeffs || !eta->count ||
       !m_max->count || !channels->count || !mu->count) {
-    *error =
-        "the archive holds no table read from \"bsdffile\" (written by a pbrtc older than "
-        "archive version 1.1?)";
+    *error = "the archive holds no table read from \"bsdffile\"";
     return false;
   }
   t->eta = a.floats(*eta)[0];

@@ -51,7 +51,7 @@ bool check_fourier_table(const FourierTableView& t, std::string* error);
 
 // The derived table of a fourier material entity, viewed in the archive's words.
 // False with *error when the entity is not a fourier material or the table is
-// missing (an archive older than 1.1 has none); the view is not checked here.
+// missing; the view is not checked here.
 bool fourier_table_of(const SceneArchive& archive, uint32_t entity, FourierTableView* t,
                       std::string* error);
 

@@ -1,9 +1,7 @@
 // format/scene_archive.h — a loaded, fully validated scene archive.
 //
 // SceneArchive::load() opens a .pbrta with ArchiveReader (header, table,
-// checksums, decoding, in parallel): every section in one pass, the mesh
-// records taken first so that the large meshes' triangle indices are bounded
-// as the geometry decodes, and then what it all means. It checks every record as
+// checksums, decoding, in parallel), and then checks what it all means: every record as
 // ARCHIVE.md section 10 requires: each index below the count of the array it
 // names, each entity's category, type and value range known to this reader's
 // schema, each value's words in range, the string table well formed, every
@@ -27,8 +25,6 @@
 
 namespace pbrta {
 
-class CheckThreads;  // format/check_threads.h
-
 template <class T>
 struct Span {
   const T* data = nullptr;
@@ -38,20 +34,9 @@ struct Span {
   const T* end() const { return data + size; }
 };
 
-// Where one load()'s time went, in seconds, for benchmarks (archive_bench --phases): reading the
-// file with its header and table checks; loading the sections (checksums, decoding, the
-// triangle-index checks planned from the mesh records, and the record checks, which run as soon
-// as the records are in, while the transforms and geometry still load); and validating the
-// meshes and images, which needs every section. Timing costs two clock reads a phase, and only
-// when asked for.
-struct LoadPhases {
-  double open = 0, sections = 0, validate = 0;
-};
-
 class SceneArchive {
  public:
-  [[nodiscard]] bool load(const std::string& path, int threads, std::string* error,
-                          LoadPhases* phases = nullptr);
+  [[nodiscard]] bool load(const std::string& path, int threads, std::string* error);
   // The same checks on an archive already in memory (tests, fuzzing), named `name` in errors.
   // The bytes must outlive this object: a 16-byte aligned image is used in place.
   [[nodiscard]] bool load_memory(std::string_view bytes, std::string_view name, int threads,
@@ -117,24 +102,13 @@ class SceneArchive {
 
  private:
   // load()'s work once the reader has opened the archive.
-  bool load_opened(int threads, std::string* error, LoadPhases* phases);
-  // The triangle indices load() has the reader check as the geometry decodes: bound b covers
-  // mesh[b]'s indices (ascending mesh order), and first[b] is what load_sections found.
-  struct IndexChecks {
-    std::vector<ArchiveReader::U32Bound> bounds;
-    std::vector<uint32_t> mesh;
-    std::vector<uint64_t> first;
-  };
-  void plan_index_checks(IndexChecks* checks) const;
+  bool load_opened(int threads, std::string* error);
   // Every record view back to empty, as before a load.
   void forget_records();
-  // What the records say, checked against the schema and each other: every section of a kind
-  // read_by_record_checks() must be loaded (load() runs it while the others load).
-  bool validate_records(CheckThreads* threads, std::string* error);
-  // All but the transforms, geometry and texels: the one list load() and the checks go by.
-  static bool read_by_record_checks(uint32_t kind);
-  // Then, with every section loaded: the meshes' layouts and triangle indices, and the images.
-  bool validate_geometry(CheckThreads* threads, const IndexChecks& checks, std::string* error);
+  // What the records say, checked against the schema and each other.
+  bool validate_records(std::string* error);
+  // Then the meshes' layouts and triangle indices (with up to `threads` threads), and the images.
+  bool validate_geometry(int threads, std::string* error);
 
   ArchiveReader reader_;
   std::string path_;

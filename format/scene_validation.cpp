@@ -8,23 +8,17 @@
 #include <atomic>
 #include <cstddef>
 #include <cstring>
-#include <optional>
-
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define PBRTA_CHECKS_AVX2 1  // built with a target attribute, chosen at run time
-#endif
+#include <string_view>
+#include <type_traits>
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include "format/archive_names.h"
-#include "format/check_threads.h"
 #include "format/draco_codec.h"
 #include "format/entity_rules.h"
 #include "format/fourier_table.h"
-#include "format/schema_digest.h"
 #include "format/texel_format.h"
 
 namespace pbrta {
@@ -64,136 +58,53 @@ class Checker {
         (i == kNoIndex ? std::string("is missing") : std::to_string(i)) +
         (i == kNoIndex ? "" : " out of range (" + std::to_string(count) + " " + array + ")"));
   }
+  // fail() of the pieces (strings and numbers) joined: the hot checks call this, so that building
+  // a message costs them nothing but a call where a check fails.
+  template <class... Parts>
+  [[gnu::cold, gnu::noinline]] bool fail_with(const Parts&... parts) {
+    std::string s;
+    (append(&s, parts), ...);
+    return fail(s);
+  }
   bool failed() const { return failed_; }
   const std::string& message() const { return message_; }
-  // One for another thread: same file and section, no failure yet.
-  Checker blank() const {
-    Checker b(path_, r_);
-    b.section_ = section_;
-    return b;
-  }
 
  private:
   const std::string& path_;
   const ArchiveReader& r_;
+  static void append(std::string* s, std::string_view text) { *s += text; }
+  template <class T, class = std::enable_if_t<std::is_integral_v<T>>>
+  static void append(std::string* s, T v) {
+    *s += std::to_string(uint64_t(v));
+  }
+
   int section_ = -1;
   bool failed_ = false;
   std::string message_;
 };
 
+// From this many bytes of triangle indices on, the meshes are checked on every thread.
+constexpr uint64_t kParallelIndexBytes = uint64_t{8} << 20;
+
 // The record flags this reader knows; any other bit refuses the record.
 constexpr uint32_t kKnownShapeFlags = kShapeReverseOrientation | kShapeSwapsHandedness;
 constexpr uint32_t kKnownMeshFlags = kMeshNormals | kMeshTangents | kMeshUV | kMeshFaceIndices;
 
-// What the entity checks read most, held by value: through references, each entity would first
-// walk from the closure to the archive to the span (the rare checks' calls keep the compiler from
-// hoisting those loads out of the loop).
-struct EntityInputs {
-  const EntityRecord* entities;
-  const ValueRecord* values;
-  const uint32_t* words;
-  const TextureRecord* textures;
-  const SchemaDigest* digest;
-  uint32_t num_textures, num_words, num_values, num_strings;
-  uint16_t minor;
-  bool avx2;
-};
-
-#if defined(PBRTA_CHECKS_AVX2)
-// Entities [from, to) in order, up to the first that might be unsound, which it returns (or to).
-// The ones it passes are sound, as entity_sound() in validate_records() judges them: a known
-// type without count rules or string parameters, exactly its parameter count of values, and
-// values with no texture, no unknown flag, a count the parameter's arity allows and words inside
-// [0, num_words). The caller judges the entity it stops at by entity_sound().
-//
-// Why it is shaped so: it runs once per entity (150k for 100k shapes), and checked one by one,
-// each value's checks (3 to 8 values in a typical scene) cost 17 vector operations a pair and a
-// call per entity. Here the values go two per vector, against the type's lanes
-// (TypeDigest::value_lanes), in 12 operations a pair; the lanes make the value after an odd
-// count pass (it belongs to the next entity). An entity whose last pair would run past the last
-// value is left to entity_sound(). Pairs, not groups of eight values: 1.61-1.66 ms of validation
-// for same100k on one thread, against 1.81-1.85 for groups of eight (interleaved runs).
-[[gnu::target("avx2")]] uint32_t plain_entities_avx2(const EntityInputs& in, uint32_t from,
-                                                     uint32_t to) {
-  const __m256i zero = _mm256_setzero_si256();
-  // Lanes of a pair: offset, count, texture, flags; offset, count, texture, flags. Turns "no
-  // texture" (kNoIndex) into 0.
-  const __m256i texture_lanes = _mm256_setr_epi32(0, 0, -1, 0, 0, 0, -1, 0);
-  const __m256i limit = _mm256_set1_epi64x(int64_t(in.num_words));
-  const __m256i ones = _mm256_cmpeq_epi32(zero, zero);
-  for (uint32_t i = from; i < to; ++i) {
-    const EntityRecord& e = in.entities[i];
-    if (e.type >= in.digest->num_types(e.category)) return i;
-    const TypeDigest& t = in.digest->type(e.category, e.type);
-    const uint32_t n = t.num_params;
-    if ((t.has_rules | t.has_strings | e.reserved0) != 0 ||
-        (e.reserved1 | (e.num_values ^ n)) != 0 ||
-        uint64_t(e.first_value) + ((n + 1) & ~1u) > in.num_values)
-      return i;
-    const __m256i* v = reinterpret_cast<const __m256i*>(in.values + e.first_value);
-    const __m256i* lanes = reinterpret_cast<const __m256i*>(t.value_lanes);
-    __m256i ok = ones, past = zero;
-    for (uint32_t pair = 0; pair < (n + 1) / 2; ++pair, ++v, lanes += 4) {
-      const __m256i x = _mm256_loadu_si256(v);
-      // Lane by lane, (y & mask) == 0 or y == expect: the texture 0 after the xor, the count 0
-      // or the arity (or anything: mask 0), the flags none but kValueGiven.
-      const __m256i y = _mm256_xor_si256(x, texture_lanes);
-      ok = _mm256_and_si256(
-          ok,
-          _mm256_or_si256(_mm256_cmpeq_epi32(_mm256_and_si256(y, _mm256_load_si256(lanes)), zero),
-                          _mm256_cmpeq_epi32(y, _mm256_load_si256(lanes + 1))));
-      // offset + count * width, in 64 bits (64-bit lanes 0 and 2; 0 in the others), within
-      // num_words.
-      const __m256i end = _mm256_add_epi64(
-          _mm256_and_si256(x, _mm256_load_si256(lanes + 2)),
-          _mm256_mul_epu32(_mm256_srli_epi64(x, 32), _mm256_load_si256(lanes + 3)));
-      past = _mm256_or_si256(past, _mm256_cmpgt_epi64(end, limit));
-    }
-    if (!_mm256_testc_si256(ok, ones) || !_mm256_testz_si256(past, past)) return i;
+// The index of the first of n values that is >= limit, or n (a mesh's first bad triangle index).
+// Branch-free within blocks of 1024 so the compiler vectorizes it (with plain SSE2 too, which has
+// no unsigned compare): every index of every mesh is read here.
+inline uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
+  constexpr uint64_t kBlock = 1024;
+  for (uint64_t at = 0; at < n; at += kBlock) {
+    const uint64_t end = std::min(n, at + kBlock);
+    uint32_t any = 0;
+    for (uint64_t k = at; k < end; ++k) any |= static_cast<uint32_t>(v[k] >= limit);
+    if (any != 0)
+      for (uint64_t k = at; k < end; ++k)
+        if (v[k] >= limit) return k;
   }
-  return to;
+  return n;
 }
-
-// What plain_shapes_avx2() reads: the shapes, the entities they name, and the bounds of a
-// ShapeRecord's first eight fields (entity, mesh, material, area light, inside and outside medium,
-// transform, object) in their order.
-struct ShapeInputs {
-  const ShapeRecord* shapes;
-  const EntityRecord* entities;
-  uint32_t bounds[8];
-};
-static_assert(offsetof(ShapeRecord, entity) == 0 && offsetof(ShapeRecord, object) == 28,
-              "plain_shapes_avx2 reads a ShapeRecord's eight index fields as one vector");
-
-// Shapes [from, to) in order, up to the first that might be unsound, which it returns (or to):
-// the ones it passes are sound as the shape check in validate_records() judges them (every index
-// in range, kNoIndex where a field may be absent, known flags, reserved zero, a shape entity).
-// The eight index fields are one vector: 3.7 ns a shape one field at a time (100k shapes).
-[[gnu::target("avx2")]] uint32_t plain_shapes_avx2(const ShapeInputs& in, uint32_t from,
-                                                   uint32_t to) {
-  // x < bound unsigned is (x ^ 2^31) < (bound ^ 2^31) signed.
-  const __m256i bias = _mm256_set1_epi32(INT32_MIN);
-  const __m256i limits =
-      _mm256_xor_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in.bounds)), bias);
-  const __m256i none = _mm256_set1_epi32(-1);
-  const __m256i may_be_none = _mm256_setr_epi32(0, -1, 0, -1, -1, -1, 0, -1);
-  for (uint32_t i = from; i < to; ++i) {
-    const ShapeRecord& s = in.shapes[i];
-    const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&s));
-    const __m256i ok = _mm256_or_si256(_mm256_cmpgt_epi32(limits, _mm256_xor_si256(x, bias)),
-                                       _mm256_and_si256(_mm256_cmpeq_epi32(x, none), may_be_none));
-    if (_mm256_movemask_epi8(ok) != -1 || ((s.flags & ~kKnownShapeFlags) | s.reserved) != 0 ||
-        in.entities[s.entity].category != uint8_t(Category::kShape))
-      return i;
-  }
-  return to;
-}
-
-bool have_avx2() {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
-#endif
 
 // A string table's n + 1 offsets (n >= 1) over data_size bytes of characters, as ARCHIVE.md
 // section 6 has both tables (strings, provenance): from 0, never decreasing, ending at the
@@ -209,166 +120,20 @@ bool check_string_offsets(const uint32_t* offsets, uint32_t n, uint64_t data_siz
   return offsets[1] == 0 || c.fail("string 0 is not empty");
 }
 
-// The first i in [0, n) at which scan stops, or n; 0, checking nothing, when c has already
-// failed. scan(from, to, checker) checks records [from, to) in order and returns the first that
-// fails, or to. A large n is checked in blocks on the arena's threads (no arena: on this one),
-// each block stopping at its first failure; the lowest failing record is then checked again on c
-// for the message, so the error is the one a serial check reports (100k shapes: 150k entities
-// and 750k values, 100k shape and 50k mesh records).
-template <class Scan>
-uint32_t first_failure_scan(uint32_t n, tbb::task_arena* arena, Checker& c, Scan scan) {
-  if (c.failed()) return 0;
-  constexpr uint32_t kBlock = 8192;
-  std::atomic<uint32_t> first_bad{n};
-  // A block gives up once an earlier one has failed, looking every kStride records: an atomic
-  // read per record would make the compiler reload everything a check reads, every time.
-  constexpr uint32_t kStride = 512;
-  auto check_block = [&](uint32_t begin, uint32_t end) {
-    Checker local = c.blank();
-    for (uint32_t from = begin; from < end; from += kStride) {
-      if (from >= first_bad.load(std::memory_order_relaxed)) return;
-      const uint32_t to = std::min(end, from + kStride);
-      const uint32_t i = scan(from, to, local);
-      if (i < to) {
-        uint32_t seen = first_bad.load();
-        while (i < seen && !first_bad.compare_exchange_weak(seen, i)) {
-        }
-        return;
-      }
-    }
-  };
-  if (arena == nullptr || n < 4 * kBlock) {
-    check_block(0, n);
-  } else {
-    arena->execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<uint32_t>(0, n, kBlock),
-          [&](const tbb::blocked_range<uint32_t>& b) { check_block(b.begin(), b.end()); });
-    });
-  }
-  const uint32_t bad = first_bad.load();
-  if (bad < n) scan(bad, bad + 1, c);
-  return bad;
-}
-
-// A scan of records [from, to) by sound(i), stopping at the first it refuses.
-template <class Sound>
-auto each_record(Sound sound) {
-  return [sound](uint32_t from, uint32_t to) {
-    for (uint32_t i = from; i < to; ++i)
-      if (!sound(i)) return i;
-    return to;
-  };
-}
-
-// first_failure_scan() one record at a time: check(i, checker) is false when record i fails.
+// The first record i in [0, n) that check(i, c) refuses, or n; 0, checking nothing, when c has
+// already failed. The checks of one record kind, in record order, so that the error is always
+// the first bad record's.
 template <class Check>
-uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, Check check) {
-  return first_failure_scan(n, arena, c, [&](uint32_t from, uint32_t to, Checker& local) {
-    return each_record([&](uint32_t i) { return check(i, local); })(from, to);
-  });
-}
-
-// A scan of records [from, to) by a fast path, fast(from, to), which passes a run of records and
-// returns the first it cannot vouch for (or to); that one is judged by sound(i), and the scan
-// goes on after it. The verdicts are sound()'s: the fuzz tree (PBRTA_CROSSCHECK_VALIDATION)
-// stops should fast() pass a record sound() refuses.
-template <class Fast, class Sound>
-uint32_t fast_path_scan(Fast fast, Sound sound, uint32_t from, uint32_t to) {
-  for (uint32_t i = from;; ++i) {
-    const uint32_t stop = fast(i, to);
-#if defined(PBRTA_CROSSCHECK_VALIDATION)
-    for (uint32_t k = i; k < stop; ++k)
-      if (!sound(k)) __builtin_trap();
-#endif
-    if (stop == to || !sound(stop)) return stop;
-    i = stop;
-  }
-}
-
-// first_failure() for the record kinds a large scene has most of, with two checks of each record:
-// sound(from, to), branch-light and message-free, decides (it returns the first record in
-// [from, to) it refuses, or to; each_record() makes one from a check of one record);
-// explain(i, checker) is the readable check that names what is wrong, run only on the record
-// sound() refused. The two must judge every record alike. The fuzz tree
-// (PBRTA_CROSSCHECK_VALIDATION) runs both on every record and stops on any disagreement; should
-// explain() find nothing, the load still fails.
-template <class Sound, class Explain>
-uint32_t first_failure(uint32_t n, tbb::task_arena* arena, Checker& c, const char* record,
-                       Sound sound, Explain explain) {
-#if defined(PBRTA_CROSSCHECK_VALIDATION)
-  (void)record;
-  auto both = [&](uint32_t i, Checker& local) {
-    Checker scratch = local.blank();
-    const bool verdict = sound(i, i + 1) == i + 1;
-    if (verdict != explain(i, scratch)) __builtin_trap();
-    return verdict || explain(i, local);
-  };
-  return first_failure(n, arena, c, both);
-#else
+uint32_t first_failure(uint32_t n, Checker& c, Check check) {
   if (c.failed()) return 0;
-  auto sound_in = [&](uint32_t from, uint32_t to, Checker&) { return sound(from, to); };
-  Checker quiet = c.blank();
-  const uint32_t bad = first_failure_scan(n, arena, quiet, sound_in);
-  if (bad < n && explain(bad, c))
-    c.fail(std::string(record) + " " + std::to_string(bad) +
-           ": refused by a check that names no reason");
-  return bad;
-#endif
-}
-
-// Index soundness without messages, for the sound() checks: below the count, or kNoIndex.
-inline bool optional_bad(uint32_t i, uint32_t count) {
-  return (i >= count) & (i != kNoIndex);
-}
-
-// A mesh's arrays against its geometry section's size, and its source shape: true when any is
-// wrong. A missing array has offset 0; a present one is aligned and inside the section. (Each
-// term is computed whole: size - offset may wrap, but then offset > size says so.)
-inline bool layout_bad(const MeshRecord& m, uint64_t size, uint32_t num_shapes) {
-  auto array_bad = [size](bool present, uint64_t offset, uint64_t bytes) {
-    return present ? (offset % 16 != 0) | (offset > size) | (bytes > size - offset) : offset != 0;
-  };
-  const uint64_t nv = m.num_vertices, nt = m.num_triangles;
-  return array_bad(true, m.positions, nv * 12) |
-         array_bad(m.flags & kMeshNormals, m.normals, nv * 12) |
-         array_bad(m.flags & kMeshTangents, m.tangents, nv * 12) |
-         array_bad(m.flags & kMeshUV, m.uv, nv * 8) | array_bad(true, m.indices, nt * 12) |
-         array_bad(m.flags & kMeshFaceIndices, m.face_indices, nt * 4) |
-         optional_bad(m.source_shape, num_shapes);
-}
-
-// What tiny_mesh_sound() reads, held by value (as EntityInputs).
-struct TinyMeshInputs {
-  struct Area {
-    const uint8_t* data = nullptr;  // nullptr: not a loaded geometry section, or a Draco one
-    uint64_t size = 0;
-  };
-  const MeshRecord* meshes;
-  const Area* areas;  // by section
-  uint32_t num_sections, num_shapes;
-};
-
-// True when mesh i certainly passes validate_geometry(): at most four triangles, in a geometry
-// section that is not Draco's, with a sound layout and indices below its vertex count. False
-// says nothing: the full check then judges it.
-inline bool tiny_mesh_sound(const TinyMeshInputs& in, uint32_t i) {
-  const MeshRecord& m = in.meshes[i];
-  if (m.section >= in.num_sections || m.num_triangles > 4) return false;
-  const TinyMeshInputs::Area& a = in.areas[m.section];
-  if (a.data == nullptr || (m.flags & ~kKnownMeshFlags) != 0 ||
-      layout_bad(m, a.size, in.num_shapes))
-    return false;
-  const uint32_t* v = reinterpret_cast<const uint32_t*>(a.data + m.indices);
-  bool bad = false;
-  for (uint32_t k = 0; k < m.num_triangles * 3; ++k) bad |= v[k] >= m.num_vertices;
-  return !bad;
+  for (uint32_t i = 0; i < n; ++i)
+    if (!check(i, c)) return i;
+  return n;
 }
 
 }  // namespace
 
-bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
-  tbb::task_arena* const par = threads->arena();
+bool SceneArchive::validate_records(std::string* error) {
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   // Which section holds each kind (once, except geometry and texels).
@@ -459,11 +224,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
     if (r.section_size(uint32_t(s)) != uint64_t(count) * sizeof(T))
       return c.fail("size " + std::to_string(r.section_size(uint32_t(s))) + " is not " +
                     std::to_string(count) + " records of " + std::to_string(sizeof(T)) + " bytes");
-    // A kind these checks do not read (the transforms) may still be loading: validate_geometry()
-    // points at it.
-    span->data = read_by_record_checks(uint32_t(k))
-                     ? reinterpret_cast<const T*>(r.section_data(uint32_t(s)))
-                     : nullptr;
+    span->data = reinterpret_cast<const T*>(r.section_data(uint32_t(s)));
     span->size = count;
     return true;
   };
@@ -512,17 +273,12 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
         pstring_data_ = reinterpret_cast<const char*>(d + head);
         num_pstrings_ = nstr;
         ok = check_string_offsets(pstring_offsets_, nstr, size - head, c);
-        const ProvenanceRecord* records = provenance.data;
-        auto record_sound = [records, nstr](uint32_t i) {
-          const ProvenanceRecord& p = records[i];
-          return !((p.file >= nstr) | (p.name >= nstr) | (p.path >= nstr));
-        };
-        first_failure(nrec, par, c, "record", each_record(record_sound),
-                      [&](uint32_t i, Checker& c) {
-                        return record_sound(i) ||
-                               c.fail("record " + std::to_string(i) + ": string out of range (" +
-                                      std::to_string(nstr) + " strings)");
-                      });
+        first_failure(nrec, c, [&](uint32_t i, Checker& c) {
+          const ProvenanceRecord& p = provenance[i];
+          return (p.file < nstr && p.name < nstr && p.path < nstr) ||
+                 c.fail("record " + std::to_string(i) + ": string out of range (" +
+                        std::to_string(nstr) + " strings)");
+        });
         ok = !c.failed();
       }
     }
@@ -534,7 +290,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
 
   // Textures first: an entity's texture bindings, checked with its values, read them.
   c.in(sec(SectionKind::kTextures));
-  first_failure(textures.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(textures.size, c, [&](uint32_t i, Checker& c) {
     const TextureRecord& t = textures[i];
     if (!c.index(t.entity, entities.size, "texture", i, "entity", "entities", false)) return false;
     uint8_t cat = entities[t.entity].category;
@@ -549,77 +305,56 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
   const uint16_t minor = r.header().minor;
   auto check_entity = [&](uint32_t i, Checker& c) -> bool {
     const EntityRecord& e = entities[i];
-    // Messages are built only on failure: this loop runs once per entity.
-    auto at = [&]() { return "entity " + std::to_string(i) + ": "; };
-    if (e.category >= uint8_t(Category::kCount)) {
-      c.fail(at() + "category " + std::to_string(e.category) + " unknown");
-      return false;
-    }
+    const char* at = "entity ";
+    if (e.category >= uint8_t(Category::kCount))
+      return c.fail_with(at, i, ": category ", e.category, " unknown");
     const CategorySpec& cs = category_spec(Category(e.category));
-    if (e.type >= cs.num_types) {
-      c.fail(at() + std::string(cs.name) + " type " + std::to_string(e.type) + " unknown (" +
-             std::to_string(cs.num_types) + " types)");
-      return false;
-    }
+    if (e.type >= cs.num_types)
+      return c.fail_with(at, i, ": ", cs.name, " type ", e.type, " unknown (", cs.num_types,
+                         " types)");
     const TypeSpec& ts = cs.types[e.type];
-    if (e.reserved0 || e.reserved1) {
-      c.fail(at() + "reserved field is not zero");
-      return false;
-    }
+    if (e.reserved0 || e.reserved1) return c.fail_with(at, i, ": reserved field is not zero");
     // Parameters are only ever appended to a type (a minor change): a newer minor may have
-    // more than this reader knows (it ignores them), an older one fewer (they read as absent).
-    if (minor == kMinorVersion  ? e.num_values != ts.num_params
-        : minor > kMinorVersion ? e.num_values < ts.num_params
-                                : e.num_values > ts.num_params) {
-      c.fail(at() + std::string(ts.name) + " has " + std::to_string(ts.num_params) +
-             " parameters, the record " + std::to_string(e.num_values) + " (archive version " +
-             std::to_string(r.header().major) + "." + std::to_string(minor) + ")");
-      return false;
-    }
-    if (uint64_t(e.first_value) + e.num_values > values.size) {
-      c.fail(at() + "values " + std::to_string(e.first_value) + "+" + std::to_string(e.num_values) +
-             " out of range (" + std::to_string(values.size) + " values)");
-      return false;
-    }
-    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
-    for (uint32_t p = 0; p < known; ++p) {
-      const ValueRecord& v = values[e.first_value + p];
+    // more than this reader knows, which it ignores.
+    if (minor > kMinorVersion ? e.num_values < ts.num_params : e.num_values != ts.num_params)
+      return c.fail_with(at, i, ": ", ts.name, " has ", ts.num_params, " parameters, the record ",
+                         e.num_values, " (archive version ", r.header().major, ".", minor, ")");
+    if (uint64_t(e.first_value) + e.num_values > values.size)
+      return c.fail_with(at, i, ": values ", e.first_value, "+", e.num_values, " out of range (",
+                         values.size, " values)");
+    const ValueRecord* vs = values.data + e.first_value;
+    const uint64_t num_words = words.size;
+    for (uint32_t p = 0; p < ts.num_params; ++p) {
+      const ValueRecord& v = vs[p];
       const ParamSpec& ps = ts.params[p];
-      auto vat = [&]() {
-        return at() + std::string(ts.name) + " \"" + std::string(ps.name) + "\": ";
-      };
-      uint64_t width = uint64_t(kind_width(ps.kind));
-      if (v.flags & ~uint32_t(kValueGiven)) {
-        c.fail(vat() + "unknown value flags");
-        return false;
-      }
-      if (uint64_t(v.offset) + uint64_t(v.count) * width > words.size) {
-        c.fail(vat() + "words out of range");
-        return false;
-      }
-      if (ps.arity > 0 && v.count != 0 && v.count != ps.arity) {
-        c.fail(vat() + std::to_string(v.count) + " values, the schema says " +
-               std::to_string(ps.arity));
-        return false;
-      }
-      if (v.texture != kNoIndex) {
-        bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
-        if (!tex_kind) {
-          c.fail(vat() + "a texture on a parameter that takes none");
-          return false;
-        }
-        if (v.texture >= textures.size) {
-          c.fail(vat() + "texture " + std::to_string(v.texture) + " out of range (" +
-                 std::to_string(textures.size) + " textures)");
-          return false;
-        }
+      // Each rule once, all of them evaluated, one branch: this runs for every value.
+      const bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
+      const bool bad_flags = (v.flags & ~uint32_t(kValueGiven)) != 0;
+      const bool bad_words =
+          uint64_t(v.offset) + uint64_t(v.count) * uint64_t(kind_width(ps.kind)) > num_words;
+      const bool bad_arity = (ps.arity > 0) & (v.count != 0) & (v.count != ps.arity);
+      const bool textured = v.texture != kNoIndex;
+      if (bad_flags | bad_words | bad_arity |
+          (textured & (!tex_kind | (v.texture >= textures.size)))) {
+        const std::string_view name = ps.name;
+        if (bad_flags)
+          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": unknown value flags");
+        if (bad_words)
+          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": words out of range");
+        if (bad_arity)
+          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": ", v.count,
+                             " values, the schema says ", ps.arity);
+        if (!tex_kind)
+          return c.fail_with(at, i, ": ", ts.name, " \"", name,
+                             "\": a texture on a parameter that takes none");
+        return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": texture ", v.texture,
+                           " out of range (", textures.size, " textures)");
       }
       if (ps.kind == Kind::kString)
         for (uint32_t k = 0; k < v.count; ++k)
-          if (words[v.offset + k] >= num_strings_) {
-            c.fail(vat() + "string " + std::to_string(words[v.offset + k]) + " out of range");
-            return false;
-          }
+          if (words[v.offset + k] >= num_strings_)
+            return c.fail_with(at, i, ": ", ts.name, " \"", ps.name, "\": string ",
+                               words[v.offset + k], " out of range");
     }
     // Counts tied to other parameters (format/entity_rules.h), now that every value is sound.
     RuleViolation rule;
@@ -634,21 +369,21 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
       cc.type = get_string(i, "type");
       cc.normals_given = given(i, "N");
       cc.normals = N ? N->count : 0;
-      if (!check_curve_rules(cc, &rule)) return c.fail(at() + rule.message);
+      if (!check_curve_rules(cc, &rule)) return c.fail_with(at, i, ": ", rule.message);
     } else if (count_rule == CountRule::kDensity) {
       const ValueRecord* d = value(i, "density");
       if (!check_density_rule(get_int(i, "nx", 1), get_int(i, "ny", 1), get_int(i, "nz", 1),
                               d ? d->count : 0, &rule))
-        return c.fail(at() + rule.message);
+        return c.fail_with(at, i, ": ", rule.message);
     } else if (count_rule == CountRule::kFourierTable) {
       // The renderer indexes the table (derived from the material's file) without checks, so its
-      // arrays must agree. One written before version 1.1 has none (the renderer reports that).
+      // arrays must agree. One without a table (no file given) the renderer reports.
       const ValueRecord* mu = value(i, "bsdfmu");
       FourierTableView t;
       std::string why;
       if (mu != nullptr && mu->count != 0 &&
           (!fourier_table_of(*this, i, &t, &why) || !check_fourier_table(t, &why)))
-        return c.fail(at() + "fourier table " + why);
+        return c.fail_with(at, i, ": fourier table ", why);
     }
     return true;
   };
@@ -657,89 +392,25 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
   auto check_bindings = [&](uint32_t i, Checker& c) {
     const EntityRecord& e = entities[i];
     const TypeSpec& ts = category_spec(Category(e.category)).types[e.type];
-    const uint32_t known = std::min<uint32_t>(e.num_values, ts.num_params);
-    for (uint32_t p = 0; p < known; ++p) {
+    for (uint32_t p = 0; p < ts.num_params; ++p) {
       const ValueRecord& v = values[e.first_value + p];
       if (v.texture == kNoIndex) continue;
       Category want = ts.params[p].kind == Kind::kFloatTex ? Category::kFloatTexture
                                                            : Category::kSpectrumTexture;
       if (entities[textures[v.texture].entity].category != uint8_t(want))
-        return c.fail("entity " + std::to_string(i) + " \"" + std::string(ts.params[p].name) +
-                      "\": texture " + std::to_string(v.texture) + " is not a " +
-                      std::string(category_name(want)));
+        return c.fail_with("entity ", i, " \"", ts.params[p].name, "\": texture ", v.texture,
+                           " is not a ", category_name(want));
     }
     return true;
-  };
-  const SchemaDigest& digest = schema_digest();
-  const uint32_t num_textures = textures.size, num_words = words.size, num_values = values.size;
-  const uint32_t num_strings = num_strings_;
-  const Checker unreported = c.blank();  // for sound()'s fallbacks, whose messages are dropped
-#if defined(PBRTA_CHECKS_AVX2)
-  const bool avx2 = have_avx2();
-#else
-  const bool avx2 = false;
-#endif
-  const EntityInputs hot{entities.data, values.data,  words.data, textures.data,
-                         &digest,       num_textures, num_words,  num_values,
-                         num_strings,   minor,        avx2};
-  auto slow_sound = [&](uint32_t i) {
-    Checker scratch = unreported;
-    return check_entity(i, scratch) && check_bindings(i, scratch);
-  };
-  auto entity_sound = [hot, &slow_sound](uint32_t i) -> bool {
-    const EntityRecord& e = hot.entities[i];
-    if (e.type >= hot.digest->num_types(e.category)) return false;
-    const TypeDigest& t = hot.digest->type(e.category, e.type);
-    if (t.has_rules) return slow_sound(i);
-    const bool count_bad = hot.minor == kMinorVersion  ? e.num_values != t.num_params
-                           : hot.minor > kMinorVersion ? e.num_values < t.num_params
-                                                       : e.num_values > t.num_params;
-    if ((e.reserved0 | e.reserved1) != 0 || count_bad ||
-        uint64_t(e.first_value) + e.num_values > hot.num_values)
-      return false;
-    const uint32_t known = std::min<uint32_t>(e.num_values, t.num_params);
-    const ValueRecord* v = hot.values + e.first_value;
-    uint32_t bad = 0;
-    for (uint32_t p = 0; p < known; ++p) {
-      const ParamDigest& pd = t.params[p];
-      bad |= v[p].flags & ~uint32_t(kValueGiven);
-      bad |= uint64_t(v[p].offset) + uint64_t(v[p].count) * pd.width > hot.num_words;
-      bad |= (pd.arity != 0) & (v[p].count != 0) & (v[p].count != pd.arity);
-      if (v[p].texture != kNoIndex &&
-          (pd.texture == kNoTextureCategory || v[p].texture >= hot.num_textures ||
-           hot.entities[hot.textures[v[p].texture].entity].category != pd.texture))
-        return false;
-    }
-    if (bad) return false;
-    if (t.has_strings)
-      for (uint32_t q = 0; q < known; ++q)
-        if (t.params[q].is_string)
-          for (uint32_t k = 0; k < v[q].count; ++k)
-            if (hot.words[v[q].offset + k] >= hot.num_strings) return false;
-    return true;
-  };
-  // Runs of plain entities by the vector check, the rest one by one.
-  auto entities_sound = [hot, &entity_sound](uint32_t from, uint32_t to) {
-#if defined(PBRTA_CHECKS_AVX2)
-    if (hot.avx2) {
-      auto fast = [&hot](uint32_t i, uint32_t end) { return plain_entities_avx2(hot, i, end); };
-      return fast_path_scan(fast, entity_sound, from, to);
-    }
-#endif
-    return each_record(entity_sound)(from, to);
   };
   c.in(sec(SectionKind::kEntities));
-  first_failure(entities.size, par, c, "entity", entities_sound, [&](uint32_t i, Checker& c) {
+  first_failure(entities.size, c, [&](uint32_t i, Checker& c) {
     if (!check_entity(i, c)) return false;
     c.in(sec(SectionKind::kValues));  // a binding is a value's fault
     const bool ok = check_bindings(i, c);
     c.in(sec(SectionKind::kEntities));
     return ok;
   });
-  auto index_bad = [](uint32_t i, uint32_t count) { return i >= count; };
-  auto entity_is = [&](uint32_t e, Category cat) {
-    return e < entities.size && entities[e].category == uint8_t(cat);
-  };
   // Render options point at entities of the right category.
   c.in(sec(SectionKind::kScene));
   auto entity_of = [&](Checker& c, uint32_t e, Category cat, const char* record, uint32_t at,
@@ -772,15 +443,9 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
            c.index(m.mix[0], materials.size, "material", i, "mix material 1", "materials", true) &&
            c.index(m.mix[1], materials.size, "material", i, "mix material 2", "materials", true);
   };
-  first_failure(materials.size, par, c, "material", each_record([&](uint32_t i) {
-                  const MaterialRecord& m = materials[i];
-                  return !((m.reserved != 0) | optional_bad(m.mix[0], materials.size) |
-                           optional_bad(m.mix[1], materials.size)) &&
-                         entity_is(m.entity, Category::kMaterial);
-                }),
-                check_material);
+  first_failure(materials.size, c, check_material);
   c.in(sec(SectionKind::kMedia));
-  first_failure(media.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(media.size, c, [&](uint32_t i, Checker& c) {
     const MediumRecord& m = media[i];
     return entity_of(c, m.entity, Category::kMedium, "medium", i, "entity") &&
            c.index(m.transform, transforms.size, "medium", i, "transform", "transforms", false) &&
@@ -788,7 +453,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
             c.fail("medium " + std::to_string(i) + ": reserved field is not zero"));
   });
   c.in(sec(SectionKind::kLights));
-  first_failure(lights.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(lights.size, c, [&](uint32_t i, Checker& c) {
     const LightRecord& l = lights[i];
     return entity_of(c, l.entity, Category::kLight, "light", i, "entity") &&
            c.index(l.transform, transforms.size, "light", i, "transform", "transforms", false) &&
@@ -796,7 +461,7 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
            c.index(l.image, images.size, "light", i, "image", "images", true);
   });
   c.in(sec(SectionKind::kAreaLights));
-  first_failure(area_lights.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(area_lights.size, c, [&](uint32_t i, Checker& c) {
     return entity_of(c, area_lights[i], Category::kAreaLight, "area light", i, "entity");
   });
   c.in(sec(SectionKind::kShapes));
@@ -815,34 +480,9 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
            (s.reserved == 0 ||
             c.fail("shape " + std::to_string(i) + ": reserved field is not zero"));
   };
-  auto shape_sound = [&](uint32_t i) {
-    const ShapeRecord& s = shapes[i];
-    return !(optional_bad(s.mesh, meshes.size) | index_bad(s.material, materials.size) |
-             optional_bad(s.area_light, area_lights.size) |
-             optional_bad(s.inside_medium, media.size) |
-             optional_bad(s.outside_medium, media.size) | index_bad(s.transform, transforms.size) |
-             optional_bad(s.object, objects.size) | ((s.flags & ~kKnownShapeFlags) != 0) |
-             (s.reserved != 0)) &&
-           entity_is(s.entity, Category::kShape);
-  };
-#if defined(PBRTA_CHECKS_AVX2)
-  const ShapeInputs shape_inputs{shapes.data,
-                                 entities.data,
-                                 {entities.size, meshes.size, materials.size, area_lights.size,
-                                  media.size, media.size, transforms.size, objects.size}};
-#endif
-  auto shapes_sound = [&](uint32_t from, uint32_t to) {
-#if defined(PBRTA_CHECKS_AVX2)
-    if (avx2) {
-      auto fast = [&](uint32_t i, uint32_t end) { return plain_shapes_avx2(shape_inputs, i, end); };
-      return fast_path_scan(fast, shape_sound, from, to);
-    }
-#endif
-    return each_record(shape_sound)(from, to);
-  };
-  first_failure(shapes.size, par, c, "shape", shapes_sound, check_shape);
+  first_failure(shapes.size, c, check_shape);
   c.in(sec(SectionKind::kObjects));
-  first_failure(objects.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(objects.size, c, [&](uint32_t i, Checker& c) {
     const ObjectRecord& o = objects[i];
     return (o.reserved == 0 ||
             c.fail("object " + std::to_string(i) + ": reserved field is not zero")) &&
@@ -851,11 +491,11 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
             c.fail("object " + std::to_string(i) + ": shapes out of range"));
   });
   c.in(sec(SectionKind::kObjectShapes));
-  first_failure(object_shapes.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(object_shapes.size, c, [&](uint32_t i, Checker& c) {
     return c.index(object_shapes[i], shapes.size, "entry", i, "shape", "shapes", false);
   });
   c.in(sec(SectionKind::kInstances));
-  first_failure(instances.size, par, c, [&](uint32_t i, Checker& c) {
+  first_failure(instances.size, c, [&](uint32_t i, Checker& c) {
     const InstanceRecord& in = instances[i];
     return c.index(in.object, objects.size, "instance", i, "object", "objects", false) &&
            c.index(in.transform, transforms.size, "instance", i, "transform", "transforms",
@@ -871,124 +511,86 @@ bool SceneArchive::validate_records(CheckThreads* threads, std::string* error) {
   return true;
 }
 
-bool SceneArchive::validate_geometry(CheckThreads* threads, const IndexChecks& checks,
-                                     std::string* error) {
-  tbb::task_arena* const par = threads->arena();
+bool SceneArchive::validate_geometry(int threads, std::string* error) {
   Checker c(path_, reader_);
   const ArchiveReader& r = reader_;
   auto sec = [&](SectionKind k) { return r.find_section(k); };  // each once: validate_records()
-  if (transforms.size > 0)
-    transforms.data = reinterpret_cast<const TransformRecord*>(
-        r.section_data(uint32_t(sec(SectionKind::kTransforms))));
-  const Checker unreported = c.blank();
   c.in(sec(SectionKind::kMeshes));
-  // A mesh's layout, with the reason it is refused; its indices are checked below, in the same
-  // pass (the largest part of validation: every index of every mesh is read).
+  // A mesh's layout, and then its triangle indices against its vertex count (the largest part of
+  // validation: every index of every mesh is read).
   auto check_mesh = [&](uint32_t i, Checker& c) {
     const MeshRecord& m = meshes[i];
-    auto at = [&]() { return "mesh " + std::to_string(i) + ": "; };
+    const char* at = "mesh ";
     if (m.section >= r.section_count() ||
         r.entry(m.section).kind != uint32_t(SectionKind::kGeometry))
-      return c.fail(at() + "section " + std::to_string(m.section) + " is not a geometry section");
-    if (m.flags & ~kKnownMeshFlags) return c.fail(at() + "unknown flags");
+      return c.fail_with(at, i, ": section ", m.section, " is not a geometry section");
+    if (m.flags & ~kKnownMeshFlags) return c.fail_with(at, i, ": unknown flags");
     if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
       // A Draco section decodes to exactly one mesh's layout: the record must describe it.
       MeshRecord expect = m;
       if ((m.flags & kMeshTangents) || single_mesh_layout(&expect) != r.section_size(m.section) ||
           std::memcmp(&expect, &m, sizeof m) != 0)
-        return c.fail(at() + "does not match the layout of its draco section");
+        return c.fail_with(at, i, ": does not match the layout of its draco section");
       // Other counts may lay out alike (8 vertices and 4 triangles, 4 and 8): only the stream's
       // own say what the bytes are.
       const uint32_t dv = r.decoded_vertices(m.section), dt = r.decoded_triangles(m.section);
       if (m.num_vertices != dv || m.num_triangles != dt)
-        return c.fail(at() + std::to_string(m.num_vertices) + " vertices and " +
-                      std::to_string(m.num_triangles) + " triangles, but its draco section (#" +
-                      std::to_string(m.section) + ") decodes to " + std::to_string(dv) + " and " +
-                      std::to_string(dt));
+        return c.fail_with(at, i, ": ", m.num_vertices, " vertices and ", m.num_triangles,
+                           " triangles, but its draco section (#", m.section, ") decodes to ", dv,
+                           " and ", dt);
     }
-    uint64_t size = r.section_size(m.section);
-    auto array_ok = [&](bool present, uint64_t offset, uint64_t elems, uint64_t elem_bytes,
-                        const char* name) {
-      if (!present) return offset == 0 || c.fail(at() + name + " offset set but flag clear");
-      if (offset % 16 != 0) return c.fail(at() + name + " offset is not 16-byte aligned");
-      if (offset > size || elems * elem_bytes > size - offset)
-        return c.fail(at() + name + " (" + std::to_string(elems * elem_bytes) + " bytes at " +
-                      std::to_string(offset) + ") lies outside its section (" +
-                      std::to_string(size) + " bytes)");
+    const uint64_t size = r.section_size(m.section);
+    auto array_ok = [&](bool present, uint64_t offset, uint64_t bytes, const char* name) {
+      if (!present)
+        return offset == 0 || c.fail_with(at, i, ": ", name, " offset set but flag clear");
+      if (offset % 16 != 0) return c.fail_with(at, i, ": ", name, " offset is not 16-byte aligned");
+      if (offset > size || bytes > size - offset)
+        return c.fail_with(at, i, ": ", name, " (", bytes, " bytes at ", offset,
+                           ") lies outside its section (", size, " bytes)");
       return true;
     };
-    uint64_t nv = m.num_vertices, nt = m.num_triangles;
-    return array_ok(true, m.positions, nv, 12, "positions") &&
-           array_ok(m.flags & kMeshNormals, m.normals, nv, 12, "normals") &&
-           array_ok(m.flags & kMeshTangents, m.tangents, nv, 12, "tangents") &&
-           array_ok(m.flags & kMeshUV, m.uv, nv, 8, "uv") &&
-           array_ok(true, m.indices, nt, 12, "indices") &&
-           array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt, 4, "face indices") &&
+    const uint64_t nv = m.num_vertices, nt = m.num_triangles;
+    return array_ok(true, m.positions, nv * 12, "positions") &&
+           array_ok(m.flags & kMeshNormals, m.normals, nv * 12, "normals") &&
+           array_ok(m.flags & kMeshTangents, m.tangents, nv * 12, "tangents") &&
+           array_ok(m.flags & kMeshUV, m.uv, nv * 8, "uv") &&
+           array_ok(true, m.indices, nt * 12, "indices") &&
+           array_ok(m.flags & kMeshFaceIndices, m.face_indices, nt * 4, "face indices") &&
            c.index(m.source_shape, shapes.size, "mesh", i, "source shape", "shapes", true);
   };
-  auto mesh_sound = [&](uint32_t i) {
-    const MeshRecord& m = meshes[i];
-    if (m.section >= r.section_count() ||
-        r.entry(m.section).kind != uint32_t(SectionKind::kGeometry) ||
-        (m.flags & ~kKnownMeshFlags) != 0)
-      return false;
-    if (r.entry(m.section).codec == uint32_t(Codec::kDraco)) {
-      Checker scratch = unreported;
-      return check_mesh(i, scratch);
-    }
-    return !layout_bad(m, r.section_size(m.section), shapes.size);
-  };
-  // Each laid-out mesh's triangle indices against its vertex count: a large mesh's were checked
-  // as they decoded (bound b), a small one's are read here, in the same parallel pass as the
-  // layouts. The first mesh in order with a bad layout or a bad index is the one reported.
-  auto bound_of = [&](uint32_t i) -> size_t {
-    auto it = std::lower_bound(checks.mesh.begin(), checks.mesh.end(), i);
-    return it != checks.mesh.end() && *it == i ? size_t(it - checks.mesh.begin())
-                                               : checks.mesh.size();
-  };
-  // The first bad index of a laid-out mesh i, as an element of its indices, or 3 * triangles.
-  auto first_bad_index = [&](uint32_t i) -> uint64_t {
-    const size_t b = bound_of(i);
-    if (b < checks.mesh.size()) {
-      const ArchiveReader::U32Bound& bound = checks.bounds[b];
-      return checks.first[b] == bound.end ? uint64_t(meshes[i].num_triangles) * 3
-                                          : (checks.first[b] - bound.begin) / 4;
-    }
-    const uint32_t* v = indices(i);
-    const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
-    const uint32_t limit = meshes[i].num_vertices;
-    if (n > 12) return first_at_or_above(v, n, limit);
-    for (uint64_t k = 0; k < n; ++k)  // a few triangles (50k one-triangle meshes): no call
-      if (v[k] >= limit) return k;
-    return n;
-  };
-  auto one_mesh_sound = [&](uint32_t i) {
-    return mesh_sound(i) && first_bad_index(i) == uint64_t(meshes[i].num_triangles) * 3;
-  };
-  // The common case of a few triangles in an uncompressed or zstd geometry section (50k
-  // one-triangle meshes), checked with what it reads held in registers; the rest one by one as
-  // above. 12 indices: first_bad_index() reads that many in place too.
-  std::vector<TinyMeshInputs::Area> areas(r.section_count());
-  for (uint32_t s = 0; s < r.section_count(); ++s)
-    if (r.entry(s).kind == uint32_t(SectionKind::kGeometry) &&
-        r.entry(s).codec != uint32_t(Codec::kDraco) && r.section_data(s) != nullptr)
-      areas[s] = {r.section_data(s), r.section_size(s)};
-  const TinyMeshInputs tiny{meshes.data, areas.data(), r.section_count(), shapes.size};
-  auto tiny_meshes = [tiny](uint32_t i, uint32_t end) {
-    while (i < end && tiny_mesh_sound(tiny, i)) ++i;
-    return i;
-  };
-  auto meshes_sound = [&](uint32_t from, uint32_t to) {
-    return fast_path_scan(tiny_meshes, one_mesh_sound, from, to);
-  };
-  first_failure(meshes.size, par, c, "mesh", meshes_sound, [&](uint32_t i, Checker& c) {
+  auto mesh_ok = [&](uint32_t i, Checker& c) {
     if (!check_mesh(i, c)) return false;
-    const uint64_t k = first_bad_index(i);
-    return k == uint64_t(meshes[i].num_triangles) * 3 ||
-           c.fail("mesh " + std::to_string(i) + ": triangle " + std::to_string(k / 3) +
-                  " has vertex index " + std::to_string(indices(i)[k]) + " (" +
-                  std::to_string(meshes[i].num_vertices) + " vertices)");
-  });
+    const uint64_t n = uint64_t(meshes[i].num_triangles) * 3;
+    const uint64_t k = first_at_or_above(indices(i), n, meshes[i].num_vertices);
+    return k == n || c.fail_with("mesh ", i, ": triangle ", k / 3, " has vertex index ",
+                                 indices(i)[k], " (", meshes[i].num_vertices, " vertices)");
+  };
+  // Every index of every mesh is read: where there are many, the meshes are checked on every
+  // thread (mesh200's 54 MB of indices took 1.4 ms on one), and the first bad one in order is
+  // then checked again here for its message.
+  uint64_t index_bytes = 0;
+  for (const MeshRecord& m : meshes) index_bytes += uint64_t(m.num_triangles) * 12;
+  if (threads == 1 || index_bytes < kParallelIndexBytes || meshes.size < 2) {
+    first_failure(meshes.size, c, mesh_ok);
+  } else {
+    std::atomic<uint32_t> first_bad{meshes.size};
+    tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<uint32_t>(0, meshes.size, 1),
+                        [&](const tbb::blocked_range<uint32_t>& range) {
+                          Checker local(path_, reader_);
+                          for (uint32_t i = range.begin(); i < range.end(); ++i) {
+                            if (i >= first_bad.load(std::memory_order_relaxed)) return;
+                            if (mesh_ok(i, local)) continue;
+                            for (uint32_t seen = first_bad.load();
+                                 i < seen && !first_bad.compare_exchange_weak(seen, i);) {
+                            }
+                            return;
+                          }
+                        });
+    });
+    if (first_bad.load() < meshes.size) mesh_ok(first_bad.load(), c);
+  }
   // A Draco section holds one mesh (ARCHIVE.md section 8): no two records may name it. Only
   // archives with Draco sections pay for the pass.
   bool any_draco = false;

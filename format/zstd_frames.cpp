@@ -3,22 +3,60 @@
 #include <algorithm>
 #include <cstring>
 
-// For zstd's buffer-less streaming (ZSTD_decompressBegin, ZSTD_decompressContinue): exported by
-// the shared library (Debian 12: 1.5.4).
-#define ZSTD_STATIC_LINKING_ONLY
-#include <zstd.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 
-#include "format/byte_shuffle.h"
 #include "format/checksum.h"
 
 namespace pbrta {
 
-namespace {
+void shuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
+  const uint64_t words = size / 4;
+  for (uint64_t w = 0; w < words; ++w)
+    for (uint64_t k = 0; k < 4; ++k) dst[k * words + w] = src[4 * w + k];
+  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
+}
 
+void unshuffle4(const uint8_t* src, uint8_t* dst, uint64_t size) {
+  const uint64_t words = size / 4;
+  const uint8_t *s0 = src, *s1 = src + words, *s2 = src + 2 * words, *s3 = src + 3 * words;
+  uint64_t w = 0;
+#if defined(__SSE2__)
+  // 16 words at a time (every x86-64 CPU has SSE2): interleave the bytes of lanes 0 and 1, and
+  // of 2 and 3, then the 16-bit pairs. Loading decodes as fast as zstd writes, this keeps up.
+  for (; w + 16 <= words; w += 16) {
+    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s0 + w));
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s1 + w));
+    const __m128i c = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s2 + w));
+    const __m128i d = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s3 + w));
+    const __m128i ab_lo = _mm_unpacklo_epi8(a, b), ab_hi = _mm_unpackhi_epi8(a, b);
+    const __m128i cd_lo = _mm_unpacklo_epi8(c, d), cd_hi = _mm_unpackhi_epi8(c, d);
+    __m128i* out = reinterpret_cast<__m128i*>(dst + 4 * w);
+    _mm_storeu_si128(out + 0, _mm_unpacklo_epi16(ab_lo, cd_lo));
+    _mm_storeu_si128(out + 1, _mm_unpackhi_epi16(ab_lo, cd_lo));
+    _mm_storeu_si128(out + 2, _mm_unpacklo_epi16(ab_hi, cd_hi));
+    _mm_storeu_si128(out + 3, _mm_unpackhi_epi16(ab_hi, cd_hi));
+  }
+#endif
+  for (; w < words; ++w) {
+    dst[4 * w] = s0[w];
+    dst[4 * w + 1] = s1[w];
+    dst[4 * w + 2] = s2[w];
+    dst[4 * w + 3] = s3[w];
+  }
+  std::memcpy(dst + 4 * words, src + 4 * words, size - 4 * words);
+}
+
+uint64_t frame_count(uint64_t raw_size, uint64_t frame_size) {
+  return raw_size / frame_size + (raw_size % frame_size != 0 ? 1 : 0);
+}
+
+namespace {
 // One encoding thread's compression context and shuffle buffer.
 struct Encoder {
   ZSTD_CCtx* cctx = nullptr;
@@ -28,16 +66,11 @@ struct Encoder {
   Encoder& operator=(const Encoder&) = delete;
   ~Encoder() { ZSTD_freeCCtx(cctx); }
 };
-
 }  // namespace
 
-uint64_t frame_count(uint64_t raw_size, uint64_t block) {
-  return raw_size / block + (raw_size % block != 0 ? 1 : 0);
-}
-
-bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t block,
-                        std::vector<uint8_t>* stored, std::string* why) {
-  const uint64_t n = frame_count(size, block);
+bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t frame_size,
+                        bool shuffle, std::vector<uint8_t>* stored, std::string* why) {
+  const uint64_t n = frame_count(size, frame_size);
   std::vector<std::vector<uint8_t>> frames(n);
   std::vector<std::string> errors(n);
   tbb::enumerable_thread_specific<Encoder> encoders;
@@ -55,14 +88,18 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t b
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_compressionLevel, level);
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_contentSizeFlag, 1);
           ZSTD_CCtx_setParameter(e.cctx, ZSTD_c_checksumFlag, 0);  // the index's XXH3 covers it
-          e.shuffled.resize(block);
+          if (shuffle) e.shuffled.resize(frame_size);
         }
         for (uint64_t k = r.begin(); k != r.end(); ++k) {
-          const uint64_t at = k * block, m = std::min(block, size - at);
-          shuffle4(raw + at, e.shuffled.data(), m);
+          const uint64_t at = k * frame_size, m = std::min(frame_size, size - at);
+          const uint8_t* src = raw + at;
+          if (shuffle) {
+            shuffle4(src, e.shuffled.data(), m);
+            src = e.shuffled.data();
+          }
           std::vector<uint8_t>& f = frames[k];
           f.resize(ZSTD_compressBound(m));
-          const size_t got = ZSTD_compress2(e.cctx, f.data(), f.size(), e.shuffled.data(), m);
+          const size_t got = ZSTD_compress2(e.cctx, f.data(), f.size(), src, m);
           if (ZSTD_isError(got)) {
             errors[k] = std::string("zstd: ") + ZSTD_getErrorName(got);
             continue;
@@ -75,36 +112,64 @@ bool encode_zstd_frames(const uint8_t* raw, uint64_t size, int level, uint64_t b
       *why = e;
       return false;
     }
-  uint64_t total = n * sizeof(FrameEntry);
+  const uint64_t index = sizeof(FrameIndexHeader) + n * sizeof(FrameEntry);
+  uint64_t total = index;
   for (const std::vector<uint8_t>& f : frames) total += f.size();
   stored->assign(total, 0);
-  uint8_t* out = stored->data() + n * sizeof(FrameEntry);
+  const FrameIndexHeader header{uint32_t(frame_size), shuffle ? uint32_t(kFrameShuffle4) : 0, 0};
+  std::memcpy(stored->data(), &header, sizeof header);
+  uint8_t* out = stored->data() + index;
   for (uint64_t k = 0; k < n; ++k) {
     FrameEntry entry{};
-    entry.stored_size = static_cast<uint32_t>(frames[k].size());  // <= compressBound(4 MiB)
+    entry.stored_size = uint32_t(frames[k].size());  // <= compressBound(16 MiB)
     entry.checksum = checksum64(frames[k].data(), frames[k].size());
-    std::memcpy(stored->data() + k * sizeof(FrameEntry), &entry, sizeof entry);
+    std::memcpy(stored->data() + sizeof header + k * sizeof(FrameEntry), &entry, sizeof entry);
     std::memcpy(out, frames[k].data(), frames[k].size());
     out += frames[k].size();
   }
   return true;
 }
 
-bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_size, uint64_t block,
-                      std::vector<FrameRef>* frames, std::string* why) {
-  const uint64_t n = frame_count(raw_size, block);
-  frames->clear();
-  // n <= 2^40 / 2^18 and sizeof(FrameEntry) = 16: no overflow.
-  uint64_t at = n * sizeof(FrameEntry);
-  if (at > stored_size) {
+bool read_frame_header(const uint8_t* stored, uint64_t stored_size, uint64_t raw_size,
+                       FrameIndex* index, std::string* why) {
+  FrameIndexHeader h;
+  if (stored_size < sizeof h) {
+    *why = "the frame index header does not fit in " + std::to_string(stored_size) + " bytes";
+    return false;
+  }
+  std::memcpy(&h, stored, sizeof h);
+  if (h.frame_size < kMinFrameSize || h.frame_size > kMaxFrameSize ||
+      (h.frame_size & (h.frame_size - 1)) != 0) {
+    *why = "frame size " + std::to_string(h.frame_size) +
+           " is not a power of two from 64 KiB to 16 MiB";
+    return false;
+  }
+  if ((h.flags & ~uint32_t(kFrameShuffle4)) != 0 || h.reserved != 0) {
+    *why = "unknown frame flags or reserved bits set";
+    return false;
+  }
+  // raw_size <= 2^40 (the reader checked it) and frame_size >= 2^16: no overflow.
+  const uint64_t n = frame_count(raw_size, h.frame_size);
+  index->frame_size = h.frame_size;
+  index->shuffled = (h.flags & kFrameShuffle4) != 0;
+  index->index_bytes = sizeof h + n * sizeof(FrameEntry);
+  index->frames.clear();
+  if (index->index_bytes > stored_size) {
     *why = "the frame index of " + std::to_string(n) + " entries does not fit in " +
            std::to_string(stored_size) + " stored bytes";
     return false;
   }
-  frames->reserve(n);
+  return true;
+}
+
+bool read_frame_entries(const uint8_t* stored, uint64_t stored_size, FrameIndex* index,
+                        std::string* why) {
+  const uint64_t n = (index->index_bytes - sizeof(FrameIndexHeader)) / sizeof(FrameEntry);
+  uint64_t at = index->index_bytes;
+  index->frames.reserve(n);
   for (uint64_t k = 0; k < n; ++k) {
     FrameEntry e;
-    std::memcpy(&e, index + k * sizeof(FrameEntry), sizeof e);
+    std::memcpy(&e, stored + sizeof(FrameIndexHeader) + k * sizeof(FrameEntry), sizeof e);
     if (e.reserved != 0) {
       *why = "frame " + std::to_string(k) + ": reserved field is not zero";
       return false;
@@ -115,7 +180,7 @@ bool read_frame_index(const uint8_t* index, uint64_t raw_size, uint64_t stored_s
              std::to_string(stored_size) + " stored bytes";
       return false;
     }
-    frames->push_back(FrameRef{at, e.stored_size, e.checksum});
+    index->frames.push_back(FrameRef{at, e.stored_size, e.checksum});
     at += e.stored_size;
   }
   if (at != stored_size) {
@@ -156,17 +221,8 @@ bool is_one_zstd_frame(const uint8_t* src, uint64_t size, uint64_t content_size,
   return true;
 }
 
-uint32_t frame_piece_count(uint64_t block_size) {
-  return static_cast<uint32_t>(frame_count(block_size, kShuffleBlock));
-}
-
-uint64_t frame_piece_end(uint32_t piece, uint64_t block_size) {
-  return std::min(uint64_t{piece + 1} * kShuffleBlock, block_size);
-}
-
-bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref,
-                           uint64_t block_size, uint8_t* scratch, std::atomic<uint64_t>* decoded,
-                           std::string* why) {
+bool decode_frame(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef& ref, uint64_t block_size,
+                  bool shuffled, uint8_t* scratch, uint8_t* dst, std::string* why) {
   if (checksum64(frame, ref.size) != ref.checksum) {
     *why = "checksum mismatch";
     return false;
@@ -174,57 +230,19 @@ bool decode_frame_shuffled(ZSTD_DCtx* dctx, const uint8_t* frame, const FrameRef
   if (!is_one_zstd_frame(frame, ref.size, block_size,
                          "the block has " + std::to_string(block_size) + " bytes", why))
     return false;
-  auto zstd_error = [&](size_t code) {
-    *why = std::string("zstd: ") + ZSTD_getErrorName(code);
+  uint8_t* out = shuffled ? scratch : dst;
+  const size_t got = ZSTD_decompressDCtx(dctx, out, block_size, frame, ref.size);
+  if (ZSTD_isError(got)) {
+    *why = std::string("zstd: ") + ZSTD_getErrorName(got);
     return false;
-  };
-  // zstd's buffer-less streaming: the same block decoder as one-shot decoding, into the same
-  // contiguous output (earlier output stays where later blocks refer to it, so there is no window
-  // buffer to copy through), but returning after each block, so the pieces decoded so far can be
-  // handed on.
-  const size_t begun = ZSTD_decompressBegin(dctx);
-  if (ZSTD_isError(begun)) return zstd_error(begun);
-  uint64_t in = 0, out = 0;
-  for (size_t need = ZSTD_nextSrcSizeToDecompress(dctx); need != 0;
-       need = ZSTD_nextSrcSizeToDecompress(dctx)) {
-    if (need > ref.size - in) {  // is_one_zstd_frame measured it, but a block may still lie
-      *why = "zstd: the frame ends inside a block";
-      return false;
-    }
-    const size_t got =
-        ZSTD_decompressContinue(dctx, scratch + out, block_size - out, frame + in, need);
-    if (ZSTD_isError(got)) return zstd_error(got);
-    in += need;
-    out += got;
-    if (got != 0) decoded->store(out, std::memory_order_release);
   }
-  if (out != block_size || in != ref.size) {
-    *why = "zstd frame decoded to " + std::to_string(out) + " bytes but the block has " +
+  if (got != block_size) {
+    *why = "zstd frame decoded to " + std::to_string(got) + " bytes but the block has " +
            std::to_string(block_size);
     return false;
   }
+  if (shuffled) unshuffle4(scratch, dst, block_size);
   return true;
-}
-
-void unshuffle_frame_piece(const uint8_t* scratch, uint8_t* dst, uint64_t block_size,
-                           uint32_t piece, const WordBound* bounds, uint64_t num_bounds,
-                           bool stream, std::vector<uint32_t>* exceeded) {
-  const uint64_t at = uint64_t{piece} * kShuffleBlock, end = frame_piece_end(piece, block_size);
-  // The bounds' parts inside this piece, relative to it. (Sorted by begin is all this needs:
-  // overlapping bounds are each checked whole.)
-  thread_local std::vector<WordBound> part;
-  thread_local std::vector<uint32_t> from;
-  part.clear();
-  from.clear();
-  for (uint64_t k = 0; k < num_bounds && bounds[k].begin < end; ++k) {
-    if (bounds[k].end <= at) continue;
-    part.push_back(WordBound{std::max(bounds[k].begin, at) - at, std::min(bounds[k].end, end) - at,
-                             bounds[k].limit, false});
-    from.push_back(static_cast<uint32_t>(k));
-  }
-  unshuffle4_block(scratch + at, dst + at, end - at, part.data(), part.size(), stream);
-  for (size_t k = 0; k < part.size(); ++k)
-    if (part[k].exceeded) exceeded->push_back(from[k]);
 }
 
 }  // namespace pbrta

@@ -1,7 +1,7 @@
 // tests/compiler/archive_info_test.cpp — pbrtc --info on a real archive: the version line, the
 // effects the header sets, the scene's counts, and one table row per section whose kind, codec
-// and count are the section table's, in columns that line up (the longest codec name,
-// zstd_shuffle4_frames, included).
+// and count are the section table's, in columns that line up (the longest codec name, draco,
+// included).
 #include <gtest/gtest.h>
 
 #include <sstream>
@@ -37,7 +37,7 @@ TEST(ArchiveInfo, ReportsTheSectionTableInAlignedColumns) {
   ASSERT_TRUE(c.ok);
   const std::string path = testing_support::scratch_dir("archive_info") + "/k.pbrta";
   ArchiveOptions opt;
-  opt.draco_bits = 12;  // so the table holds draco and zstd_shuffle4_frames sections
+  opt.draco_bits = 12;  // so the table holds draco and zstd sections
   std::string error;
   ASSERT_TRUE(write_archive(c.scene, c.files, directory_of(c.path), path, opt, nullptr, &error))
       << error;
@@ -67,7 +67,7 @@ TEST(ArchiveInfo, ReportsTheSectionTableInAlignedColumns) {
   const std::string& heads = lines[head + 1];
   const size_t count_end = end_of_word(heads, "count", 0);
   ASSERT_NE(count_end, std::string::npos) << heads;
-  bool saw_draco = false, saw_frames = false;
+  bool saw_draco = false, saw_zstd = false;
   for (uint32_t i = 0; i < r.section_count(); ++i) {
     const std::string& row = lines[head + 2 + i];
     SCOPED_TRACE(row);
@@ -75,7 +75,7 @@ TEST(ArchiveInfo, ReportsTheSectionTableInAlignedColumns) {
     const std::string kind(pbrta::section_kind_name(pbrta::SectionKind(e.kind)));
     const std::string codec(pbrta::codec_name(pbrta::Codec(e.codec)));
     saw_draco |= e.codec == uint32_t(pbrta::Codec::kDraco);
-    saw_frames |= e.codec == uint32_t(pbrta::Codec::kZstdShuffle4Frames);
+    saw_zstd |= e.codec == uint32_t(pbrta::Codec::kZstd);
     const size_t kind_end = end_of_word(row, kind, 0);
     ASSERT_NE(kind_end, std::string::npos);
     const size_t codec_end = end_of_word(row, codec, kind_end);
@@ -84,7 +84,7 @@ TEST(ArchiveInfo, ReportsTheSectionTableInAlignedColumns) {
     EXPECT_EQ(end_of_word(row, std::to_string(e.count), codec_end), count_end);
   }
   EXPECT_TRUE(saw_draco);
-  EXPECT_TRUE(saw_frames);
+  EXPECT_TRUE(saw_zstd);
   EXPECT_EQ(lines.back().find("total"), heads.find("kind"));
 }
 

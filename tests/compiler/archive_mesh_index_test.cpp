@@ -1,11 +1,9 @@
 // tests/compiler/archive_mesh_index_test.cpp — SceneArchive's check of every triangle's vertex
-// indices, which runs after the per-mesh layout checks, in chunks on several threads: a bad
-// index deep in a large mesh is found whatever the thread count, the message names the first bad
-// one in mesh order, and an earlier mesh's bad index is reported before a later mesh's bad
-// layout (the order a serial check would find them in), whether the indices are read back from
-// an uncompressed archive or checked as codec-4 frames unshuffle, and whether a mesh's indices are
-// checked as they decode (large meshes) or read back afterwards (small ones). Also: a large mesh
-// archived with zstd loads to the same arrays as the uncompressed archive.
+// indices, with each mesh's layout check: a bad index deep in a large mesh is found whatever the
+// thread count, the message names the first bad one in mesh order, and an earlier mesh's bad
+// index is reported before a later mesh's bad layout (the order a serial check finds them in),
+// whether the archive is raw (used in place) or zstd (decoded by frame). Also: a large mesh
+// archived with zstd loads to the same arrays as the raw archive.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -95,9 +93,9 @@ class MeshIndexCheck : public ::testing::Test {
     const int s = archive_.reader().find_section(pbrta::SectionKind::kMeshes);
     ASSERT_GE(s, 0);
     meshes_at_ = entry(plain_, uint32_t(s)).offset;
-    // The big mesh's geometry spans chunks of codec 5: its indices are checked chunk by chunk.
-    ASSERT_EQ(entry(plain_, archive_.meshes[0].section).codec,
-              uint32_t(pbrta::Codec::kNoneChunked));
+    // The big mesh's geometry spans two 1 MiB chunks, used in place.
+    ASSERT_EQ(entry(plain_, archive_.meshes[0].section).codec, uint32_t(pbrta::Codec::kRaw));
+    ASSERT_GT(entry(plain_, archive_.meshes[0].section).raw_size, uint64_t{1} << 20);
   }
   // File offset of mesh m's index k.
   uint64_t index_at(uint32_t m, uint64_t k) const {
@@ -117,7 +115,7 @@ class MeshIndexCheck : public ::testing::Test {
   }
 
   // As load_error, after storing every section of the (resealed) archive again with zstd, the
-  // bulk ones as codec 4: the indices are then checked as their frames unshuffle.
+  // geometry shuffled, in several frames.
   std::string load_error_zstd(std::string bytes, int threads) {
     reseal(&bytes);
     pbrta::ArchiveReader in;
@@ -128,12 +126,11 @@ class MeshIndexCheck : public ::testing::Test {
       const pbrta::SectionEntry& e = in.entry(i);
       const bool bulk = e.kind == uint32_t(pbrta::SectionKind::kGeometry);
       w.add_section(pbrta::SectionKind(e.kind), in.section_data(i), in.section_size(i), e.count,
-                    bulk ? pbrta::Codec::kZstdShuffle4Frames : pbrta::Codec::kZstd);
+                    pbrta::Codec::kZstd, bulk);
     }
     const std::string path = dir_ + "/bad.pbrta";
     EXPECT_TRUE(w.write(path, in.header().effects, 3, 2, &error)) << error;
-    EXPECT_EQ(w.table()[archive_.meshes[0].section].codec,
-              uint32_t(pbrta::Codec::kZstdShuffle4Frames));
+    EXPECT_EQ(w.table()[archive_.meshes[0].section].codec, uint32_t(pbrta::Codec::kZstd));
     pbrta::SceneArchive a;
     EXPECT_FALSE(a.load(path, threads, &error)) << "accepted";
     return error;
@@ -211,9 +208,9 @@ TEST_F(MeshIndexCheck, ZstdArchiveLoadsTheSameArrays) {
     ASSERT_TRUE(z.load(dir_ + "/z.pbrta", threads, &error)) << error;
     ASSERT_EQ(z.meshes.size, 3u);
     const pbrta::MeshRecord& m = z.meshes[0];
-    // Framed (codec 4 or, where 1 MiB frames cost little, 6), so the bounds cross frames.
-    EXPECT_NE(pbrta::frame_block(pbrta::Codec(z.reader().entry(m.section).codec)), 0u);
-    EXPECT_GT(z.reader().section_size(m.section), 4 * pbrta::kShuffleBlock);
+    // In several frames.
+    EXPECT_EQ(z.reader().entry(m.section).codec, uint32_t(pbrta::Codec::kZstd));
+    EXPECT_GT(z.reader().section_size(m.section), uint64_t{1} << 20);
     for (uint32_t k = 0; k < 3; ++k) {
       const pbrta::MeshRecord& p = archive_.meshes[k];
       ASSERT_EQ(z.meshes[k].num_triangles, p.num_triangles);

@@ -127,28 +127,6 @@ TEST(ArchiveWrite, EverySharedSceneRoundTripsThroughTheArchive) {
   EXPECT_GE(compiled, 60);
 }
 
-// The phase breakdown archive_bench --phases prints: every phase of a load is timed, and together
-// they take no longer than the load.
-TEST(ArchiveWrite, LoadPhasesAccountForTheLoad) {
-  const std::string path =
-      testing_support::shared_dir() + "/scenes/v3-killeroo-simple/killeroo-simple.pbrt";
-  CompiledScene c;
-  compile_scene(path, &c);
-  ASSERT_TRUE(c.ok) << path;
-  const std::string out = testing_support::scratch_dir("archive_phases") + "/k.pbrta";
-  write(c, path, out, true, 0);
-  pbrta::SceneArchive a;
-  pbrta::LoadPhases phases;
-  std::string error;
-  const auto start = std::chrono::steady_clock::now();
-  ASSERT_TRUE(a.load(out, 2, &error, &phases)) << error;
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  for (double t : {phases.open, phases.sections, phases.validate}) EXPECT_GT(t, 0);
-  EXPECT_LE(phases.open + phases.sections + phases.validate, wall);
-  EXPECT_EQ(a.scene().num_meshes, c.scene.meshes.size());
-}
-
 TEST(ArchiveWrite, BytesDoNotDependOnThreadsOrRuns) {
   std::string dir = testing_support::scratch_dir("archive_determinism");
   for (const char* rel : {"/scenes/v3-killeroo-simple/killeroo-simple.pbrt",

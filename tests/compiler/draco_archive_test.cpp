@@ -178,9 +178,11 @@ TEST(DracoArchive, OtherFaultsAreFoundBeforeDracoRuns) {
   pbrta::test_bytes::reseal(&bytes, draco, d.stored_size);
   EXPECT_EQ(pbrta::test_bytes::load_error(dir + "/bad.pbrta", bytes),
             prefix + label(draco) + "draco: not a Draco stream");
-  // A later section damaged too: it is the one reported, Draco having never run.
+  // A later section damaged too (in its frame index: the section's checksum): it is the one
+  // reported, Draco having never run.
   const pbrta::SectionEntry l = pbrta::test_bytes::entry_of(bytes, later);
-  bytes[l.offset + l.stored_size / 2] ^= 0x10;
+  ASSERT_EQ(l.codec, uint32_t(pbrta::Codec::kZstd));
+  bytes[l.offset + 24] ^= 0x10;
   EXPECT_EQ(pbrta::test_bytes::load_error(dir + "/bad.pbrta", bytes),
             prefix + label(later) + "checksum mismatch");
 }
@@ -274,7 +276,7 @@ void rewrite_archive(const std::string& from, const std::string& to, const Secti
       w.add_encoded_section(pbrta::SectionKind(e.kind), std::move(raw), std::move(stored), count,
                             pbrta::Codec::kDraco);
     } else {
-      w.add_section(pbrta::SectionKind(e.kind), std::move(raw), count, pbrta::Codec::kNone);
+      w.add_section(pbrta::SectionKind(e.kind), std::move(raw), count, pbrta::Codec::kRaw);
     }
   }
   ASSERT_TRUE(w.write(to, r.header().effects, 3, 1, &error)) << error;

@@ -34,16 +34,18 @@ inline std::vector<uint8_t> float_bytes(size_t bytes, uint32_t seed) {
   return v;
 }
 
-// A section to write: the codec asked for and its raw bytes.
+// A section to write: the codec asked for, its raw bytes, and whether to shuffle them.
 struct Raw {
   Codec codec;
   std::vector<uint8_t> bytes;
+  bool shuffle = false;
 };
 
 // Writes the sections (all geometry) to path and returns the file's bytes.
 inline std::string write_sections(const std::string& path, const std::vector<Raw>& sections) {
   ArchiveWriter w;
-  for (const Raw& s : sections) w.add_section(SectionKind::kGeometry, s.bytes, 1, s.codec);
+  for (const Raw& s : sections)
+    w.add_section(SectionKind::kGeometry, s.bytes, 1, s.codec, s.shuffle);
   std::string error;
   EXPECT_TRUE(w.write(path, 0, 3, 2, &error)) << error;
   return testing_support::read_file(path);
@@ -65,14 +67,13 @@ inline void reseal_table(std::string* b) {
   std::memcpy(&(*b)[0], &h, sizeof h);
 }
 
-// Section i's checksum set to XXH3 of its first `covered` stored bytes (all of them for codecs
-// 0-3 and 5, the frame index for codec 4; by 1 MiB chunks for codec 5), then the table's and the
-// header's checksums.
+// Section i's checksum set to XXH3 of its first `covered` stored bytes (by 1 MiB chunks for raw;
+// for zstd, covered is its frame index), then the table's and the header's checksums.
 inline void reseal(std::string* b, uint32_t i, uint64_t covered) {
   SectionEntry e = entry_of(*b, i);
   const auto* at = reinterpret_cast<const uint8_t*>(b->data()) + e.offset;
-  e.checksum = e.codec == uint32_t(Codec::kNoneChunked) ? fuzz_support::chunked_xxh3(at, covered)
-                                                        : XXH3_64bits(at, covered);
+  e.checksum = e.codec == uint32_t(Codec::kRaw) ? fuzz_support::chunked_xxh3(at, covered)
+                                                : XXH3_64bits(at, covered);
   std::memcpy(&(*b)[sizeof(Header) + i * sizeof(SectionEntry)], &e, sizeof e);
   reseal_table(b);
 }

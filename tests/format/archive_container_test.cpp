@@ -66,27 +66,28 @@ struct TestSection {
   Codec codec;
   uint32_t count;
   std::vector<uint8_t> raw;
+  bool shuffle = false;
 };
 
 // About ten sections of every codec, including empty ones and sizes that are not multiples of 4.
 std::vector<TestSection> mixed_sections() {
   std::vector<TestSection> s;
-  s.push_back({SectionKind::kScene, Codec::kNone, 1, random_bytes(112, 1)});
+  s.push_back({SectionKind::kScene, Codec::kRaw, 1, random_bytes(112, 1)});
   s.push_back({SectionKind::kStrings, Codec::kZstd, 40, text_bytes(3000)});
-  s.push_back({SectionKind::kEntities, Codec::kNone, 20, random_bytes(16 * 20, 2)});
-  s.push_back({SectionKind::kValues, Codec::kZstdShuffle4, 50, random_bytes(16 * 50, 3)});
+  s.push_back({SectionKind::kEntities, Codec::kRaw, 20, random_bytes(16 * 20, 2)});
+  s.push_back({SectionKind::kValues, Codec::kZstd, 50, random_bytes(16 * 50, 3), true});
   s.push_back({SectionKind::kTransforms, Codec::kZstd, 3, float_bytes(272 * 3 / 4, 4)});
-  s.push_back({SectionKind::kGeometry, Codec::kZstdShuffle4, 1500, float_bytes(1500, 5)});
-  s.push_back({SectionKind::kTexels, Codec::kZstdShuffle4, 1003, random_bytes(1003, 6)});
-  s.push_back({SectionKind::kMeshes, Codec::kNone, 0, {}});
+  s.push_back({SectionKind::kGeometry, Codec::kZstd, 1500, float_bytes(1500, 5), true});
+  s.push_back({SectionKind::kTexels, Codec::kZstd, 1003, random_bytes(1003, 6), true});
+  s.push_back({SectionKind::kMeshes, Codec::kRaw, 0, {}});
   s.push_back({SectionKind::kProvenance, Codec::kZstd, 0, {}});
-  s.push_back({SectionKind::kImages, Codec::kNone, 13, random_bytes(13, 7)});
-  s.push_back({SectionKind::kObjectShapes, Codec::kZstdShuffle4, 2, random_bytes(3, 8)});
+  s.push_back({SectionKind::kImages, Codec::kRaw, 13, random_bytes(13, 7)});
+  s.push_back({SectionKind::kObjectShapes, Codec::kZstd, 2, random_bytes(3, 8), true});
   return s;
 }
 
 void add_all(ArchiveWriter* w, const std::vector<TestSection>& sections) {
-  for (const TestSection& s : sections) w->add_section(s.kind, s.raw, s.count, s.codec);
+  for (const TestSection& s : sections) w->add_section(s.kind, s.raw, s.count, s.codec, s.shuffle);
 }
 
 // Writes sections to path; returns the file's bytes.
@@ -120,25 +121,18 @@ void put_entry(std::string* b, uint32_t i, const SectionEntry& e) {
 }
 
 // After an edit: recomputes the checksums so that the reader's deeper checks are reached. With
-// sections, also every section's checksum whose bytes lie inside the image.
+// sections, also every section's (and frame's) checksum whose bytes lie inside the image.
 void reseal(std::string* b, bool sections = false) {
+  if (sections) {
+    std::vector<uint8_t> v(b->begin(), b->end());
+    fuzz_support::reseal(&v);
+    b->assign(v.begin(), v.end());
+    return;
+  }
   Header h = get_header(*b);
   const uint64_t table_bytes = uint64_t{h.section_count} * sizeof(SectionEntry);
-  if (sizeof(Header) + table_bytes <= b->size()) {
-    if (sections) {
-      for (uint32_t i = 0; i < h.section_count; ++i) {
-        SectionEntry e = get_entry(*b, i);
-        if (e.offset <= b->size() && e.stored_size <= b->size() - e.offset) {
-          const auto* at = reinterpret_cast<const uint8_t*>(b->data()) + e.offset;
-          e.checksum = e.codec == uint32_t(Codec::kNoneChunked)
-                           ? fuzz_support::chunked_xxh3(at, e.stored_size)
-                           : XXH3_64bits(at, e.stored_size);
-          put_entry(b, i, e);
-        }
-      }
-    }
+  if (sizeof(Header) + table_bytes <= b->size())
     h.table_checksum = XXH3_64bits(b->data() + sizeof(Header), table_bytes);
-  }
   h.header_checksum = XXH3_64bits(&h, offsetof(Header, header_checksum));
   put_header(b, h);
 }
@@ -218,7 +212,7 @@ TEST(ArchiveContainer, RoundTripsEveryCodec) {
     }
     for (uint64_t k = 0; k < kSectionPadding; ++k)
       EXPECT_EQ(data[r.section_size(i) + k], 0) << "padding byte " << k;
-    if (sections[i].codec == Codec::kNone) {
+    if (sections[i].codec == Codec::kRaw) {
       // In place: the bytes `offset` before the data are the start of the mapped file.
       EXPECT_TRUE(r.in_place(i));
       EXPECT_EQ(std::memcmp(data - e.offset, kMagic, sizeof(kMagic)), 0);
@@ -229,40 +223,35 @@ TEST(ArchiveContainer, RoundTripsEveryCodec) {
   EXPECT_EQ(r.find_section(SectionKind::kGeometry), 5);
   EXPECT_EQ(r.find_section(SectionKind::kLights), -1);
 
-  // The stored form of a shuffle4 section is zstd of the Blosc-style shuffle, tail unshuffled.
+  // The stored form of a shuffled zstd section (ARCHIVE.md section 5): the index header (4 MiB
+  // frames, shuffled), one entry, then one zstd frame of the Blosc-style shuffle, tail as is.
   const SectionEntry texels = r.entry(6);
+  FrameIndexHeader fh;
+  std::memcpy(&fh, bytes.data() + texels.offset, sizeof fh);
+  EXPECT_EQ(fh.frame_size, 4u << 20);
+  EXPECT_EQ(fh.flags, uint32_t(kFrameShuffle4));
+  EXPECT_EQ(fh.reserved, 0u);
+  FrameEntry fe;
+  std::memcpy(&fe, bytes.data() + texels.offset + 16, sizeof fe);
+  EXPECT_EQ(32 + fe.stored_size, texels.stored_size);
+  EXPECT_EQ(texels.checksum, XXH3_64bits(bytes.data() + texels.offset, 32));
+  EXPECT_EQ(fe.checksum, XXH3_64bits(bytes.data() + texels.offset + 32, fe.stored_size));
   std::vector<uint8_t> decoded(texels.raw_size);
-  ASSERT_EQ(ZSTD_decompress(decoded.data(), decoded.size(), bytes.data() + texels.offset,
-                            texels.stored_size),
+  ASSERT_EQ(ZSTD_decompress(decoded.data(), decoded.size(), bytes.data() + texels.offset + 32,
+                            fe.stored_size),
             texels.raw_size);
   const std::vector<uint8_t>& raw = sections[6].raw;
-  for (size_t at = 0; at < raw.size(); at += kShuffleBlock) {
-    const size_t n = std::min<size_t>(kShuffleBlock, raw.size() - at);
-    const size_t words = n / 4;
-    for (size_t w4 = 0; w4 < words; ++w4)
-      for (size_t b = 0; b < 4; ++b) ASSERT_EQ(decoded[at + b * words + w4], raw[at + 4 * w4 + b]);
-    for (size_t t = 4 * words; t < n; ++t) ASSERT_EQ(decoded[at + t], raw[at + t]);
-  }
-}
-
-// A section of several shuffle blocks with a ragged end decodes to the same bytes.
-TEST(ArchiveContainer, ShuffleWorksBlockByBlock) {
-  const std::string dir = testing_support::scratch_dir("ArchiveContainer.ShuffleBlocks");
-  std::vector<uint8_t> raw = random_bytes(2 * kShuffleBlock + 1003, 11);
-  ArchiveWriter w;
-  w.add_section(SectionKind::kGeometry, raw, 1, Codec::kZstdShuffle4);
-  std::string error;
-  ASSERT_TRUE(w.write(dir + "/s.pbrta", 0, 3, 2, &error)) << error;
-  std::vector<uint8_t> shuffled(raw.size());
-  shuffle4(raw.data(), shuffled.data(), raw.size());
-  // The third block's byte-1 plane starts a quarter of the way into that block.
-  const size_t third = 2 * kShuffleBlock, words = 1003 / 4;
-  EXPECT_EQ(shuffled[third + words], raw[third + 1]);
-  EXPECT_EQ(shuffled[third + 1002], raw[third + 1002]);  // the tail byte stays
-  ArchiveReader r;
-  ASSERT_TRUE(r.open(dir + "/s.pbrta", &error) && r.load_sections(2, &error)) << error;
-  ASSERT_EQ(r.section_size(0), raw.size());
-  EXPECT_EQ(0, std::memcmp(r.section_data(0), raw.data(), raw.size()));
+  const size_t words = raw.size() / 4;
+  for (size_t w4 = 0; w4 < words; ++w4)
+    for (size_t b = 0; b < 4; ++b) ASSERT_EQ(decoded[b * words + w4], raw[4 * w4 + b]);
+  for (size_t t = 4 * words; t < raw.size(); ++t) ASSERT_EQ(decoded[t], raw[t]);
+  // A raw section's checksum is over its 1 MiB chunks' checksums.
+  const SectionEntry scene = r.entry(0);
+  EXPECT_EQ(
+      scene.checksum,
+      XXH3_64bits(
+          std::vector<uint64_t>{XXH3_64bits(bytes.data() + scene.offset, scene.stored_size)}.data(),
+          8));
 }
 
 TEST(ArchiveContainer, TypedArrays) {
@@ -294,7 +283,7 @@ TEST(ArchiveContainer, TypedArrays) {
 TEST(ArchiveContainer, DeterministicAcrossThreadCounts) {
   const std::string dir = testing_support::scratch_dir("ArchiveContainer.Deterministic");
   std::vector<TestSection> sections = mixed_sections();
-  sections.push_back({SectionKind::kGeometry, Codec::kZstdShuffle4, 0, float_bytes(300000, 9)});
+  sections.push_back({SectionKind::kGeometry, Codec::kZstd, 0, float_bytes(300000, 9), true});
   sections.push_back({SectionKind::kTexels, Codec::kZstd, 0, random_bytes(200000, 10)});
   ArchiveWriter w;
   add_all(&w, sections);
@@ -321,10 +310,10 @@ TEST(ArchiveContainer, ReportsCompressionProgress) {
   std::vector<TestSection> sections = mixed_sections();
   for (uint32_t k = 0; k < 6; ++k)
     sections.push_back(
-        {SectionKind::kGeometry, Codec::kZstdShuffle4, 0, float_bytes(100000 + 1000 * k, 20 + k)});
+        {SectionKind::kGeometry, Codec::kZstd, 0, float_bytes(100000 + 1000 * k, 20 + k), true});
   uint64_t expected_total = 0;
   for (const TestSection& t : sections)
-    if (t.codec != Codec::kNone) expected_total += t.raw.size();
+    if (t.codec != Codec::kRaw) expected_total += t.raw.size();
   ArchiveWriter w;
   add_all(&w, sections);
   for (int threads : {1, 2}) {
@@ -358,7 +347,7 @@ TEST(ArchiveContainer, ReportsCompressionProgress) {
   }
   // Nothing to compress, no report.
   ArchiveWriter none;
-  none.add_section(SectionKind::kScene, random_bytes(112, 1), 1, Codec::kNone);
+  none.add_section(SectionKind::kScene, random_bytes(112, 1), 1, Codec::kRaw);
   int reports = 0;
   std::string error;
   ASSERT_TRUE(none.write(dir + "/n.pbrta", 0, 3, 2, &error, [&](uint64_t, uint64_t) { ++reports; }))
@@ -385,7 +374,6 @@ TEST(ArchiveContainer, LayoutAlignmentAndPadding) {
     EXPECT_EQ(e.offset % 16, 0u);
     EXPECT_GE(e.offset, prev_end);
     EXPECT_EQ(e.reserved, 0u);
-    EXPECT_EQ(e.checksum, XXH3_64bits(b.data() + e.offset, e.stored_size));
     for (uint64_t k = prev_end; k < e.offset; ++k) EXPECT_EQ(b[k], 0) << "byte " << k;
     prev_end = e.offset + e.stored_size + kSectionPadding;
     ASSERT_LE(prev_end, b.size());
@@ -458,7 +446,7 @@ TEST(ArchiveContainer, FailedWriteLeavesTheOldFileIntact) {
   // A write that runs out of room halfway: limit the file size (root ignores permissions, but
   // not RLIMIT_FSIZE) and ignore SIGXFSZ so write() fails with EFBIG instead.
   ArchiveWriter w;
-  w.add_section(SectionKind::kTexels, random_bytes(1 << 20, 11), 0, Codec::kNone);
+  w.add_section(SectionKind::kTexels, random_bytes(1 << 20, 11), 0, Codec::kRaw);
   rlimit old_limit;
   ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
   auto old_handler = signal(SIGXFSZ, SIG_IGN);
@@ -533,22 +521,20 @@ TEST_F(ArchiveRejection, HeaderChecksum) {
   EXPECT_EQ(reject(b), p() + ": header checksum mismatch");
 }
 
-TEST_F(ArchiveRejection, NewerMajorVersion) {
+TEST_F(ArchiveRejection, VersionsOtherThanTwoAreRefused) {
   std::string b = good_;
   Header h = get_header(b);
-  h.major = 2;
+  h.major = 3;
   h.minor = 0;
   put_header(&b, h);
   reseal(&b);
   EXPECT_EQ(reject(b),
-            p() + ": archive version 2.0; this reader supports 1.x — update pbrtc/pbrtrun");
-  h.major = 0;
-  h.minor = 3;
+            p() + ": archive version 3.0: this reader reads 2.x; update pbrtc and pbrtrun");
+  h.major = 1;
+  h.minor = 4;
   put_header(&b, h);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() +
-                           ": archive version 0.3; this reader supports 1.x — recompile the "
-                           "scene with this pbrtc");
+  EXPECT_EQ(reject(b), p() + ": archive version 1.4: recompile with this pbrtc");
 }
 
 TEST_F(ArchiveRejection, NewerMinorVersionIsAcceptedAndUnknownKindsSkipped) {
@@ -573,7 +559,7 @@ TEST_F(ArchiveRejection, NewerMinorVersionIsAcceptedAndUnknownKindsSkipped) {
   h.minor = kMinorVersion;
   put_header(&b, h);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": section 'kind 99' (#4): unknown section kind 99 in a version 1." +
+  EXPECT_EQ(reject(b), p() + ": section 'kind 99' (#4): unknown section kind 99 in a version 2." +
                            std::to_string(kMinorVersion) + " archive");
 }
 
@@ -693,13 +679,13 @@ TEST_F(ArchiveRejection, UnknownCodecAndReservedEntryField) {
   reseal(&b);
   EXPECT_EQ(reject(b), p() + ": section 'values' (#3): unknown codec " +
                            std::to_string(uint32_t(Codec::kCount)));
-  e.codec = 3;  // Draco: geometry sections of one mesh only
+  e.codec = 2;  // Draco: geometry sections of one mesh only
   put_entry(&b, 3, e);
   reseal(&b);
   EXPECT_EQ(reject(b), p() +
                            ": section 'values' (#3): codec 'draco' is only for a geometry "
                            "section of one mesh (this one is kind 4 with count 50)");
-  e.codec = 2;
+  e.codec = 1;
   e.reserved = 7;
   put_entry(&b, 3, e);
   reseal(&b);
@@ -722,13 +708,13 @@ TEST_F(ArchiveRejection, RawSizeBounds) {
                            ": section 'strings' (#1): raw size 1099511627777 exceeds the limit "
                            "of 2^40 bytes");
   b = good_;
-  e = get_entry(b, 2);  // kNone entities
+  e = get_entry(b, 2);  // raw entities
   e.raw_size += 1;
   put_entry(&b, 2, e);
   reseal(&b);
   EXPECT_EQ(reject(b), p() +
                            ": section 'entities' (#2): raw size 321 differs from stored size 320 "
-                           "with codec 'none'");
+                           "with codec 'raw'");
 }
 
 TEST_F(ArchiveRejection, FileSizeField) {
@@ -760,41 +746,63 @@ TEST_F(ArchiveRejection, NonzeroPadding) {
 }
 
 TEST_F(ArchiveRejection, SectionChecksumMismatch) {
+  // A raw section's chunks, a zstd section's index (header and entry: its first 32 bytes) or one
+  // of its frames.
   for (uint32_t i : {0u, 1u, 3u, 6u}) {
-    std::string b = good_;
-    const SectionEntry e = get_entry(b, i);
-    b[e.offset + e.stored_size / 2] ^= 0x20;
-    EXPECT_EQ(reject(b), p() + ": section '" +
-                             std::string(section_kind_name(static_cast<SectionKind>(e.kind))) +
-                             "' (#" + std::to_string(i) + "): checksum mismatch");
+    for (const bool in_index : {false, true}) {
+      std::string b = good_;
+      const SectionEntry e = get_entry(b, i);
+      const bool zstd = e.codec == uint32_t(Codec::kZstd);
+      if (in_index && !zstd) continue;
+      const uint64_t at = in_index ? 20 : e.stored_size / 2;
+      ASSERT_TRUE(!zstd || in_index || at >= 32) << "the middle of a frame";
+      b[e.offset + at] ^= 0x20;
+      EXPECT_EQ(reject(b), p() + ": section '" +
+                               std::string(section_kind_name(static_cast<SectionKind>(e.kind))) +
+                               "' (#" + std::to_string(i) + "): " +
+                               (zstd && !in_index ? "frame 0: " : "") + "checksum mismatch");
+    }
   }
 }
 
 TEST_F(ArchiveRejection, ZstdContentSizeLies) {
   std::string b = good_;
-  SectionEntry e = get_entry(b, 5);  // geometry, shuffle4
+  SectionEntry e = get_entry(b, 5);  // geometry, shuffled
   const uint64_t real = e.raw_size;
   e.raw_size = real + 4;
   put_entry(&b, 5, e);
   reseal(&b);
-  EXPECT_EQ(reject(b), p() + ": section 'geometry' (#5): zstd frame content size is " +
-                           std::to_string(real) + " but the table says " +
-                           std::to_string(real + 4));
+  EXPECT_EQ(reject(b), p() + ": section 'geometry' (#5): frame 0: zstd frame content size is " +
+                           std::to_string(real) + " but the block has " + std::to_string(real + 4) +
+                           " bytes");
 }
 
 TEST_F(ArchiveRejection, ZstdDamage) {
-  // A damaged frame whose checksum was forged: zstd itself must refuse it.
+  // A damaged frame whose checksum was forged: zstd itself must refuse it. (The frame follows
+  // the index: a 16-byte header and one 16-byte entry.)
   std::string b = good_;
   const SectionEntry e = get_entry(b, 1);
-  for (uint64_t k = e.offset + 8; k < e.offset + e.stored_size; ++k) b[k] = static_cast<char>(0xFF);
+  const uint64_t frame = e.offset + 32;
+  for (uint64_t k = frame + 8; k < e.offset + e.stored_size; ++k) b[k] = static_cast<char>(0xFF);
   reseal(&b, true);
   const std::string message = reject(b);
-  EXPECT_EQ(message.rfind(p() + ": section 'strings' (#1): zstd: ", 0), 0u) << message;
+  EXPECT_EQ(message.rfind(p() + ": section 'strings' (#1): frame 0: zstd: ", 0), 0u) << message;
   // Not a frame at all.
   b = good_;
-  std::memset(b.data() + e.offset, 0x42, 8);
+  std::memset(b.data() + frame, 0x42, 8);
   reseal(&b, true);
-  EXPECT_EQ(reject(b), p() + ": section 'strings' (#1): zstd: not a zstd frame");
+  EXPECT_EQ(reject(b), p() + ": section 'strings' (#1): frame 0: zstd: not a zstd frame");
+  // A malformed index header: a frame size that is not a power of two, an unknown flag.
+  for (const uint32_t word : {1u, 2u}) {
+    b = good_;
+    const uint32_t bad = word == 1 ? (3u << 20) : 6u;  // the flags word: bit 1 is unknown
+    std::memcpy(b.data() + e.offset + 4 * (word - 1), &bad, 4);
+    reseal(&b, true);
+    EXPECT_EQ(reject(b), p() + ": section 'strings' (#1): " +
+                             (word == 1 ? "frame size 3145728 is not a power of two from 64 KiB "
+                                          "to 16 MiB"
+                                        : "unknown frame flags or reserved bits set"));
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -912,37 +920,38 @@ TEST(ArchiveContainer, WritesFuzzSeeds) {
     add_all(&w, mixed_sections());
     ASSERT_TRUE(w.write((dir / "mixed.pbrta").string(), kEffectAll, 3, 1, &error)) << error;
   }
-  {
+  {  // shuffled frames, at zstd's highest level
     ArchiveWriter w;
-    w.add_section(SectionKind::kScene, random_bytes(112, 21), 1, Codec::kNone);
-    w.add_section(SectionKind::kGeometry, float_bytes(2000, 22), 2000, Codec::kZstdShuffle4);
+    w.add_section(SectionKind::kScene, random_bytes(112, 21), 1, Codec::kRaw);
+    w.add_section(SectionKind::kGeometry, float_bytes(2000, 22), 2000, Codec::kZstd, true);
     ASSERT_TRUE(w.write((dir / "geometry.pbrta").string(), 0, 19, 1, &error)) << error;
   }
-  {
+  {  // plain frames
     ArchiveWriter w;
     w.add_section(SectionKind::kStrings, text_bytes(100), 3, Codec::kZstd);
     ASSERT_TRUE(w.write((dir / "strings.pbrta").string(), 0, 1, 1, &error)) << error;
   }
-  {  // codec 4: a frame index and one small frame
+  {  // raw: one chunk, and an empty section (no chunk)
     ArchiveWriter w;
-    w.add_section(SectionKind::kGeometry, float_bytes(2000, 23), 2000, Codec::kZstdShuffle4Frames);
-    ASSERT_TRUE(w.write((dir / "frames.pbrta").string(), 0, 3, 1, &error)) << error;
-  }
-  {  // codec 5, asked for outright: one chunk, and an empty section (no chunk)
-    ArchiveWriter w;
-    w.add_section(SectionKind::kGeometry, float_bytes(3000, 24), 3000, Codec::kNoneChunked);
-    w.add_section(SectionKind::kTexels, {}, 0, Codec::kNoneChunked);
+    w.add_section(SectionKind::kGeometry, float_bytes(3000, 24), 3000, Codec::kRaw);
+    w.add_section(SectionKind::kTexels, {}, 0, Codec::kRaw);
     ASSERT_TRUE(w.write((dir / "chunked.pbrta").string(), 0, 3, 1, &error)) << error;
   }
-  {  // codec 6: two 1 MiB frames (of a repeating pattern, so the seed stays small)
-    std::vector<uint8_t> pattern((uint64_t{1} << 20) + 4096);
+  {  // several frames (of a repeating pattern, so the seed stays small)
+    std::vector<uint8_t> pattern((uint64_t{8} << 20) + 4096);
     for (size_t k = 0; k < pattern.size(); ++k) pattern[k] = uint8_t(k % 12 < 4 ? k / 12 : 0);
     ArchiveWriter w;
-    w.add_section(SectionKind::kGeometry, pattern, 1, Codec::kZstdShuffle4Frames1M);
-    ASSERT_TRUE(w.write((dir / "frames1m.pbrta").string(), 0, 3, 1, &error)) << error;
+    w.add_section(SectionKind::kGeometry, pattern, 1, Codec::kZstd, true);
+    ASSERT_TRUE(w.write((dir / "frames.pbrta").string(), 0, 3, 1, &error)) << error;
+    FrameIndexHeader fh;
+    std::memcpy(
+        &fh,
+        testing_support::read_file((dir / "frames.pbrta").string()).data() + w.table()[0].offset,
+        sizeof fh);
+    EXPECT_GE(pattern.size() / fh.frame_size, 2u);
   }
-  for (const char* name : {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "frames.pbrta",
-                           "chunked.pbrta", "frames1m.pbrta"}) {
+  for (const char* name :
+       {"mixed.pbrta", "geometry.pbrta", "strings.pbrta", "chunked.pbrta", "frames.pbrta"}) {
     ArchiveReader r;
     EXPECT_TRUE(r.open((dir / name).string(), &error) && r.load_sections(1, &error)) << error;
     EXPECT_LE(fs::file_size(dir / name), 65536u);

@@ -1,13 +1,13 @@
-// tests/format/archive_load_test.cpp — ArchiveReader::load_sections' fast path: shuffled
-// sections streamed block by block through a scratch block and unshuffled into one shared decode
-// buffer, every section read through the mapping. Sections of every size around the shuffle block
-// decode to their exact bytes on 1 and 2 threads, from a file and from memory; damage in the
-// middle of a large section is still caught (checksum, or zstd itself when the checksum is
-// forged); a file that shrinks between open and load gives an error, not SIGBUS, whether its
-// sections are compressed or used in place. The loading threads' zstd
-// contexts and buffers are kept across loads for the whole process: readers on several threads at
-// once, loading archives whose frames need larger and smaller buffers in turn, still decode
-// exactly. A small file is read whole at open instead of mapped.
+// tests/format/archive_load_test.cpp — ArchiveReader::load_sections: raw sections checksummed by
+// chunk and used in place, zstd sections decoded frame by frame (shuffled ones through a scratch
+// block) into one shared decode buffer, every section read through the mapping. Sections of every
+// size around the frame sizes decode to their exact bytes on 1 and 2 threads, from a file and from
+// memory; damage in the middle of a large section is still caught (checksum, or zstd itself when
+// the checksum is forged); a file that shrinks between open and load gives an error, not SIGBUS,
+// whether its sections are compressed or used in place. The loading threads' zstd contexts and
+// scratch blocks are kept across loads: readers on several threads at once, loading archives
+// whose frames need larger and smaller blocks in turn, still decode exactly. A small file is read
+// whole at open instead of mapped.
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -54,24 +54,21 @@ void expect_decodes(const ArchiveReader& r, const std::vector<Raw>& sections) {
   }
 }
 
-// Recomputes section i's checksum and the table and header checksums after an edit.
-void forge_checksums(std::string* b, uint32_t i) {
-  test_bytes::reseal(b, i, test_bytes::entry_of(*b, i).stored_size);
-}
-
-// Every size around the shuffle block (empty, shorter than a word, ragged tails, exactly one
-// block, one byte more, several blocks), shuffled and plain, in one archive: each decodes to its
-// bytes, in its own slot of the shared buffer, whatever the thread count and source.
-TEST(ArchiveLoad, EverySizeAroundTheShuffleBlockDecodesExactly) {
+// Every size around the frame sizes (empty, shorter than a word, ragged tails, exactly one 1 MiB
+// frame, one byte more, several 4 MiB frames), shuffled and plain, and raw around the 1 MiB chunk,
+// in one archive: each decodes to its bytes, in its own slot of the shared buffer, whatever the
+// thread count and source.
+TEST(ArchiveLoad, EverySizeAroundTheFramesDecodesExactly) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.EverySize");
-  const uint64_t b = kShuffleBlock;
+  const uint64_t m = uint64_t{1} << 20;
   std::vector<Raw> sections;
   uint32_t seed = 1;
-  for (uint64_t size : {uint64_t{0}, uint64_t{1}, uint64_t{3}, uint64_t{4}, uint64_t{7}, b - 1, b,
-                        b + 1, b + 4, 3 * b + 7, 5 * b})
-    sections.push_back({Codec::kZstdShuffle4, float_bytes(size, seed++)});
-  sections.push_back({Codec::kZstd, float_bytes(2 * b + 5, seed++)});
-  sections.push_back({Codec::kNone, float_bytes(b + 3, seed++)});
+  for (uint64_t size : {uint64_t{0}, uint64_t{1}, uint64_t{3}, uint64_t{4}, uint64_t{7}, m - 1, m,
+                        m + 1, m + 4, 4 * m + 7, 9 * m})
+    sections.push_back({Codec::kZstd, float_bytes(size, seed++), true});
+  sections.push_back({Codec::kZstd, float_bytes(2 * m + 5, seed++)});
+  for (uint64_t size : {uint64_t{0}, uint64_t{5}, m, m + 3, 3 * m})
+    sections.push_back({Codec::kRaw, float_bytes(size, seed++)});
   const std::string path = dir + "/sizes.pbrta";
   const std::string bytes = write_sections(path, sections);
   for (int threads : {1, 2}) {
@@ -93,10 +90,10 @@ TEST(ArchiveLoad, EverySizeAroundTheShuffleBlockDecodesExactly) {
 // exactly, whatever buffers the threads kept from the loads before.
 TEST(ArchiveLoad, ConcurrentReadersShareTheKeptDecodersSafely) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.ConcurrentReaders");
-  const std::vector<Raw> big = {{Codec::kZstdShuffle4Frames, float_bytes(9 * (1u << 20) + 12, 1)},
+  const std::vector<Raw> big = {{Codec::kZstd, float_bytes(9 * (1u << 20) + 12, 1), true},
                                 {Codec::kZstd, float_bytes(300 * 1024, 2)}};
-  const std::vector<Raw> small = {{Codec::kZstdShuffle4Frames, float_bytes(700 * 1024, 3)},
-                                  {Codec::kZstdShuffle4Frames, float_bytes(2 * (1u << 20), 4)}};
+  const std::vector<Raw> small = {{Codec::kZstd, float_bytes(700 * 1024, 3), true},
+                                  {Codec::kZstd, float_bytes(2 * (1u << 20), 4), true}};
   const std::string paths[2] = {dir + "/big.pbrta", dir + "/small.pbrta"};
   write_sections(paths[0], big);
   write_sections(paths[1], small);
@@ -118,9 +115,9 @@ TEST(ArchiveLoad, ConcurrentReadersShareTheKeptDecodersSafely) {
 // afterwards does not reach the sections, which load from the copy (uncompressed ones in place).
 TEST(ArchiveLoad, SmallFileIsReadWholeAtOpen) {
   const std::string dir = testing_support::scratch_dir("ArchiveLoad.SmallFile");
-  const std::vector<Raw> sections = {{Codec::kNone, float_bytes(3000, 1)},
+  const std::vector<Raw> sections = {{Codec::kRaw, float_bytes(3000, 1)},
                                      {Codec::kZstd, float_bytes(2000, 2)},
-                                     {Codec::kZstdShuffle4Frames, float_bytes(1000, 3)}};
+                                     {Codec::kZstd, float_bytes(1000, 3), true}};
   const std::string path = dir + "/small.pbrta";
   const std::string bytes = write_sections(path, sections);
   ASSERT_LE(bytes.size(), 64u << 10);
@@ -140,8 +137,8 @@ std::pair<std::vector<Raw>, std::vector<Raw>> mid_sized_sections() {
   std::mt19937 rng(5);
   std::vector<uint8_t> noise(600u << 10);
   for (uint8_t& b : noise) b = static_cast<uint8_t>(rng());
-  return {{{Codec::kNone, float_bytes(800u << 10, 1)}, {Codec::kZstd, noise}},
-          {{Codec::kNone, float_bytes(400u << 10, 2)}, {Codec::kZstd, noise}}};
+  return {{{Codec::kRaw, float_bytes(800u << 10, 1)}, {Codec::kZstd, noise}},
+          {{Codec::kRaw, float_bytes(400u << 10, 2)}, {Codec::kZstd, noise}}};
 }
 
 // A file over 64 KiB is mapped, whatever its codecs, and a mapped file can see itself shrink: cut
@@ -191,7 +188,7 @@ TEST(ArchiveLoad, MidSizedFileWithADamagedTableIsRefused) {
   };
   EXPECT_EQ(load_error(path, with_codec(mostly_none, 0, Codec::kZstd)),
             path + ": section table checksum mismatch");
-  EXPECT_EQ(load_error(path, with_codec(mostly_zstd, 1, Codec::kNone)),
+  EXPECT_EQ(load_error(path, with_codec(mostly_zstd, 1, Codec::kRaw)),
             path + ": section table checksum mismatch");
   // A section count far beyond the file: refused by the header's checksum.
   std::string b = mostly_none;
@@ -199,12 +196,12 @@ TEST(ArchiveLoad, MidSizedFileWithADamagedTableIsRefused) {
   std::memcpy(&b[offsetof(Header, section_count)], &count, sizeof count);
   EXPECT_EQ(load_error(path, b), path + ": header checksum mismatch");
   // Resealed, so the table agrees with its checksum: refused by the layout checks.
-  b = with_codec(mostly_zstd, 1, Codec::kNone);
+  b = with_codec(mostly_zstd, 1, Codec::kRaw);
   test_bytes::reseal(&b, 1, entry_of(b, 1).stored_size);
   const SectionEntry e = entry_of(b, 1);
   EXPECT_EQ(load_error(path, b), path + ": section 'geometry' (#1): raw size " +
                                      std::to_string(e.raw_size) + " differs from stored size " +
-                                     std::to_string(e.stored_size) + " with codec 'none'");
+                                     std::to_string(e.stored_size) + " with codec 'raw'");
 }
 
 // The padding of a mapped file is checked through the mapping after an uncompressed section and
@@ -234,7 +231,7 @@ class ArchiveLoadDamage : public ::testing::Test {
         std::string("ArchiveLoad.") +
         ::testing::UnitTest::GetInstance()->current_test_info()->name());
     sections_ = {{Codec::kZstd, float_bytes(1000, 7)},
-                 {Codec::kZstdShuffle4, float_bytes(6 * kShuffleBlock + 10, 8)}};
+                 {Codec::kZstd, float_bytes((6u << 20) + 10, 8), true}};
     good_ = write_sections(dir_ + "/good.pbrta", sections_);
   }
   std::string dir_;
@@ -242,24 +239,48 @@ class ArchiveLoadDamage : public ::testing::Test {
   std::string good_;
 };
 
-// One flipped bit halfway through a section of several blocks.
-TEST_F(ArchiveLoadDamage, FlippedByteInTheMiddleFailsItsChecksum) {
+// The frame of a zstd section whose stored bytes hold byte `at` (ARCHIVE.md section 5: a 16-byte
+// header, one 16-byte entry per frame, then the frames in order).
+uint32_t frame_holding(const std::string& b, const SectionEntry& e, uint64_t at) {
+  FrameIndexHeader h;
+  std::memcpy(&h, b.data() + e.offset, sizeof h);
+  const uint64_t n = (e.raw_size + h.frame_size - 1) / h.frame_size;
+  uint64_t end = sizeof h + n * sizeof(FrameEntry);
+  for (uint32_t k = 0; k < n; ++k) {
+    FrameEntry f;
+    std::memcpy(&f, b.data() + e.offset + sizeof h + k * sizeof f, sizeof f);
+    end += f.stored_size;
+    if (at < end) return k;
+  }
+  return uint32_t(n);
+}
+
+// One flipped bit halfway through a section of several frames: that frame's checksum.
+TEST_F(ArchiveLoadDamage, FlippedByteInTheMiddleFailsItsFramesChecksum) {
   const SectionEntry e = entry_of(good_, 1);
   ASSERT_GT(e.stored_size, 1000u);
   std::string b = good_;
   b[e.offset + e.stored_size / 2] ^= 0x04;
-  EXPECT_EQ(load_error(dir_ + "/t.pbrta", b),
-            dir_ + "/t.pbrta: section 'geometry' (#1): checksum mismatch");
+  const uint32_t frame = frame_holding(good_, e, e.stored_size / 2);
+  EXPECT_GT(frame, 0u);
+  EXPECT_EQ(load_error(dir_ + "/t.pbrta", b), dir_ + "/t.pbrta: section 'geometry' (#1): frame " +
+                                                  std::to_string(frame) + ": checksum mismatch");
 }
 
-// Damage whose checksum was forged: the streaming decoder must stop with an error, mid-section.
+// Damage whose checksum was forged, from the start of a frame in the middle of the section (its
+// frame and block headers): zstd itself must refuse that frame.
 TEST_F(ArchiveLoadDamage, ForgedDamageInTheMiddleIsRefusedByZstd) {
   const SectionEntry e = entry_of(good_, 1);
+  const uint32_t frame = frame_holding(good_, e, e.stored_size / 2);
+  uint64_t at = e.stored_size / 2;
+  while (at > 0 && frame_holding(good_, e, at - 1) == frame) --at;  // that frame's first byte
   std::string b = good_;
-  std::memset(&b[e.offset + e.stored_size / 2], 0xFF, 512);
-  forge_checksums(&b, 1);
-  const std::string message = load_error(dir_ + "/t.pbrta", b);
-  const std::string prefix = dir_ + "/t.pbrta: section 'geometry' (#1): zstd";
+  std::memset(&b[e.offset + at + 4], 0xFF, 512);
+  std::vector<uint8_t> v(b.begin(), b.end());
+  fuzz_support::reseal(&v);
+  const std::string message = load_error(dir_ + "/t.pbrta", std::string(v.begin(), v.end()));
+  const std::string prefix =
+      dir_ + "/t.pbrta: section 'geometry' (#1): frame " + std::to_string(frame) + ": zstd";
   EXPECT_EQ(message.rfind(prefix, 0), 0u) << message;
 }
 
@@ -284,8 +305,8 @@ TEST_F(ArchiveLoadDamage, FileThatShrinksAfterOpenIsAnError) {
 // refused when the load starts, before its checksum would read a lost page (SIGBUS).
 TEST_F(ArchiveLoadDamage, UncompressedFileThatShrinksAfterOpenIsAnError) {
   const std::string path = dir_ + "/shrinks-none.pbrta";
-  write_sections(path, {{Codec::kNone, float_bytes(1000, 1)},
-                        {Codec::kNone, float_bytes(2 * kShuffleBlock, 2)}});
+  write_sections(path,
+                 {{Codec::kRaw, float_bytes(1000, 1)}, {Codec::kRaw, float_bytes(2u << 20, 2)}});
   ArchiveReader r;
   std::string error;
   ASSERT_TRUE(r.open(path, &error)) << error;

@@ -9,7 +9,7 @@ spec, and this reader fails on what pbrtc writes.
 usage: read_pbrta.py --schema PATH/SCHEMA.md [--pbrtc PATH/pbrtc] [-v] FILE.pbrta...
 
 Each file is read and checked as ARCHIVE.md section 10 asks, except that
-Draco streams (codec 3) are not decoded: only their checksum, framing and the
+Draco streams (codec 2) are not decoded: only their checksum, framing and the
 array layout their mesh records claim are checked. With --pbrtc, the output
 of `pbrtc --info FILE` must equal the summary this reader prints in the same
 layout (a unified diff shows any difference). -v prints that summary and the
@@ -90,17 +90,16 @@ def zstd_frame(data, size):
     return out if size else bytearray()
 
 
-SHUFFLE_BLOCK, MiB = 262144, 1 << 20
+MiB = 1 << 20
 
 
 def unshuffle(src, dst, at):
-    """Undo codecs 2, 4 and 6's byte shuffle of src (blocks counted from its start) into dst[at:]."""
-    for p in range(0, len(src), SHUFFLE_BLOCK):
-        m = min(SHUFFLE_BLOCK, len(src) - p)
-        n = m // 4
-        for k in range(4):
-            dst[at + p + k: at + p + 4 * n: 4] = src[p + k * n: p + (k + 1) * n]
-        dst[at + p + 4 * n: at + p + m] = src[p + 4 * n: p + m]
+    """Undo the byte shuffle of one block (src, a whole frame's bytes) into dst[at:] (section 5)."""
+    m = len(src)
+    n = m // 4
+    for k in range(4):
+        dst[at + k: at + 4 * n: 4] = src[k * n: (k + 1) * n]
+    dst[at + 4 * n: at + m] = src[4 * n: m]
 
 
 # ---------------------------------------------------------------- schema
@@ -152,7 +151,7 @@ def parse_default(p):
 
 NONE = 0xFFFFFFFF
 MAGIC = b"\x89PBRTA\r\n"
-MAJOR, MINOR = 1, 4
+MAJOR, MINOR = 2, 0
 KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "transforms",
          7: "textures", 8: "materials", 9: "media", 10: "lights", 11: "area_lights",
          12: "shapes", 13: "objects", 14: "object_shapes", 15: "instances", 16: "meshes",
@@ -160,10 +159,9 @@ KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "t
 SCENE, STRINGS, ENTITIES, VALUES, WORDS, TRANSFORMS, TEXTURES, MATERIALS, MEDIA, LIGHTS, \
     AREA_LIGHTS, SHAPES, OBJECTS, OBJECT_SHAPES, INSTANCES, MESHES, GEOMETRY, IMAGES, \
     TEXELS, PROVENANCE = range(1, 21)
-CODECS = {0: "none", 1: "zstd", 2: "zstd_shuffle4", 3: "draco", 4: "zstd_shuffle4_frames",
-          5: "none_chunked", 6: "zstd_shuffle4_frames_1m"}
-FRAME_SIZES = {4: 4 * (1 << 20), 6: 1 << 20}  # codecs 4 and 6's blocks (section 5)
-CHUNK_SIZE = 1 << 20  # codec 5's checksum chunks (section 5)
+RAW, ZSTD, DRACO = 0, 1, 2
+CODECS = {RAW: "raw", ZSTD: "zstd", DRACO: "draco"}
+CHUNK_SIZE = 1 << 20  # a raw section's checksum chunks (section 5)
 # Array kinds: SceneRecord count field, element size and record layout (section 6 and 7).
 ARRAYS = {ENTITIES: ("num_entities", 16, "<BBHIII"), VALUES: ("num_values", 16, "<4I"),
           WORDS: ("num_words", 4, "<I"), TRANSFORMS: ("num_transforms", 272, "<34d"),
@@ -216,7 +214,8 @@ class Section:
          self.count, self.reserved) = fields
         self.name = KINDS.get(self.kind, f"kind {self.kind}")
         self.raw = None  # decoded bytes; stays None for Draco
-        self.frames = []
+        self.frames = []  # zstd: each frame's stored size
+        self.frame_size, self.shuffled = 0, False
 
 
 class Archive:
@@ -254,7 +253,7 @@ class Archive:
             self.fail("header checksum mismatch")
         # self.effects is the writer's summary: not cross-checked against the records (section 4).
         if self.major != MAJOR:
-            self.fail(f"unsupported major version {self.major}")
+            self.fail(f"archive version {self.major}.{self.minor}: this reader reads {MAJOR}.x")
         if flags or reserved:
             self.fail("header reserved fields not 0")
         if table_offset != 64:
@@ -274,16 +273,16 @@ class Archive:
                 self.fail(f"unknown section kind {s.kind}", s)
             if s.codec not in CODECS:
                 self.fail(f"unknown codec {s.codec}", s)
-            if s.codec == 3 and (s.kind != GEOMETRY or s.count != 1):
-                self.fail("codec 3 (Draco) is only for a geometry section of count 1", s)
+            if s.codec == DRACO and (s.kind != GEOMETRY or s.count != 1):
+                self.fail("codec 2 (Draco) is only for a geometry section of count 1", s)
             if s.offset % 16 or s.offset < table_end:
                 self.fail(f"offset {s.offset} not a multiple of 16 after the table", s)
             if s.offset + s.stored_size + 16 > file_size:
                 self.fail("section and its 16 bytes of padding run past the end of the file", s)
-            if s.codec in (0, 5) and s.raw_size != s.stored_size:
-                self.fail(f"codec {s.codec} but raw_size != stored_size", s)
+            if s.codec == RAW and s.raw_size != s.stored_size:
+                self.fail("raw codec but raw_size != stored_size", s)
             # Bound what decoding allocates (section 5) before allocating anything.
-            if s.raw_size > 1 << 40 or (s.codec not in (0, 5) and s.raw_size > 32768 * s.stored_size + MiB):
+            if s.raw_size > 1 << 40 or (s.codec != RAW and s.raw_size > 32768 * s.stored_size + MiB):
                 self.fail(f"raw_size {s.raw_size} too large for stored_size {s.stored_size}", s)
             if s.kind in KINDS and s.kind not in (GEOMETRY, TEXELS) and s.kind in self.sections_of:
                 self.fail(f"second '{s.name}' section", s)
@@ -304,9 +303,9 @@ class Archive:
     def decode(self, s):
         stored = memoryview(self.data)[s.offset:s.offset + s.stored_size]
         try:
-            if s.codec in FRAME_SIZES:
-                s.raw = self.decode_frames(s, stored, FRAME_SIZES[s.codec])
-            elif s.codec == 5:
+            if s.codec == ZSTD:
+                s.raw = self.decode_frames(s, stored)
+            elif s.codec == RAW:
                 chunks = b"".join(struct.pack("<Q", xxh3(stored[at:at + CHUNK_SIZE]))
                                   for at in range(0, s.stored_size, CHUNK_SIZE))
                 if xxh3(chunks) != s.checksum:
@@ -314,28 +313,30 @@ class Archive:
                 s.raw = bytes(stored)
             elif xxh3(stored) != s.checksum:
                 self.fail("checksum mismatch", s)
-            elif s.codec == 0:
-                s.raw = bytes(stored)
-            elif s.codec == 1:
-                s.raw = zstd_frame(stored, s.raw_size)
-            elif s.codec == 2:
-                s.raw = bytearray(s.raw_size)
-                unshuffle(zstd_frame(stored, s.raw_size), s.raw, 0)
             elif bytes(stored[:7]) != b"DRACO\x02\x02":  # magic and bitstream version
                 self.fail("not a Draco 2.2 stream", s)
         except CodecError as e:
             self.fail(str(e), s)
 
-    def decode_frames(self, s, stored, frame_size):
+    def decode_frames(self, s, stored):
+        if s.stored_size < 16:
+            self.fail("no frame index header", s)
+        frame_size, flags, reserved = struct.unpack_from("<IIQ", stored, 0)
+        if frame_size < 64 * 1024 or frame_size > 16 * MiB or frame_size & (frame_size - 1):
+            self.fail(f"frame size {frame_size} is not a power of two from 64 KiB to 16 MiB", s)
+        if flags & ~1 or reserved:
+            self.fail("unknown frame flags or reserved bits set", s)
         n = -(-s.raw_size // frame_size)
-        if 16 * n > s.stored_size:
+        index = 16 + 16 * n
+        if index > s.stored_size:
             self.fail(f"frame index of {n} entries does not fit", s)
-        if xxh3(stored[:16 * n]) != s.checksum:
+        if xxh3(stored[:index]) != s.checksum:
             self.fail("checksum mismatch (frame index)", s)
+        s.frame_size, s.shuffled = frame_size, bool(flags & 1)
         raw = bytearray(s.raw_size)
-        pos = 16 * n
+        pos = index
         for i in range(n):
-            size, reserved, checksum = struct.unpack_from("<IIQ", stored, 16 * i)
+            size, reserved, checksum = struct.unpack_from("<IIQ", stored, 16 + 16 * i)
             if reserved or size < 1 or pos + size > s.stored_size:
                 self.fail(f"frame {i}: bad index entry", s)
             frame = stored[pos:pos + size]
@@ -343,7 +344,10 @@ class Archive:
                 self.fail(f"frame {i}: checksum mismatch", s)
             try:
                 block = zstd_frame(frame, min(frame_size, s.raw_size - i * frame_size))
-                unshuffle(block, raw, i * frame_size)
+                if s.shuffled:
+                    unshuffle(block, raw, i * frame_size)
+                else:
+                    raw[i * frame_size:i * frame_size + len(block)] = block
             except CodecError as e:
                 self.fail(f"frame {i}: {e}", s)
             s.frames.append(size)
@@ -437,9 +441,8 @@ class Archive:
             if cat >= len(schema.types) or typ >= len(schema.types[cat]):
                 self.fail(f"entity {i}: unknown category {cat} type {typ}", ENTITIES)
             known = len(schema.types[cat][typ][1])
-            # Same minor: exactly the schema's parameters; newer may append, older lacks some.
-            if (self.minor == MINOR and count != known or self.minor > MINOR and count < known
-                    or self.minor < MINOR and count > known):
+            # Same minor: exactly the schema's parameters; a newer minor may append some.
+            if self.minor == MINOR and count != known or self.minor > MINOR and count < known:
                 self.fail(f"entity {i}: {count} values for {known} parameters", ENTITIES)
             if first + count > n_values:
                 self.fail(f"entity {i}: values {first}..{first + count} out of range ({n_values})", ENTITIES)
@@ -583,11 +586,11 @@ class Archive:
                 if offset % 16 or end > g.raw_size:
                     self.fail(f"mesh {i}: {field} [{offset}, {end}) misaligned or outside "
                               f"section #{g.index} ({g.raw_size} bytes)", MESHES)
-                if g.codec == 3:
+                if g.codec == DRACO:
                     if field == "tangents" or offset != align16(layout_end):
                         self.fail(f"mesh {i}: {field} at {offset} breaks the Draco layout", MESHES)
                     layout_end = end
-            if g.codec == 3:
+            if g.codec == DRACO:
                 if layout_end != g.raw_size:
                     self.fail(f"raw_size {g.raw_size} but mesh {i}'s arrays end at {layout_end}", g)
                 if m.section in draco_owner:
@@ -750,15 +753,15 @@ class Archive:
                f"  entities {n['num_entities']}, values {n['num_values']}, "
                f"transforms {n['num_transforms']}, strings {n['num_strings']}",
                "  sections:",
-               f"  {'#':>5}  {'kind':<14} {'codec':<23} {'count':>8} {'raw':>12} {'stored':>12} {'ratio':>7}"]
+               f"  {'#':>5}  {'kind':<14} {'codec':<5} {'count':>8} {'raw':>12} {'stored':>12} {'ratio':>7}"]
         raw = sum(s.raw_size for s in self.sections)
         stored = sum(s.stored_size for s in self.sections)
         ratio = lambda st, r: f"{100.0 * st / r:.1f}%" if r else "-"
         for s in self.sections:
-            out.append(f"  {s.index:>5}  {KINDS.get(s.kind, 'unknown'):<14} {CODECS[s.codec]:<23} {s.count:>8}"
+            out.append(f"  {s.index:>5}  {KINDS.get(s.kind, 'unknown'):<14} {CODECS[s.codec]:<5} {s.count:>8}"
                        f" {fmt_size(s.raw_size):>12} {fmt_size(s.stored_size):>12}"
                        f" {ratio(s.stored_size, s.raw_size):>7}")
-        out.append(f"  {'':>5}  {'total':<14} {'':<23} {'':>8} {fmt_size(raw):>12} {fmt_size(stored):>12}"
+        out.append(f"  {'':>5}  {'total':<14} {'':<5} {'':>8} {fmt_size(raw):>12} {fmt_size(stored):>12}"
                    f" {ratio(stored, raw):>7}")
         return out
 
@@ -809,10 +812,11 @@ class Archive:
                 out.append(f"  ... {len(records) - limit} more {name} records")
 
         for s in self.sections:
-            if s.codec in FRAME_SIZES:
-                out.append(f"  section #{s.index} {s.name}: {len(s.frames)} frames of {s.frames[:4]}"
-                           f"{' ...' if len(s.frames) > 4 else ''} bytes")
-            elif s.codec == 3:
+            if s.codec == ZSTD:
+                out.append(f"  section #{s.index} {s.name}: zstd, {len(s.frames)} frames of "
+                           f"{s.frame_size} bytes, {'shuffled' if s.shuffled else 'plain'}, stored "
+                           f"in {s.frames[:4]}{' ...' if len(s.frames) > 4 else ''} bytes")
+            elif s.codec == DRACO:
                 out.append(f"  section #{s.index} {s.name}: Draco stream, not decoded")
         for field in ("camera", "film", "sampler", "integrator", "filter", "accelerator"):
             out.append(f"  {field}: {self.describe(self.scene[field])}{self.where(self.scene[field])}")

@@ -1,10 +1,9 @@
-// tests/format/chunked_checksum_test.cpp — codec 5: uncompressed sections checksummed by 1 MiB
-// chunks (ARCHIVE.md, section 5). The writer stores a section asked for uncompressed as codec 0
-// up to one chunk and as codec 5 above, with the checksum the spec defines (computed here from
-// XXH3 directly, not with the reader's code); both load in place on 1 and 2 threads, from a
+// tests/format/raw_codec_test.cpp — the raw codec: sections stored as they are, checksummed by
+// 1 MiB chunks (ARCHIVE.md, section 5), with the checksum the spec defines (computed here from
+// XXH3 directly, not with the reader's code); they load in place on 1 and 2 threads, from a
 // mapped file and from memory. Damage in any chunk, chunks swapped, a whole-section XXH3 where
 // the chunked one belongs, and a raw size that differs from the stored size are all refused
-// with the section named; an empty or one-chunk codec-5 section is valid.
+// with the section named; an empty or one-chunk section is valid.
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
@@ -64,7 +63,7 @@ void expect_loads_in_place(const std::string& path, const std::string& bytes,
         if (!raw.empty()) {
           EXPECT_EQ(std::memcmp(data, raw.data(), raw.size()), 0);
         }
-        if (!stores_raw(static_cast<Codec>(r->entry(i).codec))) continue;
+        if (r->entry(i).codec != uint32_t(Codec::kRaw)) continue;
         EXPECT_TRUE(r->in_place(i));
         if (r == &from_memory) {
           EXPECT_EQ(data, stored_of(bytes, r->entry(i)));  // not a copy
@@ -74,30 +73,26 @@ void expect_loads_in_place(const std::string& path, const std::string& bytes,
   }
 }
 
-// Raw for uncompressed, a section of at most one chunk is codec 0 and a larger one codec 5,
-// whose checksum is the spec's: XXH3 of its chunks' XXH3 values in order. Both load in place.
-TEST(ChunkedChecksum, UncompressedSectionsOverAChunkAreChecksummedByChunk) {
-  const std::string dir = testing_support::scratch_dir("ChunkedChecksum.OverAChunk");
-  const std::vector<Raw> sections = {{Codec::kNone, float_bytes(0, 1)},
-                                     {Codec::kNone, float_bytes(kMiB, 2)},
-                                     {Codec::kNone, float_bytes(kMiB + 1, 3)},
+// Whatever its size, a raw section's checksum is the spec's: XXH3 of its chunks' XXH3 values in
+// order (never the whole section's XXH3). Each loads in place.
+TEST(RawCodec, SectionsAreChecksummedByChunk) {
+  const std::string dir = testing_support::scratch_dir("RawCodec.ByChunk");
+  const std::vector<Raw> sections = {{Codec::kRaw, float_bytes(0, 1)},
+                                     {Codec::kRaw, float_bytes(kMiB, 2)},
+                                     {Codec::kRaw, float_bytes(kMiB + 1, 3)},
                                      {Codec::kZstd, float_bytes(5000, 4)},
-                                     {Codec::kNone, float_bytes(3 * kMiB + 5, 5)}};
-  const Codec expected[] = {Codec::kNone, Codec::kNone, Codec::kNoneChunked, Codec::kZstd,
-                            Codec::kNoneChunked};
+                                     {Codec::kRaw, float_bytes(3 * kMiB + 5, 5)}};
   const std::string path = dir + "/a.pbrta";
   const std::string bytes = write_sections(path, sections);
   for (uint32_t i = 0; i < sections.size(); ++i) {
     SCOPED_TRACE("section " + std::to_string(i));
     const SectionEntry e = entry_of(bytes, i);
-    ASSERT_EQ(e.codec, uint32_t(expected[i]));
-    if (expected[i] == Codec::kZstd) continue;
+    ASSERT_EQ(e.codec, uint32_t(sections[i].codec));
+    if (sections[i].codec == Codec::kZstd) continue;
     EXPECT_EQ(e.stored_size, e.raw_size);
     const uint8_t* stored = stored_of(bytes, e);
-    EXPECT_EQ(e.checksum, expected[i] == Codec::kNone
-                              ? XXH3_64bits(stored, e.stored_size)
-                              : fuzz_support::chunked_xxh3(stored, e.stored_size));
-    if (expected[i] == Codec::kNoneChunked) {  // and not the whole section's XXH3
+    EXPECT_EQ(e.checksum, fuzz_support::chunked_xxh3(stored, e.stored_size));
+    if (e.stored_size > 0) {  // no chunks: XXH3 of nothing, either way
       EXPECT_NE(e.checksum, XXH3_64bits(stored, e.stored_size));
     }
   }
@@ -107,14 +102,14 @@ TEST(ChunkedChecksum, UncompressedSectionsOverAChunkAreChecksummedByChunk) {
 // A flipped byte at the start of the first chunk, inside a middle one, or at the end of the
 // short last one; two whole chunks swapped; the whole-section XXH3 codec 0 would store: each is
 // a checksum mismatch in that section, on 2 threads from the file and on 1 from memory.
-TEST(ChunkedChecksum, DamageInAnyChunkIsRefused) {
-  const std::string dir = testing_support::scratch_dir("ChunkedChecksum.Damage");
+TEST(RawCodec, DamageInAnyChunkIsRefused) {
+  const std::string dir = testing_support::scratch_dir("RawCodec.Damage");
   const std::string path = dir + "/bad.pbrta";
   const std::string good = write_sections(
       dir + "/good.pbrta",
-      {{Codec::kZstd, float_bytes(3000, 1)}, {Codec::kNone, float_bytes(3 * kMiB + 5, 2)}});
+      {{Codec::kZstd, float_bytes(3000, 1)}, {Codec::kRaw, float_bytes(3 * kMiB + 5, 2)}});
   const SectionEntry e = entry_of(good, 1);
-  ASSERT_EQ(e.codec, uint32_t(Codec::kNoneChunked));
+  ASSERT_EQ(e.codec, uint32_t(Codec::kRaw));
   ASSERT_EQ(load_error(path, good), "");
   const std::string mismatch = path + ": section 'geometry' (#1): checksum mismatch";
   for (uint64_t at : {uint64_t{0}, kMiB + kMiB / 2, e.stored_size - 1}) {
@@ -132,33 +127,34 @@ TEST(ChunkedChecksum, DamageInAnyChunkIsRefused) {
       mismatch);
 }
 
-// Codec 5 stores the raw bytes: a table that says otherwise is refused before anything is read.
-TEST(ChunkedChecksum, RawSizeMustEqualStoredSize) {
-  const std::string dir = testing_support::scratch_dir("ChunkedChecksum.Sizes");
+// A raw section stores the raw bytes: a table that says otherwise is refused before anything is
+// read.
+TEST(RawCodec, RawSizeMustEqualStoredSize) {
+  const std::string dir = testing_support::scratch_dir("RawCodec.Sizes");
   const std::string path = dir + "/bad.pbrta";
-  std::string b = write_sections(dir + "/good.pbrta", {{Codec::kNone, float_bytes(2 * kMiB, 1)}});
+  std::string b = write_sections(dir + "/good.pbrta", {{Codec::kRaw, float_bytes(2 * kMiB, 1)}});
   SectionEntry e = entry_of(b, 0);
-  ASSERT_EQ(e.codec, uint32_t(Codec::kNoneChunked));
+  ASSERT_EQ(e.codec, uint32_t(Codec::kRaw));
   e.raw_size -= 16;
   std::memcpy(&b[sizeof(Header)], &e, sizeof e);
   test_bytes::reseal_table(&b);
   EXPECT_EQ(load_error(path, b), path + ": section 'geometry' (#0): raw size " +
                                      std::to_string(e.raw_size) + " differs from stored size " +
-                                     std::to_string(e.stored_size) + " with codec 'none_chunked'");
+                                     std::to_string(e.stored_size) + " with codec 'raw'");
 }
 
-// Codec 5 asked for outright: an empty section (whose checksum is XXH3 of no bytes: there are no
-// chunk checksums) and sections of less than a chunk and of exactly one are valid and load in
-// place; a wrong checksum on the empty one is still a mismatch.
-TEST(ChunkedChecksum, EmptyAndOneChunkSectionsAreValid) {
-  const std::string dir = testing_support::scratch_dir("ChunkedChecksum.Small");
-  const std::vector<Raw> sections = {{Codec::kNoneChunked, float_bytes(0, 1)},
-                                     {Codec::kNoneChunked, float_bytes(100, 2)},
-                                     {Codec::kNoneChunked, float_bytes(kMiB, 3)}};
+// An empty section (whose checksum is XXH3 of no bytes: there are no chunk checksums) and
+// sections of less than a chunk and of exactly one are valid and load in place; a wrong checksum
+// on the empty one is still a mismatch.
+TEST(RawCodec, EmptyAndOneChunkSectionsAreValid) {
+  const std::string dir = testing_support::scratch_dir("RawCodec.Small");
+  const std::vector<Raw> sections = {{Codec::kRaw, float_bytes(0, 1)},
+                                     {Codec::kRaw, float_bytes(100, 2)},
+                                     {Codec::kRaw, float_bytes(kMiB, 3)}};
   const std::string path = dir + "/a.pbrta";
   const std::string bytes = write_sections(path, sections);
   for (uint32_t i = 0; i < sections.size(); ++i)
-    ASSERT_EQ(entry_of(bytes, i).codec, uint32_t(Codec::kNoneChunked));
+    ASSERT_EQ(entry_of(bytes, i).codec, uint32_t(Codec::kRaw));
   EXPECT_EQ(entry_of(bytes, 0).checksum, XXH3_64bits(nullptr, 0));
   const SectionEntry one = entry_of(bytes, 1);
   const uint64_t one_sum = XXH3_64bits(stored_of(bytes, one), one.stored_size);
