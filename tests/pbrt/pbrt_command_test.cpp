@@ -5,10 +5,13 @@
 // a PLY mesh and an imagemap texture, so editing each kind of input can be checked.
 // Each test has its own XDG_CACHE_HOME, so caches never leak between tests.
 #include <gtest/gtest.h>
+#include <xxhash.h>
 
 #include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -17,6 +20,7 @@
 
 #include "command_runner.h"
 #include "compiler/archive_dump.h"
+#include "format/archive.h"
 #include "format/mesh_arrays.h"
 #include "format/ply_writer.h"
 #include "runtime/film/image_io.h"
@@ -267,6 +271,33 @@ TEST(PbrtCommand, CorruptEntryIsDetectedAndRebuilt) {
   Outcome third = run_in(dir, pbrt() + " --stats --quiet scene.pbrt --outfile c.exr", "third");
   EXPECT_NE(third.err.find("cache: hit"), std::string::npos) << third.err;
   EXPECT_EQ(cached_archives(dir).size(), 1u);
+}
+
+// An entry whose archive says version 1.4 (what a pbrt of archive 1.x wrote; entries are keyed by
+// the archive version, so only a hand-copied one is ever found): recompiled, same image.
+TEST(PbrtCommand, OutdatedEntryIsRecompiled) {
+  std::string dir = make_scene("outdated");
+  ASSERT_EQ(run_in(dir, pbrt() + " --quiet scene.pbrt --outfile a.exr", "first").status, 0);
+  std::vector<fs::path> archives = cached_archives(dir);
+  ASSERT_EQ(archives.size(), 1u);
+  {
+    std::string b = testing_support::read_file(archives[0].string());
+    pbrta::Header h;
+    std::memcpy(&h, b.data(), sizeof h);
+    h.major = 1;
+    h.minor = 4;
+    h.header_checksum = XXH3_64bits(&h, offsetof(pbrta::Header, header_checksum));
+    std::memcpy(b.data(), &h, sizeof h);
+    testing_support::write_file(archives[0].string(), b);
+  }
+  Outcome second = run_in(dir, pbrt() + " --stats scene.pbrt --outfile b.exr", "second");
+  ASSERT_EQ(second.status, 0) << second.err;
+  EXPECT_NE(second.err.find("cache: rebuilt (outdated)"), std::string::npos) << second.err;
+  EXPECT_NE(second.err.find("archive version 1.4: recompile with this pbrtc"), std::string::npos)
+      << second.err;
+  EXPECT_TRUE(same_pixels(dir + "/a.exr", dir + "/b.exr"));
+  Outcome third = run_in(dir, pbrt() + " --stats --quiet scene.pbrt --outfile c.exr", "third");
+  EXPECT_NE(third.err.find("cache: hit"), std::string::npos) << third.err;
 }
 
 TEST(PbrtCommand, ConcurrentRunsOfOneSceneBothSucceed) {

@@ -54,6 +54,8 @@ const char* outcome_name(CacheOutcome o) {
       return "miss";
     case CacheOutcome::kRebuilt:
       return "rebuilt (corrupt)";
+    case CacheOutcome::kOutdated:
+      return "rebuilt (outdated)";
     case CacheOutcome::kBypassed:
       return "bypassed (--no-cache)";
   }
@@ -112,11 +114,13 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
         stats->archive_path = path;
         return archive;
       }
+      // The reader's words for an archive of another major version (format/archive_reader.cpp).
+      const bool outdated = error.find(": archive version ") != std::string::npos;
       if (!quiet)
-        std::cerr << "pbrt: cache entry " << path << " is corrupt (" << error
-                  << "); deleted, recompiling\n";
+        std::cerr << "pbrt: cache entry " << path << (outdated ? " is outdated (" : " is corrupt (")
+                  << error << "); deleted, recompiling\n";
       cache->discard(key, path);
-      stats->outcome = CacheOutcome::kRebuilt;
+      stats->outcome = outdated ? CacheOutcome::kOutdated : CacheOutcome::kRebuilt;
       archive = std::make_unique<pbrta::SceneArchive>();
     }
   }

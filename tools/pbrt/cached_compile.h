@@ -1,12 +1,13 @@
 // tools/pbrt/cached_compile.h — a scene's archive, from the cache or freshly compiled.
 //
 // With a cache: look the scene up (tools/pbrt/cache.h) and load the archive found; if
-// it fails to load (checksums, validation) the entry is deleted, the scene recompiled
-// and the outcome is kRebuilt. On a miss the scene is compiled to a temporary file in
-// the cache, moved into place, loaded, and the cache evicted down to its cap. Without a
-// cache the archive is compiled to a temporary file that is deleted once loaded (the
-// loaded archive maps it, so it stays readable until the SceneArchive dies).
-// Returns null after printing why on stderr (compile errors as "file:line:col: error:").
+// it fails to load the entry is deleted, the scene recompiled and the outcome is kRebuilt
+// (checksums, validation) or kOutdated (an archive version this pbrtc does not read: entries are
+// keyed by the archive version, so only an entry edited or copied in by hand gets there). On a miss
+// the scene is compiled to a temporary file in the cache, moved into place, loaded, and the cache
+// evicted down to its cap. Without a cache the archive is compiled to a temporary file that is
+// deleted once loaded (the loaded archive maps it, so it stays readable until the SceneArchive
+// dies). Returns null after printing why on stderr (compile errors as "file:line:col: error:").
 #pragma once
 
 #include <memory>
@@ -18,8 +19,9 @@
 
 namespace pbrt_tool {
 
-enum class CacheOutcome { kHit, kMiss, kRebuilt, kBypassed };
-const char* outcome_name(CacheOutcome o);  // "hit", "miss", "rebuilt (corrupt)", "bypassed"
+enum class CacheOutcome { kHit, kMiss, kRebuilt, kOutdated, kBypassed };
+// "hit", "miss", "rebuilt (corrupt)", "rebuilt (outdated)", "bypassed"
+const char* outcome_name(CacheOutcome o);
 
 struct ObtainStats {
   CacheOutcome outcome = CacheOutcome::kBypassed;

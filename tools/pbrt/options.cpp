@@ -211,7 +211,7 @@ Options of this pbrt (scenes are compiled once, then rendered from the cache):
   --seed <num>         Seed for every random choice (same seed, same image).
   --preview <file.png> Also write an sRGB PNG preview of the image.
   --stats              Print whether the compiled scene came from the cache
-                       (cache: hit, miss or rebuilt (corrupt)) and render
+                       (cache: hit, miss, rebuilt (corrupt or outdated)) and render
                        statistics.
   --cache-size <size>  Cap the compiled-scene cache at this size, in MiB or
                        with a unit (K, M, G, T). Default: 4G. The cache is in
