@@ -2,7 +2,7 @@
 //
 // Draco compresses a triangle mesh lossily: positions, normals and texture coordinates are
 // quantized to a grid of 2^bits - 1 steps over their bounding box, and the default (edgebreaker)
-// encoding reorders vertices and faces. pbrtc uses it for codec-3 geometry sections
+// encoding reorders vertices and faces. pbrtc uses it for draco geometry sections
 // (format/ARCHIVE.md section 5), the archive reader to decode them, and `plymesh` shapes may name
 // a .drc file; future mesh tools share it.
 //
@@ -145,7 +145,7 @@ double draco_max_displacement(const MeshArrays& original, const MeshArrays& deco
 // The layout of a geometry section holding one mesh (ARCHIVE.md section 8): from r's
 // num_vertices, num_triangles and flags, sets r's array offsets (positions at 0, then normals,
 // tangents, uv, indices and face indices as present, each 16-byte aligned) and returns the
-// section's raw size. A codec-3 section decodes to exactly this layout.
+// section's raw size. A draco section decodes to exactly this layout.
 uint64_t single_mesh_layout(MeshRecord* r);
 
 // A decoded mesh's MeshRecord fields (counts, flags, offsets by single_mesh_layout) and its
@@ -153,7 +153,7 @@ uint64_t single_mesh_layout(MeshRecord* r);
 // section's raw size.
 void draco_geometry_section(const DecodedMesh& mesh, MeshRecord* r, std::vector<uint8_t>* raw);
 
-// Decodes a codec-3 geometry section's stored bytes into dst, which has room for raw_size
+// Decodes a draco geometry section's stored bytes into dst, which has room for raw_size
 // bytes: the layout single_mesh_layout gives for the decoded mesh, which must be raw_size bytes
 // long. The vertex and triangle limits follow from raw_size. counts[0] and counts[1] receive the
 // decoded vertex and triangle counts, for the reader to hold the mesh's record to.

@@ -149,10 +149,9 @@ TEST_F(MeshIndexCheck, BadIndexDeepInALargeMeshIsFoundOnAnyThreadCount) {
   // In the second chunk (index 280001 of 301056), then also one in the first: the first wins.
   std::string b = plain_;
   set_u32(&b, index_at(0, 280001), kBigVertices);
-  // Uncompressed (checked after reading), and as codec 4 (checked as the frames unshuffle: the
-  // big mesh's indices span several shuffle blocks).
+  // Raw (used in place), and zstd (the big mesh's indices span two frames).
   for (bool zstd : {false, true}) {
-    SCOPED_TRACE(zstd ? "codec 4" : "uncompressed");
+    SCOPED_TRACE(zstd ? "zstd" : "raw");
     auto error_of = [&](const std::string& bytes, int threads) {
       return zstd ? load_error_zstd(bytes, threads) : load_error(bytes, threads);
     };

@@ -1,4 +1,4 @@
-// tests/format/draco_codec_test.cpp — the Draco wrapper (format/draco_codec.h) and codec-3
+// tests/format/draco_codec_test.cpp — the Draco wrapper (format/draco_codec.h) and draco
 // geometry sections in the archive container: round trips of a generated mesh with normals, uv
 // and face indices at 11, 14 and 16 bits (sequential: exact order; edgebreaker: the same
 // triangles up to vertex and face order), the measured position error against the bound the
