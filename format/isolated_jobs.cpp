@@ -282,41 +282,6 @@ bool isolation_enabled() {
   return g_enabled.load();
 }
 
-void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_t*>& dst,
-                  int processes, const IsolationBudget& budget, const IsolatedWork& work,
-                  std::vector<std::string>* errors, std::vector<char>* by_job) {
-  errors->assign(jobs.size(), std::string());
-  std::vector<char> own;
-  if (by_job == nullptr) by_job = &own;
-  by_job->assign(jobs.size(), 0);
-  if (jobs.empty()) return;
-  std::vector<uint64_t> input(jobs.size());
-  for (size_t k = 0; k < jobs.size(); ++k) input[k] = jobs[k].input_bytes;
-  const Groups groups = make_groups(input, processes);
-  const Job here = [&](size_t k, std::string* why) { return work(k, dst[k], why); };
-  // The outputs, each at a 64-byte boundary of one shared mapping the children write into.
-  std::vector<uint64_t> offset(jobs.size());
-  uint64_t total = 0;
-  for (size_t k = 0; k < jobs.size(); ++k) {
-    offset[k] = total;
-    total += round_up(jobs[k].out_size);  // the caller bounded the sizes
-  }
-  const uint64_t mapped = std::max<uint64_t>(total, 1);
-  void* shared = isolation_enabled() ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE,
-                                            MAP_SHARED | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0)
-                                     : MAP_FAILED;
-  uint8_t* outputs = static_cast<uint8_t*>(shared);
-  run_groups(
-      shared != MAP_FAILED, jobs.size(), groups, budget,
-      [&](size_t k, JobSlot&, std::string* why) { return work(k, outputs + offset[k], why); },
-      [&](size_t k, const JobSlot&, std::string*) {
-        std::memcpy(dst[k], outputs + offset[k], jobs[k].out_size);
-        return true;
-      },
-      here, errors, by_job);
-  if (shared != MAP_FAILED) munmap(shared, mapped);
-}
-
 namespace {
 
 // All of n bytes, retrying short and interrupted transfers; false on an error or end of file.

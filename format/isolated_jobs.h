@@ -21,8 +21,8 @@
 // order within a child: a caller that numbers its jobs in the order it reports failures sees the
 // job that stopped a child before the ones that child never started.
 //
-// set_isolation_enabled(false) makes run_isolated call the jobs on this thread instead, with no
-// budget: for fuzzers, whose coverage counters and crash reports must stay in their own process.
+// set_isolation_enabled(false) makes run_isolated_blobs call the jobs on this thread instead, with
+// no budget: for fuzzers, whose coverage counters and crash reports must stay in their own process.
 // fork failing (EAGAIN, ENOMEM) falls back to the same.
 //
 // Thread safety: any number of threads may call these at once (pbrtc decodes .drc files on every
@@ -40,11 +40,6 @@
 
 namespace pbrta {
 
-struct IsolatedJob {
-  uint64_t out_size = 0;     // bytes the job writes at its output
-  uint64_t input_bytes = 0;  // what its budget grows with
-};
-
 struct IsolationBudget {
   double base_seconds = 1.0;
   double seconds_per_byte = 5e-6;
@@ -52,27 +47,18 @@ struct IsolationBudget {
   uint64_t memory_per_byte = 512;
 };
 
-// Job k: writes jobs[k].out_size bytes at out; returns false with one message in *error.
-using IsolatedWork = std::function<bool(size_t k, uint8_t* out, std::string* error)>;
-
-// Runs every job and copies each successful job's output to dst[k]. (*errors)[k] is left empty
-// for a job that succeeded; otherwise it holds the job's own message, or what stopped its child:
-// "decoding ran past its budget of 1.2 s of CPU time", "the decoder crashed (signal 11)",
-// "not decoded: an earlier stream in the same process failed to finish". (*by_job)[k], when
-// asked for, says the message is the job's own. A job's message is cut at 999 bytes.
-void run_isolated(const std::vector<IsolatedJob>& jobs, const std::vector<uint8_t*>& dst,
-                  int processes, const IsolationBudget& budget, const IsolatedWork& work,
-                  std::vector<std::string>* errors, std::vector<char>* by_job = nullptr);
-
 // Job k: fills *out with its output, of a size only it knows; false with one message in *error.
 using IsolatedBlobWork =
     std::function<bool(size_t k, std::vector<uint8_t>* out, std::string* error)>;
 
-// The same for outputs whose size is not known beforehand: one job per entry of input_bytes
-// (what its budget grows with); each child appends its jobs' outputs to a memory file (memfd) of
-// its own, within its memory budget, and (*outputs)[k] receives job k's bytes. The caller checks
-// them as it would any untrusted input: a child may have been subverted by what it decoded.
-// errors and by_job as for run_isolated.
+// Runs every job, one per entry of input_bytes (what its budget grows with): each child appends
+// its jobs' outputs to a memory file (memfd) of its own, within its memory budget, and
+// (*outputs)[k] receives job k's bytes. The caller checks them as it would any untrusted input: a
+// child may have been subverted by what it decoded. (*errors)[k] is left empty for a job that
+// succeeded; otherwise it holds the job's own message, or what stopped its child: "decoding ran
+// past its budget of 1.2 s of CPU time", "the decoder crashed (signal 11)", "not decoded: an
+// earlier stream in the same process failed to finish". (*by_job)[k], when asked for, says the
+// message is the job's own. A job's message is cut at 999 bytes.
 void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
                         const IsolationBudget& budget, const IsolatedBlobWork& work,
                         std::vector<std::vector<uint8_t>>* outputs,

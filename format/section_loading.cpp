@@ -131,30 +131,27 @@ bool ArchiveReader::load_draco(const std::vector<uint32_t>& draco, const std::ve
       ok = false;
     }
   if (!ok || draco.empty()) return ok;
-  // In child processes with a budget (format/isolated_jobs.h), each decoding into shared memory
-  // that is then copied into place: Draco never runs in this process. Jobs go in section order,
-  // so the section that stops a child is reported before those it left.
-  std::vector<IsolatedJob> jobs;
-  std::vector<uint8_t*> dst;
-  for (uint32_t i : draco) {
-    jobs.push_back(IsolatedJob{entries_[i].raw_size + kSectionPadding + kDracoCountsBytes,
-                               entries_[i].stored_size});
-    dst.push_back(out[i]);
-  }
+  // In child processes with a budget (format/isolated_jobs.h), whose outputs are then copied into
+  // place: Draco never runs in this process. Jobs go in section order, so the section that stops
+  // a child is reported before those it left.
+  std::vector<uint64_t> input;
+  for (uint32_t i : draco) input.push_back(entries_[i].stored_size);
+  std::vector<std::vector<uint8_t>> decoded;
   std::vector<std::string> job_errors;
   std::vector<char> by_job;
-  run_isolated(
-      jobs, dst, threads > 0 ? threads : int(std::thread::hardware_concurrency()),
-      IsolationBudget{},
-      [&](size_t j, uint8_t* to, std::string* why) {
+  run_isolated_blobs(
+      input, threads > 0 ? threads : int(std::thread::hardware_concurrency()), IsolationBudget{},
+      [&](size_t j, std::vector<uint8_t>* to, std::string* why) {
         const SectionEntry& e = entries_[draco[j]];
+        to->resize(e.raw_size + kSectionPadding + kDracoCountsBytes);  // validate() bounded it
         uint32_t counts[2] = {0, 0};
-        if (!draco_decode_section(base_ + e.offset, e.stored_size, e.raw_size, to, counts, why))
+        if (!draco_decode_section(base_ + e.offset, e.stored_size, e.raw_size, to->data(), counts,
+                                  why))
           return false;
-        std::memcpy(to + e.raw_size + kSectionPadding, counts, sizeof counts);
+        std::memcpy(to->data() + e.raw_size + kSectionPadding, counts, sizeof counts);
         return true;
       },
-      &job_errors, &by_job);
+      &decoded, &job_errors, &by_job);
   for (size_t j = 0; j < draco.size(); ++j) {
     const uint32_t i = draco[j];
     if (!job_errors[j].empty()) {
@@ -162,7 +159,15 @@ bool ArchiveReader::load_draco(const std::vector<uint32_t>& draco, const std::ve
       ok = false;
       continue;
     }
-    // The child may have been subverted by its stream: the padding is this process's to set.
+    // The child may have been subverted by its stream: its output is checked like any input,
+    // and the padding is this process's to set.
+    const uint64_t size = entries_[i].raw_size + kSectionPadding + kDracoCountsBytes;
+    if (decoded[j].size() != size) {
+      (*errors)[i] = section_error(i, "draco: the decoder's output has the wrong size");
+      ok = false;
+      continue;
+    }
+    std::memcpy(out[i], decoded[j].data(), size);
     std::memset(out[i] + entries_[i].raw_size, 0, kSectionPadding);
     std::memcpy(sections_[i].decoded_counts, out[i] + entries_[i].raw_size + kSectionPadding,
                 sizeof sections_[i].decoded_counts);

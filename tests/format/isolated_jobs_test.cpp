@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -19,15 +20,30 @@
 namespace pbrta {
 namespace {
 
-// Job k writes out_size bytes of k + 1, and the pid it ran in after them.
-struct Outputs {
-  std::vector<std::vector<uint8_t>> buffers;
-  std::vector<uint8_t*> dst;
-  explicit Outputs(const std::vector<IsolatedJob>& jobs) {
-    for (const IsolatedJob& j : jobs) buffers.emplace_back(j.out_size, 0);
-    for (std::vector<uint8_t>& b : buffers) dst.push_back(b.data());
-  }
+// A job of a known output size and input bytes (what its budget grows with).
+struct Job {
+  uint64_t out_size, input_bytes;
 };
+
+// run_isolated_blobs over jobs whose work fills out_size bytes at out.
+std::vector<std::vector<uint8_t>> run_sized(
+    const std::vector<Job>& jobs, int processes, const IsolationBudget& budget,
+    const std::function<bool(size_t, uint8_t*, std::string*)>& work,
+    std::vector<std::string>* errors, std::vector<char>* by_job = nullptr) {
+  std::vector<uint64_t> input;
+  for (const Job& j : jobs) input.push_back(j.input_bytes);
+  std::vector<std::vector<uint8_t>> outputs;
+  run_isolated_blobs(
+      input, processes, budget,
+      [&](size_t k, std::vector<uint8_t>* out, std::string* error) {
+        out->assign(jobs[k].out_size, 0);
+        return work(k, out->data(), error);
+      },
+      &outputs, errors, by_job);
+  return outputs;
+}
+
+// Job k writes its output's bytes as k + 1, and the pid it ran in after them.
 
 bool fill(size_t k, uint8_t* out, uint64_t size) {
   const pid_t pid = getpid();
@@ -45,12 +61,11 @@ pid_t pid_in(const std::vector<uint8_t>& b) {
 TEST(IsolatedJobs, OutputsComeBackFromOtherProcesses) {
   ASSERT_TRUE(isolation_enabled());
   std::vector<char> by_job;
-  std::vector<IsolatedJob> jobs;
-  for (uint64_t k = 0; k < 7; ++k) jobs.push_back(IsolatedJob{100 + 1000 * k, 10 * k});
-  Outputs o(jobs);
+  std::vector<Job> jobs;
+  for (uint64_t k = 0; k < 7; ++k) jobs.push_back(Job{100 + 1000 * k, 10 * k});
   std::vector<std::string> errors;
-  run_isolated(
-      jobs, o.dst, 2, IsolationBudget{},
+  const auto out = run_sized(
+      jobs, 2, IsolationBudget{},
       [&](size_t k, uint8_t* out, std::string* error) {
         if (k == 3) {
           *error = "job 3 refuses";
@@ -66,35 +81,34 @@ TEST(IsolatedJobs, OutputsComeBackFromOtherProcesses) {
     SCOPED_TRACE(k);
     if (k == 3) {
       EXPECT_EQ(errors[k], "job 3 refuses");
-      EXPECT_EQ(o.buffers[k], std::vector<uint8_t>(jobs[k].out_size, 0));  // not copied
+      EXPECT_TRUE(out[k].empty());
       continue;
     }
     EXPECT_EQ(errors[k], "");
-    EXPECT_EQ(o.buffers[k][0], k + 1);
-    EXPECT_EQ(o.buffers[k][jobs[k].out_size - 1 - sizeof(pid_t)], k + 1);
-    EXPECT_NE(pid_in(o.buffers[k]), getpid());
-    pids.push_back(pid_in(o.buffers[k]));
+    EXPECT_EQ(out[k][0], k + 1);
+    EXPECT_EQ(out[k][jobs[k].out_size - 1 - sizeof(pid_t)], k + 1);
+    EXPECT_NE(pid_in(out[k]), getpid());
+    pids.push_back(pid_in(out[k]));
   }
   // Two processes, the largest inputs first, each to the less loaded (the first on a tie):
   // 6 (60), 5 (50), 4 (90 with 5), 3 (90 with 6), 2 (110 with 6 and 3), then 1 and 0 with 5.
-  EXPECT_EQ(pid_in(o.buffers[6]), pid_in(o.buffers[2]));
-  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[4]));
-  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[1]));
-  EXPECT_EQ(pid_in(o.buffers[5]), pid_in(o.buffers[0]));
-  EXPECT_NE(pid_in(o.buffers[6]), pid_in(o.buffers[5]));
+  EXPECT_EQ(pid_in(out[6]), pid_in(out[2]));
+  EXPECT_EQ(pid_in(out[5]), pid_in(out[4]));
+  EXPECT_EQ(pid_in(out[5]), pid_in(out[1]));
+  EXPECT_EQ(pid_in(out[5]), pid_in(out[0]));
+  EXPECT_NE(pid_in(out[6]), pid_in(out[5]));
 }
 
 TEST(IsolatedJobs, ARunawayJobCostsItsBudgetAndTheRestOfItsProcess) {
-  std::vector<IsolatedJob> jobs(4, IsolatedJob{64, 1000});
-  Outputs o(jobs);
+  const std::vector<Job> jobs(4, Job{64, 1000});
   std::vector<char> by_job;
   IsolationBudget budget;
   budget.base_seconds = 0.2;
   budget.seconds_per_byte = 1e-4;  // 0.2 s + 0.2 s for the 2000 bytes of each child's jobs
   std::vector<std::string> errors;
-  run_isolated(
-      jobs, o.dst, 2, budget,
-      [&](size_t k, uint8_t* out, std::string* error) {
+  const auto out = run_sized(
+      jobs, 2, budget,
+      [&](size_t k, uint8_t* to, std::string* error) {
         if (k == 0) {
           // Bounded, so that a fork failure (which runs the job here) fails the test instead of
           // hanging it.
@@ -104,7 +118,7 @@ TEST(IsolatedJobs, ARunawayJobCostsItsBudgetAndTheRestOfItsProcess) {
           *error = "spun for 20 s";
           return false;
         }
-        return fill(k, out, 64);
+        return fill(k, to, 64);
       },
       &errors, &by_job);
   // Equal inputs: jobs 0 and 2 in one child, 1 and 3 in the other.
@@ -113,43 +127,41 @@ TEST(IsolatedJobs, ARunawayJobCostsItsBudgetAndTheRestOfItsProcess) {
   EXPECT_EQ(errors[2], "not decoded: an earlier stream in the same process failed to finish");
   EXPECT_EQ(errors[1], "");
   EXPECT_EQ(errors[3], "");
-  EXPECT_EQ(o.buffers[3][0], 4);
+  EXPECT_EQ(out[3][0], 4);
   EXPECT_EQ(by_job, std::vector<char>(4, 0));  // the messages are the runner's, not the jobs'
 }
 
 #if !defined(__SANITIZE_ADDRESS__)  // AddressSanitizer turns the signal into exit status 1
 TEST(IsolatedJobs, ACrashIsTheChildsAlone) {
-  std::vector<IsolatedJob> jobs(2, IsolatedJob{64, 10});
-  Outputs o(jobs);
+  const std::vector<Job> jobs(2, Job{64, 10});
   std::vector<std::string> errors;
-  run_isolated(
-      jobs, o.dst, 1, IsolationBudget{},
-      [&](size_t k, uint8_t* out, std::string*) {
+  const auto out = run_sized(
+      jobs, 1, IsolationBudget{},
+      [&](size_t k, uint8_t* to, std::string*) {
         if (k == 1) raise(SIGSEGV);
-        return fill(k, out, 64);
+        return fill(k, to, 64);
       },
       &errors);
   EXPECT_EQ(errors[0], "");
-  EXPECT_EQ(o.buffers[0][0], 1);
+  EXPECT_EQ(out[0][0], 1);
   EXPECT_EQ(errors[1].rfind("the decoder crashed (signal " + std::to_string(SIGSEGV), 0), 0u)
       << errors[1];
 }
 
 TEST(IsolatedJobs, MemoryPastTheBudgetIsOutOfMemory) {
-  std::vector<IsolatedJob> jobs(2, IsolatedJob{64, 1000});
-  Outputs o(jobs);
+  const std::vector<Job> jobs(2, Job{64, 1000});
   IsolationBudget budget;
   budget.base_memory = uint64_t{64} << 20;
   budget.memory_per_byte = 1024;  // 64 MiB + 2 MiB for the child's two jobs
   std::vector<std::string> errors;
-  run_isolated(
-      jobs, o.dst, 1, budget,
-      [&](size_t k, uint8_t* out, std::string*) {
+  run_sized(
+      jobs, 1, budget,
+      [&](size_t k, uint8_t* to, std::string*) {
         if (k == 0) {
           std::vector<uint8_t> big(size_t{256} << 20, 1);  // throws std::bad_alloc
-          out[0] = big[12345];
+          to[0] = big[12345];
         }
-        return fill(k, out, 64);
+        return fill(k, to, 64);
       },
       &errors);
   EXPECT_EQ(errors[0], "out of memory");
@@ -206,21 +218,20 @@ TEST(IsolatedJobs, BlobsComeBackWhateverTheirSize) {
 
 TEST(IsolatedJobs, SwitchedOffTheJobsRunHere) {
   set_isolation_enabled(false);
-  std::vector<IsolatedJob> jobs(3, IsolatedJob{64, 10});
-  Outputs o(jobs);
+  const std::vector<Job> jobs(3, Job{64, 10});
   std::vector<std::string> errors;
-  run_isolated(
-      jobs, o.dst, 2, IsolationBudget{},
-      [&](size_t k, uint8_t* out, std::string* error) {
+  const auto out = run_sized(
+      jobs, 2, IsolationBudget{},
+      [&](size_t k, uint8_t* to, std::string* error) {
         if (k == 2) throw std::runtime_error("thrown by job 2");
         (void)error;
-        return fill(k, out, 64);
+        return fill(k, to, 64);
       },
       &errors);
   set_isolation_enabled(true);
   EXPECT_EQ(errors[0], "");
-  EXPECT_EQ(pid_in(o.buffers[0]), getpid());
-  EXPECT_EQ(pid_in(o.buffers[1]), getpid());
+  EXPECT_EQ(pid_in(out[0]), getpid());
+  EXPECT_EQ(pid_in(out[1]), getpid());
   EXPECT_EQ(errors[2], "thrown by job 2");
 }
 
