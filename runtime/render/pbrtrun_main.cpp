@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 #include "runtime/core/clock.h"
 #include "runtime/render/render_job.h"
@@ -42,7 +41,6 @@ int fail(const std::string& message, int code = 1) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrtrun: render a pbrtc scene archive (.pbrta) to OpenEXR"};
   std::string input, outfile, preview;
   int spp = 0, resdiv = 1, nthreads = 0;

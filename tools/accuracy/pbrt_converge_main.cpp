@@ -30,7 +30,6 @@
 #include <string>
 #include <vector>
 
-#include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 #include "runtime/core/clock.h"
 #include "tools/accuracy/error_plot.h"
@@ -64,7 +63,6 @@ std::string beside(const std::string& path, const std::string& suffix) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrt-converge: error against time for a pbrtc scene archive"};
   std::string input, reference_path, csv_path, plot_path, table_path, make_reference, name;
   std::string samplers, integrators, strategies;
