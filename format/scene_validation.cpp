@@ -327,33 +327,26 @@ bool SceneArchive::validate_records(std::string* error) {
     for (uint32_t p = 0; p < ts.num_params; ++p) {
       const ValueRecord& v = vs[p];
       const ParamSpec& ps = ts.params[p];
-      // Each rule once, all of them evaluated, one branch: this runs for every value.
-      const bool tex_kind = ps.kind == Kind::kFloatTex || ps.kind == Kind::kSpectrumTex;
-      const bool bad_flags = (v.flags & ~uint32_t(kValueGiven)) != 0;
-      const bool bad_words =
-          uint64_t(v.offset) + uint64_t(v.count) * uint64_t(kind_width(ps.kind)) > num_words;
-      const bool bad_arity = (ps.arity > 0) & (v.count != 0) & (v.count != ps.arity);
-      const bool textured = v.texture != kNoIndex;
-      if (bad_flags | bad_words | bad_arity |
-          (textured & (!tex_kind | (v.texture >= textures.size)))) {
-        const std::string_view name = ps.name;
-        if (bad_flags)
-          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": unknown value flags");
-        if (bad_words)
-          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": words out of range");
-        if (bad_arity)
-          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": ", v.count,
-                             " values, the schema says ", ps.arity);
-        if (!tex_kind)
+      const std::string_view name = ps.name;
+      if (v.flags & ~uint32_t(kValueGiven))
+        return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": unknown value flags");
+      if (uint64_t(v.offset) + uint64_t(v.count) * uint64_t(kind_width(ps.kind)) > num_words)
+        return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": words out of range");
+      if (ps.arity > 0 && v.count != 0 && v.count != ps.arity)
+        return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": ", v.count,
+                           " values, the schema says ", ps.arity);
+      if (v.texture != kNoIndex) {
+        if (ps.kind != Kind::kFloatTex && ps.kind != Kind::kSpectrumTex)
           return c.fail_with(at, i, ": ", ts.name, " \"", name,
                              "\": a texture on a parameter that takes none");
-        return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": texture ", v.texture,
-                           " out of range (", textures.size, " textures)");
+        if (v.texture >= textures.size)
+          return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": texture ", v.texture,
+                             " out of range (", textures.size, " textures)");
       }
       if (ps.kind == Kind::kString)
         for (uint32_t k = 0; k < v.count; ++k)
           if (words[v.offset + k] >= num_strings_)
-            return c.fail_with(at, i, ": ", ts.name, " \"", ps.name, "\": string ",
+            return c.fail_with(at, i, ": ", ts.name, " \"", name, "\": string ",
                                words[v.offset + k], " out of range");
     }
     // Counts tied to other parameters (format/entity_rules.h), now that every value is sound.
