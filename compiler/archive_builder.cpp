@@ -489,7 +489,7 @@ class Builder {
       else
         w->add_section(K::kGeometry, std::move(chunks[c]), chunk_counts[c], codec, numbers);
     }
-    add_images(w, opt);
+    add_images(w, opt, codec, numbers);
     // Provenance goes last: an archive recompiled from its own dump then
     // matches byte for byte up to this section's offset.
     std::vector<uint8_t> prov;
@@ -509,8 +509,8 @@ class Builder {
   // Images: the records, then texels chunks holding whole images (every level of an image in
   // one chunk, each level 16-byte aligned), so large scenes decompress in parallel. The records
   // name their chunk by table index, so the chunks follow the images section.
-  void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt) {
-    const pbrta::Codec codec = opt.compress ? pbrta::Codec::kZstd : pbrta::Codec::kRaw;
+  void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt, pbrta::Codec codec,
+                  bool shuffle) {
     const std::vector<ImageDesc>& in = scene_.images;
     if (in.empty()) return;
     std::vector<pbrta::ImageRecord> images;
@@ -556,10 +556,10 @@ class Builder {
       images.push_back(r);
     }
     w->add_section(pbrta::SectionKind::kImages, bytes_of(images), uint32_t(images.size()), codec,
-                   opt.compress);
+                   shuffle);
     for (size_t c = 0; c < chunks.size(); ++c)
       w->add_section(pbrta::SectionKind::kTexels, std::move(chunks[c]), chunk_counts[c], codec,
-                     opt.compress);
+                     shuffle);
   }
 
   const std::vector<DracoMeshStats>& draco_stats() const { return draco_stats_; }

@@ -41,11 +41,11 @@ uint64_t section_checksum(Codec codec, const uint8_t* stored, uint64_t stored_si
   switch (codec) {
     case Codec::kRaw:
       return chunked_checksum64(stored, stored_size);
-    case Codec::kZstd: {  // its frame index, which covers the frames
-      FrameIndexHeader h;
-      std::memcpy(&h, stored, sizeof h);
-      return checksum64(stored,
-                        sizeof h + frame_count(raw_size, h.frame_size) * sizeof(FrameEntry));
+    case Codec::kZstd: {  // its frame index, which covers the frames; ours is well formed
+      FrameIndex index;
+      std::string unused;
+      read_frame_header(stored, stored_size, raw_size, &index, &unused);
+      return checksum64(stored, index.index_bytes);
     }
     default:
       return checksum64(stored, stored_size);
