@@ -385,9 +385,8 @@ class PlyParser {
         // Old exporters wrote free text without "comment" (Blender 2.4's "Created by ...").
         // A line that is not format, element, property or end_header cannot change the layout,
         // so it is skipped, and said.
-        if (warnings_ != nullptr)
-          warnings_->push_back(line_label() + ": skipped " + quote(line) +
-                               " (not a PLY header keyword)");
+        warnings_->push_back(line_label() + ": skipped " + quote(line) +
+                             " (not a PLY header keyword)");
       }
     }
     if (!have_format) return fail("header: no format line");
@@ -955,7 +954,7 @@ class PlyParser {
 
   std::string_view bytes_;
   PlyMesh* mesh_;
-  std::vector<std::string>* warnings_;  // header lines skipped
+  std::vector<std::string>* warnings_;  // header lines skipped; never null
   std::string message_;
 
   // Header
