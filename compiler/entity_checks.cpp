@@ -1,9 +1,11 @@
 // compiler/entity_checks.cpp — see entity_checks.h.
 #include "compiler/entity_checks.h"
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
+#include "compiler/medium_presets.h"
 #include "format/entity_rules.h"
 
 namespace pbrtc {
@@ -45,11 +47,58 @@ bool check_curve(const Entity& c, const ParamList& params, Loc loc, Diagnostics*
 bool check_heterogeneous_medium(const Entity& m, const ParamList& params, Loc loc,
                                 Diagnostics* diag) {
   uint32_t count = 0;
-  m.get_floats("density", &count);
+  const float* density = m.get_floats("density", &count);
   pbrta::RuleViolation v;
   if (!pbrta::check_density_rule(m.get_int("nx"), m.get_int("ny"), m.get_int("nz"), count, &v))
     return report(v, params, loc, diag);
+  for (uint32_t i = 0; i < count; ++i)
+    if (!(density[i] >= 0) || !std::isfinite(density[i])) {
+      diag->error(value_loc(params, "density", loc),
+                  "heterogeneous medium density value " + std::to_string(i) + " is " +
+                      std::to_string(density[i]) + " (densities are finite and not negative)");
+      return false;
+    }
   return true;
+}
+
+bool check_medium(Entity* m, const ParamList& params, Loc loc, Diagnostics* diag) {
+  bool ok = true;
+  const std::string& preset = m->get_string("preset");
+  if (!preset.empty()) {
+    const MeasuredMedium* mm = find_measured_medium(preset);
+    if (!mm) {
+      diag->error(
+          value_loc(params, "preset", loc),
+          "unknown medium preset \"" + preset + "\" (known: " + measured_medium_names() + ")");
+      return false;
+    }
+    for (const char* name : {"sigma_a", "sigma_s"}) {
+      Value& v = m->values[size_t(m->slot(name))];
+      if (v.given) continue;
+      const float* rgb = name[6] == 'a' ? mm->sigma_a : mm->sigma_prime_s;
+      for (int i = 0; i < 3; ++i) m->floats[v.offset + i] = rgb[i];
+      v.given = true;
+    }
+  }
+  for (const char* name : {"sigma_a", "sigma_s"}) {
+    const float* rgb = m->get_floats(name);
+    if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) {
+      diag->error(value_loc(params, name, loc),
+                  std::string("medium \"") + name + "\" has a negative component");
+      ok = false;
+    }
+  }
+  if (!(m->get_float("scale") >= 0)) {
+    diag->error(value_loc(params, "scale", loc), "medium \"scale\" must not be negative");
+    ok = false;
+  }
+  const float g = m->get_float("g");
+  if (!(g > -1 && g < 1)) {
+    diag->error(value_loc(params, "g", loc),
+                "medium \"g\" must lie in (-1, 1): Henyey-Greenstein has no density at +-1");
+    ok = false;
+  }
+  return ok;
 }
 
 }  // namespace pbrtc

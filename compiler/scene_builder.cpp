@@ -660,8 +660,9 @@ void SceneBuilder::MakeNamedMedium(Loc loc, std::string_view name, const ParamLi
   s_->resolver.assign_all(&m.params, params, {}, false);
   const bool ok = s_->resolver.check_required(m.params, loc, &params);
   s_->resolver.report_unused(params, &m.params);
-  if (!ok || (m.params.type_name() == "heterogeneous" &&
-              !check_heterogeneous_medium(m.params, params, loc, s_->diag)))
+  if (!ok || !check_medium(&m.params, params, loc, s_->diag) ||
+      (m.params.type_name() == "heterogeneous" &&
+       !check_heterogeneous_medium(m.params, params, loc, s_->diag)))
     return;
   m.world_from_medium = s_->cur.t[0];
   if (s_->named_media.count(m.name)) s_->diag->warning(loc, "medium \"" + m.name + "\" redefined");

@@ -52,6 +52,7 @@ struct SurfaceInteraction : Interaction {
   Vec3 dpdx, dpdy;
   float dudx = 0, dvdx = 0, dudy = 0, dvdy = 0;
 
+  float t_hit = 0;            // the ray parameter of the hit
   uint32_t shape = kNone;     // index into the archive's shapes
   uint32_t prim = 0;          // triangle within the mesh (0 for quadrics)
   uint32_t instance = kNone;  // index into the archive's instances, or kNone

@@ -642,6 +642,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
   }
   si->shape = g->shape;
   si->instance = inst ? inst->archive_instance : kNone;
+  si->t_hit = rh.ray.tfar;
   return true;
 }
 

@@ -46,6 +46,8 @@ bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
     s.material = r.material;
     s.area_light = r.area_light;
     s.object = r.object;
+    s.inside_medium = r.inside_medium;
+    s.outside_medium = r.outside_medium;
     uint32_t e = r.entity;
     QuadricParams& q = s.q;
     switch (s.kind) {

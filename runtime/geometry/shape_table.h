@@ -59,6 +59,10 @@ struct ShapeInfo {
   uint32_t material = kNone;
   uint32_t area_light = kNone;  // index into the archive's area lights
   uint32_t object = kNone;      // object definition, or kNone for the world
+  // Media on either side (index into the archive's media, or kNone). Only a
+  // shape whose two differ changes the medium of a ray crossing it.
+  uint32_t inside_medium = kNone, outside_medium = kNone;
+  bool medium_transition() const { return inside_medium != outside_medium; }
   QuadricParams q;
   MeshView mesh;
   // alpha / shadowalpha: constant value or texture index (kNone = constant).

@@ -7,6 +7,7 @@
 
 #include "runtime/core/sampling.h"
 #include "runtime/material/bsdf.h"
+#include "runtime/medium/phase.h"
 
 namespace rt {
 
@@ -19,6 +20,8 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->type = IntegratorType::kDirectLighting;
   else if (type == "path")
     s->type = IntegratorType::kPath;
+  else if (type == "volpath")
+    s->type = IntegratorType::kVolPath;
   else if (type == "ambientocclusion")
     s->type = IntegratorType::kAmbientOcclusion;
   else {
@@ -38,7 +41,7 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
       return false;
     }
   }
-  if (s->type == IntegratorType::kPath) {
+  if (s->type == IntegratorType::kPath || s->type == IntegratorType::kVolPath) {
     s->rr_threshold = a.get_float(e, "rrthreshold", 1);
     std::string_view ls = a.get_string(e, "lightsamplestrategy");
     s->light_strategy = ls.empty() ? "spatial" : std::string(ls);
@@ -88,21 +91,132 @@ struct Kernels {
     return I.scene_->materials.compute_bsdf(m, si, TransportMode::kRadiance, multiple_lobes, bsdf);
   }
 
-  // pbrt-v3's EstimateDirect: one light sample and one BSDF sample, MIS-weighted.
-  static Rgb estimate_direct(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
-                             Vec2 u_scattering, uint32_t light, Vec2 u_light, RayCounters* c) {
+  // What scatters at a vertex: a surface's BSDF (its cosine folded in), or,
+  // with kMedia, a medium's phase function where bsdf is null. medium is the
+  // ray's medium there; a surface that bounds media changes it for rays
+  // leaving through its other side (pbrt-v3's GetMedium).
+  struct Scatter {
+    const Bsdf* bsdf = nullptr;
+    Vec3 wo, n, ns;
+    float g = 0;
+    const ShapeInfo* shape = nullptr;
+    uint32_t medium = kNone;
+
+    uint32_t medium_toward(Vec3 w) const {
+      if (!shape || !shape->medium_transition()) return medium;
+      return dot(w, n) > 0 ? shape->outside_medium : shape->inside_medium;
+    }
+    template <bool kMedia>
+    Rgb f(Vec3 wi, float* pdf) const {
+      const uint8_t flags = kAllBxdf & ~kSpecular;
+      if constexpr (kMedia) {
+        if (!bsdf) return Rgb(*pdf = phase_hg(dot(wo, wi), g));
+      }
+      *pdf = bsdf->pdf(wo, wi, flags);
+      return bsdf->f(wo, wi, flags) * abs_dot(wi, ns);
+    }
+    template <bool kMedia>
+    Rgb sample(Vec2 u, Vec3* wi, float* pdf, bool* specular) const {
+      *specular = false;
+      if constexpr (kMedia) {
+        if (!bsdf) return Rgb(*pdf = sample_hg(wo, g, u, wi));
+      }
+      uint8_t sampled = 0;
+      Rgb f = bsdf->sample_f(wo, wi, u, pdf, kAllBxdf & ~kSpecular, &sampled);
+      *specular = sampled & kSpecular;
+      return f * abs_dot(*wi, ns);
+    }
+  };
+
+  static Scatter surface_scatter(const Self& I, const SurfaceInteraction& si, const Bsdf& bsdf,
+                                 uint32_t medium) {
+    Scatter sc;
+    sc.bsdf = &bsdf;
+    sc.wo = si.wo;
+    sc.n = si.n;
+    sc.ns = si.shading.n;
+    sc.shape = &I.scene_->shapes[si.shape];
+    sc.medium = medium;
+    return sc;
+  }
+
+  // The medium a ray leaving hit `si` along w is in: the far side's if the
+  // shape bounds two media, else the one it arrived in.
+  static uint32_t medium_after(const Self& I, const SurfaceInteraction& si, Vec3 w,
+                               uint32_t medium) {
+    const ShapeInfo& s = I.scene_->shapes[si.shape];
+    if (!s.medium_transition()) return medium;
+    return dot(w, si.n) > 0 ? s.outside_medium : s.inside_medium;
+  }
+
+  // A surface that scatters light; false for the interface material, which only bounds media.
+  static bool has_material(const Self& I, uint32_t shape) {
+    uint32_t m = I.scene_->shapes[shape].material;
+    return m != kNone && !I.scene_->materials.is_interface(m);
+  }
+
+  // pbrt-v3's VisibilityTester::Tr: through interface surfaces (no material),
+  // multiplying each segment's transmittance; 0 at the first real surface.
+  static Rgb transmittance(const Self& I, const Interaction& from, const Interaction& to,
+                           uint32_t medium, Sampler& sampler, RayCounters* c) {
+    Ray ray = from.spawn_ray_to(to);
+    Rgb tr(1.f);
+    for (;;) {
+      SurfaceInteraction si;
+      const bool hit = I.scene_->geometry.intersect(ray, &si);
+      if (hit && has_material(I, si.shape)) return Rgb();
+      if (medium != kNone) {
+        Ray seg = ray;
+        if (hit) seg.tmax = si.t_hit;
+        tr *= I.scene_->media.tr(medium, seg, sampler);
+      }
+      if (!hit || tr.is_black()) return tr;
+      ++c->shadow_rays;
+      medium = medium_after(I, si, ray.d, medium);
+      ray = si.spawn_ray_to(to);
+    }
+  }
+
+  // pbrt-v3's Scene::IntersectTr: the first surface with a material along
+  // ray, and the transmittance of the media crossed to reach it.
+  static bool intersect_tr(const Self& I, Ray ray, uint32_t medium, SurfaceInteraction* si, Rgb* tr,
+                           Sampler& sampler, RayCounters* c) {
+    *tr = Rgb(1.f);
+    for (;;) {
+      const bool hit = intersect(I, ray, si, c);
+      if (medium != kNone) {
+        Ray seg = ray;
+        if (hit) seg.tmax = si->t_hit;
+        *tr *= I.scene_->media.tr(medium, seg, sampler);
+      }
+      if (!hit) return false;
+      if (has_material(I, si->shape)) return true;
+      medium = medium_after(I, *si, ray.d, medium);
+      ray = si->spawn_ray(ray.d);
+    }
+  }
+
+  // pbrt-v3's EstimateDirect: one light sample and one BSDF (or phase
+  // function) sample, MIS-weighted; with kMedia, visibility is transmittance.
+  template <bool kMedia>
+  static Rgb estimate_direct(const Self& I, const Interaction& it, const Scatter& sc,
+                             Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
+                             RayCounters* c) {
     const LightSet& lights = I.scene_->lights;
-    const uint8_t flags = kAllBxdf & ~kSpecular;
     Rgb ld;
     LightSample ls;
     Rgb li = lights.sample_li(light, it, u_light, &ls);
     const bool delta = lights.is_delta(light);
     if (ls.pdf > 0 && !li.is_black()) {
-      Rgb f = bsdf.f(it.wo, ls.wi, flags) * abs_dot(ls.wi, it.shading.n);
-      float scattering_pdf = bsdf.pdf(it.wo, ls.wi, flags);
+      float scattering_pdf = 0;
+      Rgb f = sc.template f<kMedia>(ls.wi, &scattering_pdf);
       if (!f.is_black()) {
         ++c->shadow_rays;
-        if (!I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape)) {
+        if constexpr (kMedia)
+          li *= transmittance(I, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
+        else if (I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape))
+          li = Rgb();
+        if (!li.is_black()) {
           if (delta)
             ld += f * li / ls.pdf;
           else
@@ -113,14 +227,17 @@ struct Kernels {
     if (delta) return ld;
     Vec3 wi;
     float scattering_pdf = 0;
-    uint8_t sampled = 0;
-    Rgb f = bsdf.sample_f(it.wo, &wi, u_scattering, &scattering_pdf, flags, &sampled);
-    f *= abs_dot(wi, it.shading.n);
+    bool sampled_specular = false;
+    Rgb f = sc.template sample<kMedia>(u_scattering, &wi, &scattering_pdf, &sampled_specular);
     if (f.is_black() || scattering_pdf <= 0) return ld;
-    const bool sampled_specular = sampled & kSpecular;
     Ray ray = it.spawn_ray(wi);
     SurfaceInteraction hit;
-    bool found = intersect(I, ray, &hit, c);
+    Rgb tr(1.f);
+    bool found;
+    if constexpr (kMedia)
+      found = intersect_tr(I, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
+    else
+      found = intersect(I, ray, &hit, c);
     Rgb le;
     float light_pdf = 0;
     if (found) {
@@ -143,10 +260,11 @@ struct Kernels {
       if (light_pdf == 0) return ld;
       weight = power_heuristic(1, scattering_pdf, 1, light_pdf);
     }
-    return ld + f * le * (weight / scattering_pdf);
+    return ld + f * le * tr * (weight / scattering_pdf);
   }
 
-  static Rgb sample_one_light(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
+  template <bool kMedia>
+  static Rgb sample_one_light(const Self& I, const Interaction& it, const Scatter& sc,
                               Sampler& sampler, const LightDistribution* distribution,
                               RayCounters* c) {
     uint32_t n = I.scene_->lights.count();
@@ -162,12 +280,13 @@ struct Kernels {
     }
     Vec2 u_light = sampler.get_2d();
     Vec2 u_scattering = sampler.get_2d();
-    return estimate_direct(I, it, bsdf, u_scattering, light, u_light, c) / light_pmf;
+    return estimate_direct<kMedia>(I, it, sc, u_scattering, light, u_light, sampler, c) / light_pmf;
   }
 
   static Rgb sample_all_lights(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
                                Sampler& sampler, RayCounters* c) {
     Rgb l;
+    const Scatter sc = surface_scatter(I, it, bsdf, kNone);
     uint32_t n = I.scene_->lights.count();
     for (uint32_t j = 0; j < n; ++j) {
       int ns = I.light_samples_[j];
@@ -175,11 +294,11 @@ struct Kernels {
       const Vec2* u_scattering = sampler.get_2d_array(ns);
       if (!u_light || !u_scattering) {
         Vec2 ul = sampler.get_2d(), us = sampler.get_2d();
-        l += estimate_direct(I, it, bsdf, us, j, ul, c);
+        l += estimate_direct<false>(I, it, sc, us, j, ul, sampler, c);
       } else {
         Rgb ld;
         for (int k = 0; k < ns; ++k)
-          ld += estimate_direct(I, it, bsdf, u_scattering[k], j, u_light[k], c);
+          ld += estimate_direct<false>(I, it, sc, u_scattering[k], j, u_light[k], sampler, c);
         l += ld / float(ns);
       }
     }
@@ -253,7 +372,8 @@ struct Kernels {
       if (I.settings_.sample_all_lights)
         l += sample_all_lights(I, si, bsdf, sampler, c);
       else
-        l += sample_one_light(I, si, bsdf, sampler, nullptr, c);
+        l += sample_one_light<false>(I, si, surface_scatter(I, si, bsdf, kNone), sampler, nullptr,
+                                     c);
     }
     if (depth + 1 < I.settings_.max_depth) {
       l += specular(I, ray, si, bsdf, sampler, depth, false, c);
@@ -267,6 +387,10 @@ struct Kernels {
     return li_recursive(I, ray, sampler, 0, c);
   }
 
+  // pbrt-v3's path integrator; with kMedia, its volpath: rays carry the
+  // medium they travel in, which may scatter them (a phase-function vertex
+  // with its own light sample) before they reach the surface.
+  template <bool kMedia>
   static Rgb li_path(const Self& I, const RayDifferential& camera_ray, Sampler& sampler,
                      RayCounters* c) {
     Rgb l, beta(1.f);
@@ -274,9 +398,38 @@ struct Kernels {
     bool specular_bounce = false;
     float eta_scale = 1;
     const int max_depth = I.settings_.max_depth;
+    uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
       SurfaceInteraction si;
       bool found = intersect(I, ray, &si, c);
+      if constexpr (kMedia) {
+        bool scattered = false;
+        Vec3 p;
+        if (medium != kNone) {
+          Ray seg = ray;
+          if (found) seg.tmax = si.t_hit;
+          beta *= I.scene_->media.sample(medium, seg, sampler, &scattered, &p);
+        }
+        if (beta.is_black()) break;
+        if (scattered) {
+          if (bounces >= max_depth) break;
+          Interaction mi;
+          mi.p = p;
+          mi.wo = -ray.d;
+          mi.time = ray.time;
+          Scatter sc;
+          sc.wo = mi.wo;
+          sc.g = I.scene_->media[medium].g;
+          sc.medium = medium;
+          l += beta * sample_one_light<true>(I, mi, sc, sampler, &I.distribution_, c);
+          Vec3 wi;
+          sample_hg(mi.wo, sc.g, sampler.get_2d(), &wi);
+          ray = RayDifferential(mi.spawn_ray(wi));
+          specular_bounce = false;
+          if (!russian_roulette(I, &beta, eta_scale, bounces, sampler)) break;
+          continue;
+        }
+      }
       if (bounces == 0 || specular_bounce) {
         if (found)
           l += beta * emitted(I, si, -ray.d);
@@ -286,12 +439,14 @@ struct Kernels {
       if (!found || bounces >= max_depth) break;
       Bsdf bsdf;
       if (!bsdf_at(I, &si, ray, true, &bsdf)) {
+        if constexpr (kMedia) medium = medium_after(I, si, ray.d, medium);
         ray = RayDifferential(si.spawn_ray(ray.d));
         --bounces;
         continue;
       }
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
-        l += beta * sample_one_light(I, si, bsdf, sampler, &I.distribution_, c);
+        l += beta * sample_one_light<kMedia>(I, si, surface_scatter(I, si, bsdf, medium), sampler,
+                                             &I.distribution_, c);
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;
@@ -304,15 +459,23 @@ struct Kernels {
         float eta = bsdf.eta;
         eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);
       }
+      if constexpr (kMedia) medium = medium_after(I, si, wi, medium);
       ray = RayDifferential(si.spawn_ray(wi));
-      Rgb rr_beta = beta * eta_scale;
-      if (rr_beta.max_component() < I.settings_.rr_threshold && bounces > 3) {
-        float q = std::max(0.05f, 1 - rr_beta.max_component());
-        if (sampler.get_1d() < q) break;
-        beta /= 1 - q;
-      }
+      if (!russian_roulette(I, &beta, eta_scale, bounces, sampler)) break;
     }
     return l;
+  }
+
+  // pbrt-v3's roulette after the fourth bounce; false: the path ends.
+  static bool russian_roulette(const Self& I, Rgb* beta, float eta_scale, int bounces,
+                               Sampler& sampler) {
+    Rgb rr_beta = *beta * eta_scale;
+    if (rr_beta.max_component() < I.settings_.rr_threshold && bounces > 3) {
+      float q = std::max(0.05f, 1 - rr_beta.max_component());
+      if (sampler.get_1d() < q) return false;
+      *beta /= 1 - q;
+    }
+    return true;
   }
 
   // pbrt-v3's AOIntegrator: the unoccluded fraction of the hemisphere about
@@ -356,9 +519,17 @@ struct Kernels {
     return Rgb(sum);
   }
 
-  static Integrator::Kernel pick(IntegratorType t) {
-    if (t == IntegratorType::kAmbientOcclusion) return &li_ambient_occlusion;
-    return t == IntegratorType::kPath ? &li_path : &li_whitted_or_direct;
+  static Integrator::Kernel pick(IntegratorType t, bool media) {
+    switch (t) {
+      case IntegratorType::kAmbientOcclusion:
+        return &li_ambient_occlusion;
+      case IntegratorType::kPath:
+        return &li_path<false>;
+      case IntegratorType::kVolPath:
+        return media ? &li_path<true> : &li_path<false>;
+      default:
+        return &li_whitted_or_direct;
+    }
   }
 };
 
@@ -366,20 +537,22 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
                       std::string* error) {
   scene_ = &scene;
   settings_ = settings;
-  if (settings.type == IntegratorType::kPath &&
-      !distribution_.build(scene.lights, scene.geometry.world_bounds(), settings.light_strategy,
-                           error))
+  const bool path =
+      settings.type == IntegratorType::kPath || settings.type == IntegratorType::kVolPath;
+  if (path && !distribution_.build(scene.lights, scene.geometry.world_bounds(),
+                                   settings.light_strategy, error))
     return false;
   const bool area = scene.effects & pbrta::kEffectAreaLights;
   const bool infinite = scene.effects & pbrta::kEffectInfiniteLights;
+  const bool media = simulates_media(settings.type) && scene.media.size() > 0;
   if (area && infinite)
-    kernel_ = Kernels<true, true>::pick(settings.type);
+    kernel_ = Kernels<true, true>::pick(settings.type, media);
   else if (area)
-    kernel_ = Kernels<true, false>::pick(settings.type);
+    kernel_ = Kernels<true, false>::pick(settings.type, media);
   else if (infinite)
-    kernel_ = Kernels<false, true>::pick(settings.type);
+    kernel_ = Kernels<false, true>::pick(settings.type, media);
   else
-    kernel_ = Kernels<false, false>::pick(settings.type);
+    kernel_ = Kernels<false, false>::pick(settings.type, media);
   return true;
 }
 

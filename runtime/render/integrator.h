@@ -1,11 +1,12 @@
-// runtime/render/integrator.h — pbrt-v3's whitted, directlighting, path and
+// runtime/render/integrator.h — pbrt-v3's whitted, directlighting, path, volpath and
 // ambientocclusion integrators.
 //
 // An Integrator computes the radiance along one camera ray. Its kernel is a
 // template instantiated for the effects the archive says the scene has
-// (area lights, infinite lights), picked once at construction: a scene
+// (area lights, infinite lights, media), picked once at construction: a scene
 // without area lights never looks up emission at a hit, one without an
-// infinite light never evaluates escaping rays. Per-thread counters (rays,
+// infinite light never evaluates escaping rays, and volpath on a scene
+// without media runs the path kernel (pbrt-v3's volpath is path there). Per-thread counters (rays,
 // shadow rays) are passed in, so nothing here is shared and written.
 #pragma once
 
@@ -21,7 +22,19 @@
 
 namespace rt {
 
-enum class IntegratorType : uint8_t { kWhitted, kDirectLighting, kPath, kAmbientOcclusion };
+enum class IntegratorType : uint8_t {
+  kWhitted,
+  kDirectLighting,
+  kPath,
+  kVolPath,
+  kAmbientOcclusion
+};
+
+// Only volpath simulates participating media (bdpt and mlt would too); the
+// others ignore them, as pbrt-v3 does, after a warning.
+inline bool simulates_media(IntegratorType t) {
+  return t == IntegratorType::kVolPath;
+}
 
 struct IntegratorSettings {
   IntegratorType type = IntegratorType::kPath;

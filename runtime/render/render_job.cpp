@@ -28,6 +28,7 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
     } kTypes[] = {{"whitted", IntegratorType::kWhitted},
                   {"directlighting", IntegratorType::kDirectLighting},
                   {"path", IntegratorType::kPath},
+                  {"volpath", IntegratorType::kVolPath},
                   {"ambientocclusion", IntegratorType::kAmbientOcclusion}};
     bool found = false;
     for (const auto& t : kTypes)
@@ -41,9 +42,9 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
     }
   }
   if (!o.light_strategy.empty()) {
-    if (s->type != IntegratorType::kPath) {
+    if (s->type != IntegratorType::kPath && s->type != IntegratorType::kVolPath) {
       *error = "error: light strategy \"" + o.light_strategy +
-               "\" given, but only the path integrator samples lights by a strategy";
+               "\" given, but only the path and volpath integrators sample lights by a strategy";
       return false;
     }
     s->light_strategy = o.light_strategy;
@@ -86,7 +87,9 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   scene.geometry.set_watertight(options.watertight);
   if (!load_render_scene(archive, &scene, error)) return false;
   result->integrator = std::string(archive.type_name(archive.scene().integrator));
-  if ((scene.effects & pbrta::kEffectMedia) && !options.quiet)
+  const bool media_ignored =
+      (scene.effects & pbrta::kEffectMedia) && !simulates_media(settings.type);
+  if (media_ignored && !options.quiet)
     std::cerr << "Warning: Scene has scattering media but \"" << result->integrator
               << "\" integrator doesn't support volume scattering. Consider using \"volpath\", "
                  "\"bdpt\", or \"mlt\".\n";
@@ -114,7 +117,9 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   if (result->render.nonfinite_samples > 0)
     std::cerr << options.program << ": " << result->render.nonfinite_samples
               << " samples had NaN or infinite radiance; they were counted as black\n";
-  result->effects = effect_names(scene.effects);
+  result->effects =
+      effect_names(media_ignored ? scene.effects & ~pbrta::kEffectMedia : scene.effects);
+  if (!media_ignored) result->media = scene.media.stats();
   result->max_depth = settings.max_depth;
   result->samples_per_pixel = (long long)sampler->samples_per_pixel();
   result->geometry = scene.geometry.stats();
@@ -149,7 +154,15 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       rs.seconds > 0 ? double(rs.samples) / rs.seconds : 0.0, (unsigned long long)rs.camera_rays,
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
       (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
-  return buf;
+  std::string out = buf;
+  if (r.media.homogeneous + r.media.grids > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "  media                  %u homogeneous, %u density grids (%llu majorant "
+                  "cells)\n",
+                  r.media.homogeneous, r.media.grids, (unsigned long long)r.media.grid_cells);
+    out += buf;
+  }
+  return out;
 }
 
 }  // namespace rt

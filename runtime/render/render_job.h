@@ -19,6 +19,7 @@
 #include "format/scene_archive.h"
 #include "runtime/film/image_io.h"
 #include "runtime/geometry/scene_geometry.h"
+#include "runtime/medium/media.h"
 #include "runtime/render/renderer.h"
 
 namespace rt {
@@ -54,6 +55,7 @@ struct RenderJobResult {
   int max_depth = 0;
   long long samples_per_pixel = 0;
   GeometryStats geometry;
+  MediumStats media;  // empty unless the integrator simulates the scene's media
   RenderStats render;
   double build_seconds = 0;  // render scene, sampler and integrator
   double setup_seconds = 0;  // everything before the render loop (film through preprocess)

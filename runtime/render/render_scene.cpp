@@ -11,7 +11,10 @@ bool load_render_scene(const pbrta::SceneArchive& a, RenderScene* s, std::string
   if (!s->materials.build(a, s->textures, error)) return false;
   bool alpha = (s->effects & pbrta::kEffectAlpha) != 0;
   if (!s->geometry.build(a, s->shapes, alpha ? &s->textures : nullptr, error)) return false;
-  return s->lights.build(a, s->shapes, s->geometry.world_bounds(), error);
+  if (!s->lights.build(a, s->shapes, s->geometry.world_bounds(), error)) return false;
+  if (!(s->effects & pbrta::kEffectMedia)) return true;
+  s->camera_medium = a.scene().camera_medium;
+  return s->media.build(a, error);
 }
 
 }  // namespace rt

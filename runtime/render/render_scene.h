@@ -1,7 +1,7 @@
 // runtime/render/render_scene.h — everything a ray needs, loaded from one archive.
 //
 // load_render_scene() builds, in order, the shape table, textures,
-// materials, the Embree scene and the lights (the integrator builds its
+// materials, the Embree scene, the lights and the media (the integrator builds its
 // light-selection distribution); any part the runtime cannot render yet
 // stops the load with "not supported yet: <feature> (file:line)". After
 // loading, a RenderScene is read-only and shared by all render threads.
@@ -17,6 +17,7 @@
 #include "runtime/light/light_distribution.h"
 #include "runtime/light/lights.h"
 #include "runtime/material/materials.h"
+#include "runtime/medium/media.h"
 #include "runtime/texture/textures.h"
 
 namespace rt {
@@ -28,7 +29,9 @@ struct RenderScene {
   MaterialSet materials;
   SceneGeometry geometry;
   LightSet lights;
-  uint64_t effects = 0;  // the archive's effect bits
+  MediumSet media;                 // empty unless the archive's media bit is set
+  uint32_t camera_medium = kNone;  // the medium camera rays start in
+  uint64_t effects = 0;            // the archive's effect bits
 };
 
 // Call scene->geometry.set_watertight() first to change that option.

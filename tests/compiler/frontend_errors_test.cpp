@@ -375,6 +375,50 @@ TEST(FrontendErrors, HeterogeneousMediumDensityCount) {
             "2000000000 * 2000000000 * 2000000000");
 }
 
+// A measured preset is resolved by pbrtc: the archive holds its coefficients (pbrt-v3's table,
+// mm^-1), and given sigma_a/sigma_s win over it, as in pbrt-v3's MakeMedium.
+TEST(FrontendErrors, MediumPresetIsResolvedAtCompileTime) {
+  Compile c(
+      in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" \"string preset\" "
+               "\"Skin1\"\nMakeNamedMedium \"n\" \"string type\" \"homogeneous\" "
+               "\"string preset\" \"Ketchup\" \"rgb sigma_s\" [1 2 3]\n"));
+  ASSERT_TRUE(c.ok) << c.first_error();
+  ASSERT_EQ(c.scene.media.size(), 2u);
+  const Entity& skin = c.scene.media[0].params;
+  EXPECT_EQ(std::vector<float>(skin.get_floats("sigma_a"), skin.get_floats("sigma_a") + 3),
+            (std::vector<float>{0.032f, 0.17f, 0.48f}));
+  EXPECT_EQ(std::vector<float>(skin.get_floats("sigma_s"), skin.get_floats("sigma_s") + 3),
+            (std::vector<float>{0.74f, 0.88f, 1.01f}));
+  EXPECT_TRUE(skin.given("sigma_a"));
+  const Entity& ketchup = c.scene.media[1].params;
+  EXPECT_EQ(std::vector<float>(ketchup.get_floats("sigma_a"), ketchup.get_floats("sigma_a") + 3),
+            (std::vector<float>{0.061f, 0.97f, 1.45f}));
+  EXPECT_EQ(std::vector<float>(ketchup.get_floats("sigma_s"), ketchup.get_floats("sigma_s") + 3),
+            (std::vector<float>{1, 2, 3}));
+}
+
+TEST(FrontendErrors, MediumBadValues) {
+  const std::string unknown =
+      first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
+                           "\"string preset\" \"Skin3\"\n"));
+  EXPECT_EQ(unknown.substr(0, 79),
+            "scene.pbrt:2:65: error: unknown medium preset \"Skin3\" (known: Apple, Chicken1, ");
+  EXPECT_EQ(first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
+                                 "\"rgb sigma_s\" [1 -0.5 1]\n")),
+            "scene.pbrt:2:64: error: medium \"sigma_s\" has a negative component");
+  EXPECT_EQ(first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
+                                 "\"float scale\" -2\n")),
+            "scene.pbrt:2:63: error: medium \"scale\" must not be negative");
+  EXPECT_EQ(first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
+                                 "\"float g\" -1\n")),
+            "scene.pbrt:2:59: error: medium \"g\" must lie in (-1, 1): Henyey-Greenstein has no "
+            "density at +-1");
+  EXPECT_EQ(first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
+                                 "\"integer nx\" 2 \"float density\" [0.5 -1]\n")),
+            "scene.pbrt:2:83: error: heterogeneous medium density value 1 is -1.000000 "
+            "(densities are finite and not negative)");
+}
+
 // ---- Meshes ----
 
 constexpr const char* kTriangleP = "\"point3 P\" [0 0 0 1 0 0 1 1 0]";
@@ -768,8 +812,9 @@ TEST(FrontendErrors, EveryPbrtV4HintNamesARealPbrtV3Type) {
   ASSERT_GE(n, 20u);
   for (size_t i = 0; i < n; ++i) {
     EXPECT_LT(pbrta::find_type(names[i].category, names[i].v4), 0) << names[i].v4;
-    if (!names[i].v3.empty())
+    if (!names[i].v3.empty()) {
       EXPECT_GE(pbrta::find_type(names[i].category, names[i].v3), 0) << names[i].v3;
+    }
   }
 }
 
