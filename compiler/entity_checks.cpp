@@ -92,6 +92,17 @@ bool check_medium(Entity* m, const ParamList& params, Loc loc, Diagnostics* diag
     diag->error(value_loc(params, "scale", loc), "medium \"scale\" must not be negative");
     ok = false;
   }
+  if (ok && m->type_name() == "heterogeneous") {
+    // pbrt-v3's grid medium tracks one extinction, the red channel's, and says so.
+    const float k = m->get_float("scale");
+    const float* a = m->get_floats("sigma_a");
+    const float* sc = m->get_floats("sigma_s");
+    float t[3];
+    for (int i = 0; i < 3; ++i) t[i] = a[i] * k + sc[i] * k;
+    if (t[1] != t[0] || t[2] != t[0])
+      diag->warning(loc, "heterogeneous medium: sigma_a + sigma_s differs between channels; "
+                         "its extinction is the red channel's in all three (as in pbrt-v3)");
+  }
   const float g = m->get_float("g");
   if (!(g > -1 && g < 1)) {
     diag->error(value_loc(params, "g", loc),

@@ -23,7 +23,8 @@ bool check_heterogeneous_medium(const Entity& medium, const ParamList& params, L
 // into sigma_a and sigma_s unless the scene gave them (pbrt-v3's order: the
 // preset, then the given values, both scaled by "scale" at render), so the
 // archive holds the coefficients; an unknown preset, a negative coefficient
-// or scale, and |g| >= 1 (where Henyey-Greenstein has no density) are errors.
+// or scale, and |g| >= 1 (where Henyey-Greenstein has no density) are errors;
+// a density grid whose extinction differs between channels is a warning.
 bool check_medium(Entity* medium, const ParamList& params, Loc loc, Diagnostics* diag);
 
 }  // namespace pbrtc

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Renders reference scenes of ../shared/refs and checks that each converges to
-# pbrt-v3's image (the rule is in tools/compare/convergence.h): pbrtc compiles
+# Renders reference scenes of ../shared/refs (and the project's own scenes in
+# tests/convergence/own, whose references pbrt-v3 rendered at high spp) and
+# checks that each converges to pbrt-v3's image (the rule is in tools/compare/convergence.h): pbrtc compiles
 # the scene, pbrtrun renders it twice at half the reference's spp with seeds 1
 # and 2 at the reference's --resdiv, and ref-compare judges the pair and
 # writes ours | pbrt-v3 | signed difference as a PNG for people to look at.
@@ -41,16 +42,22 @@ mkdir -p "$out"
 status=0
 ran=0
 printf '%-62s %s\n' "scene" "result"
-while read -r entry ref spp resdiv ci; do
+while read -r entry ref spp resdiv ci ours; do
   case "$entry" in ''|'#'*) continue ;; esac
   [ "$only_ci" = 1 ] && [ "$ci" != "ci" ] && continue
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
+  # own/...: the project's scenes, reference beside the scene; else the shared corpus.
+  case "$entry" in
+    own/*) scene="$root/tests/convergence/$entry"; refpath="$(dirname "$scene")/$ref" ;;
+    *) scene="$shared/scenes/$entry"; refpath="$shared/refs/$ref" ;;
+  esac
+  ours="${ours:-$spp}"
   name="$(basename "${ref%.exr}")"
   archive="$out/$name.pbrta"
-  half=$((spp / 2))
+  half=$((ours / 2))
   log="$out/$name.log"
   ran=$((ran + 1))
-  if ! "$build/pbrtc" -q "$shared/scenes/$entry" -o "$archive" >"$log" 2>&1; then
+  if ! "$build/pbrtc" -q "$scene" -o "$archive" >"$log" 2>&1; then
     printf '%-62s %s\n' "$entry" "COMPILE FAILED: $(grep -m1 error "$log")"
     status=1
     continue
@@ -71,8 +78,8 @@ while read -r entry ref spp resdiv ci; do
     status=1
     continue
   fi
-  result="$("$build/ref-compare" "$out/$name.1.exr" "$out/$name.2.exr" "$shared/refs/$ref" \
-      --png "$out/$name.png" 2>&1)"
+  result="$("$build/ref-compare" "$out/$name.1.exr" "$out/$name.2.exr" "$refpath" \
+      --spp "$ours" --reference-spp "$spp" --png "$out/$name.png" 2>&1)"
   rc=$?
   printf '%-62s %s\n' "$entry" "${result#*: }"
   [ $rc -ne 0 ] && status=1

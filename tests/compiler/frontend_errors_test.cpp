@@ -397,6 +397,21 @@ TEST(FrontendErrors, MediumPresetIsResolvedAtCompileTime) {
             (std::vector<float>{1, 2, 3}));
 }
 
+TEST(FrontendErrors, GridMediumWithColouredExtinctionWarns) {
+  Compile c(in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
+                     "\"float density\" [1] \"rgb sigma_a\" [1 2 3] \"rgb sigma_s\" [1 1 1]\n"));
+  EXPECT_TRUE(c.ok) << c.first_error();
+  EXPECT_EQ(c.warnings(),
+            std::vector<std::string>{"scene.pbrt:2:1: warning: heterogeneous medium: sigma_a + "
+                                     "sigma_s differs between channels; its extinction is the "
+                                     "red channel's in all three (as in pbrt-v3)"});
+  EXPECT_TRUE(Compile(in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
+                               "\"float density\" [1] \"rgb sigma_a\" [1 2 3] "
+                               "\"rgb sigma_s\" [3 2 1]\n"))
+                  .warnings()
+                  .empty());
+}
+
 TEST(FrontendErrors, MediumBadValues) {
   const std::string unknown =
       first_error(in_world("MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
