@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "compiler/bsdf_file.h"
+#include "compiler/bssrdf_table.h"
 #include "compiler/entity_checks.h"
 #include "compiler/mesh_builder.h"
 #include "compiler/refine.h"
@@ -303,6 +304,10 @@ struct SceneBuilder::State {
     if (m.params.type_name() == "fourier" && m.params.given("bsdffile")) {
       const ParsedParam* fp = params.find("bsdffile");
       derive_fourier_table(&m.params, fp ? fp->value_loc : loc, diag);
+    }
+    if (m.params.type_name() == "subsurface" || m.params.type_name() == "kdsubsurface") {
+      const ParsedParam* np = params.find("name");
+      derive_subsurface(&m.params, np ? np->value_loc : loc, diag);
     }
     scene->materials.push_back(std::move(m));
     return int32_t(scene->materials.size() - 1);
@@ -934,6 +939,9 @@ void SceneBuilder::Shape(Loc loc, std::string_view type, const ParamList& params
           material_spec.name == "fourier" && p.name == "bsdffile")
         derive_fourier_table(&over->params, p.value_loc, s_->diag);
     }
+    // A shape's own g or eta makes a new profile (pbrt-v3 makes a new material for it).
+    if (over && (material_spec.name == "subsurface" || material_spec.name == "kdsubsurface"))
+      derive_subsurface(&over->params, loc, s_->diag);
     if (over) material = int32_t(s_->scene->materials.size() - 1);
   }
   s_->resolver.report_unused(params, &sh.params);

@@ -23,7 +23,7 @@ namespace pbrta {
 
 inline constexpr uint8_t kMagic[8] = {0x89, 'P', 'B', 'R', 'T', 'A', 0x0D, 0x0A};
 inline constexpr uint16_t kMajorVersion = 2;
-inline constexpr uint16_t kMinorVersion = 0;
+inline constexpr uint16_t kMinorVersion = 1;
 inline constexpr uint32_t kNoIndex = 0xFFFFFFFFu;
 inline constexpr uint64_t kSectionAlignment = 16;
 inline constexpr uint64_t kSectionPadding = 16;

@@ -9,9 +9,14 @@ CountRule count_rule_of(Category category, uint32_t type) {
   static const int curve = find_type(Category::kShape, "curve");
   static const int heterogeneous = find_type(Category::kMedium, "heterogeneous");
   static const int fourier = find_type(Category::kMaterial, "fourier");
+  static const int subsurface = find_type(Category::kMaterial, "subsurface");
+  static const int kdsubsurface = find_type(Category::kMaterial, "kdsubsurface");
   if (category == Category::kShape && int64_t(type) == curve) return CountRule::kCurve;
   if (category == Category::kMedium && int64_t(type) == heterogeneous) return CountRule::kDensity;
   if (category == Category::kMaterial && int64_t(type) == fourier) return CountRule::kFourierTable;
+  if (category == Category::kMaterial &&
+      (int64_t(type) == subsurface || int64_t(type) == kdsubsurface))
+    return CountRule::kBssrdfTable;
   return CountRule::kNone;
 }
 

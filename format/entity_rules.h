@@ -26,7 +26,7 @@ namespace pbrta {
 // for the reader's checks (format/scene_validation.cpp) and the schema digest alike. A fourier
 // material's table ties its arrays' counts together as well; its rules are in
 // format/fourier_table.h.
-enum class CountRule : uint8_t { kNone, kCurve, kDensity, kFourierTable };
+enum class CountRule : uint8_t { kNone, kCurve, kDensity, kFourierTable, kBssrdfTable };
 CountRule count_rule_of(Category category, uint32_t type);
 
 // A broken rule: the parameter to point at and why (empty param: the entity as a whole).

@@ -16,6 +16,7 @@
 #include <oneapi/tbb/task_arena.h>
 
 #include "format/archive_names.h"
+#include "format/bssrdf_table.h"
 #include "format/draco_codec.h"
 #include "format/entity_rules.h"
 #include "format/fourier_table.h"
@@ -377,6 +378,13 @@ bool SceneArchive::validate_records(std::string* error) {
       if (mu != nullptr && mu->count != 0 &&
           (!fourier_table_of(*this, i, &t, &why) || !check_fourier_table(t, &why)))
         return c.fail_with(at, i, ": fourier table ", why);
+    } else if (count_rule == CountRule::kBssrdfTable && minor >= 1) {
+      // 2.0 archives have no table (their subsurface materials cannot be rendered); from 2.1 on
+      // pbrtc always writes one, and the renderer interpolates it without checks.
+      BssrdfTableView t;
+      std::string why;
+      if (!bssrdf_table_of(*this, i, &t, &why) || !check_bssrdf_table(t, &why))
+        return c.fail_with(at, i, ": BSSRDF table ", why);
     }
     return true;
   };

@@ -354,8 +354,23 @@ constexpr ParamSpec kUber[] = {
     p_ftex_optional("bumpmap"),
     p_bool("remaproughness", true),
 };
+// The photon-beam-diffusion profile of both subsurface materials, computed by pbrtc for the
+// material's g and eta (format/bssrdf_table.h); archive version 2.1 added them.
+constexpr ParamSpec kBssrdfRho = noted(derived(p_bulk("bssrdfrho", Kind::kFloat)),
+                                       "the albedo samples, increasing in [0, 1]");
+constexpr ParamSpec kBssrdfRadius = noted(derived(p_bulk("bssrdfradius", Kind::kFloat)),
+                                          "the optical radius samples, increasing from 0");
+constexpr ParamSpec kBssrdfProfile =
+    noted(derived(p_bulk("bssrdfprofile", Kind::kFloat)),
+          "albedos x radii, row-major: 2 pi r Sr(r) for unit extinction");
+constexpr ParamSpec kBssrdfRhoEff = noted(derived(p_bulk("bssrdfrhoeff", Kind::kFloat)),
+                                          "per albedo: the profile's integral over the radius");
+constexpr ParamSpec kBssrdfCdf =
+    noted(derived(p_bulk("bssrdfcdf", Kind::kFloat)),
+          "albedos x radii: the profile's running integral over the radius (Catmull-Rom)");
 constexpr ParamSpec kSubsurface[] = {
-    p_string("name", ""),  // a measured-medium preset; selects sigma_a/sigma_s and forces g = 0
+    // A measured-medium preset: pbrtc writes its sigma_a/sigma_s (unless given) and g = 0.
+    p_string("name", ""),
     p_float("g", 0),
     p_float("scale", 1),
     p_float("eta", 1.33f),  // a plain float here, not a texture
@@ -369,6 +384,11 @@ constexpr ParamSpec kSubsurface[] = {
     p_ftex("vroughness", 0),
     p_ftex_optional("bumpmap"),
     p_bool("remaproughness", true),
+    kBssrdfRho,
+    kBssrdfRadius,
+    kBssrdfProfile,
+    kBssrdfRhoEff,
+    kBssrdfCdf,
 };
 constexpr ParamSpec kKdSubsurface[] = {
     p_stex("Kd", 0.5f),
@@ -382,6 +402,11 @@ constexpr ParamSpec kKdSubsurface[] = {
     p_float("scale", 1),
     p_float("g", 0),
     p_bool("remaproughness", true),
+    kBssrdfRho,
+    kBssrdfRadius,
+    kBssrdfProfile,
+    kBssrdfRhoEff,
+    kBssrdfCdf,
 };
 constexpr ParamSpec kFourier[] = {
     p_ftex_optional("bumpmap"),

@@ -2,6 +2,7 @@
 // sections 8.2-8.5 and 14.1), dispatched by a switch on the kind.
 #include "runtime/material/bxdf.h"
 
+#include "format/bssrdf_table.h"
 #include "runtime/core/sampling.h"
 #include "runtime/material/fourier_bxdf.h"
 #include "runtime/material/local_frame.h"
@@ -120,6 +121,8 @@ Rgb raw_f(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return b.disney.f(wo, wi);
     case BxdfKind::kFourier:
       return FourierLobe{b.fourier, b.mode}.f(wo, wi);
+    case BxdfKind::kBssrdfExit:
+      return b.r * (1 - fr_dielectric(cos_theta(wi), 1, b.eta_b));
     case BxdfKind::kSpecularReflection:
     case BxdfKind::kSpecularTransmission:
     case BxdfKind::kFresnelSpecular:
@@ -132,6 +135,7 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
   switch (b.kind) {
     case BxdfKind::kLambertianReflection:
     case BxdfKind::kOrenNayar:
+    case BxdfKind::kBssrdfExit:
       return same_hemisphere(wo, wi) ? abs_cos_theta(wi) * kInvPi : 0;
     case BxdfKind::kLambertianTransmission:
       return !same_hemisphere(wo, wi) ? abs_cos_theta(wi) * kInvPi : 0;
@@ -168,6 +172,7 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
   switch (b.kind) {
     case BxdfKind::kLambertianReflection:
     case BxdfKind::kOrenNayar:
+    case BxdfKind::kBssrdfExit:
       *wi = cosine_sample_hemisphere(u);
       if (wo.z < 0) wi->z *= -1;
       break;
@@ -361,6 +366,17 @@ Bxdf make_disney(const DisneyLobe& lobe) {
   b.flags = lobe.flags;
   b.mode = lobe.mode;
   b.disney = lobe;
+  return b;
+}
+
+Bxdf make_bssrdf_exit(float eta, TransportMode mode) {
+  Bxdf b;
+  b.kind = BxdfKind::kBssrdfExit;
+  b.flags = kReflection | kDiffuse;
+  b.mode = mode;
+  b.eta_b = eta;
+  float c = 1 - 2 * float(pbrta::fresnel_moment1(1 / eta));
+  b.r = Rgb(mode == TransportMode::kRadiance ? eta * eta / (c * kPi) : 1 / (c * kPi));
   return b;
 }
 

@@ -8,7 +8,8 @@
 // Fresnel), microfacet reflection and transmission, FresnelBlend, and the
 // Disney material's lobes (kDisney: f/sample_f/pdf are the carried
 // DisneyLobe's, disney_bxdf.h), and the fourier material's tabulated BSDF
-// (kFourier: a pointer to its table, fourier_bxdf.h). Payloads only one kind reads share storage
+// (kFourier: a pointer to its table, fourier_bxdf.h), and the subsurface exit lobe
+// (kBssrdfExit). Payloads only one kind reads share storage
 // in an anonymous union (Bsdf holds 8 Bxdfs inline, so size matters): a new
 // kind with its own plain-data payload goes there too. Every lobe
 // carries `scale` (1 unless a mix material weighted it: pbrt-v3's ScaledBxDF,
@@ -40,6 +41,7 @@ enum class BxdfKind : uint8_t {
   kFresnelBlend,
   kDisney,
   kFourier,
+  kBssrdfExit,
 };
 
 struct FourierTable;  // runtime/material/fourier_bxdf.h
@@ -89,6 +91,10 @@ Bxdf make_microfacet_reflection(Rgb r, const MicrofacetDistribution& d, const Fr
 Bxdf make_microfacet_transmission(Rgb t, const MicrofacetDistribution& d, float eta_a, float eta_b,
                                   TransportMode mode);
 Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d);
+// Where light leaves a subsurface material (pbrt-v3's SeparableBSSRDFAdapter): diffuse
+// reflection weighted by the Fresnel transmittance into the outside, normalised by the
+// Fresnel moment of 1/eta (and times eta^2 for radiance, which crossed the boundary twice).
+Bxdf make_bssrdf_exit(float eta, TransportMode mode);
 // Carries one of the Disney material's lobes; flags are the lobe's.
 Bxdf make_disney(const DisneyLobe& lobe);
 // The fourier material's lobe; the table must outlive it.

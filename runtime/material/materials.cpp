@@ -4,6 +4,7 @@
 
 #include <string_view>
 
+#include "format/bssrdf_table.h"
 #include "runtime/material/bump.h"
 
 namespace rt {
@@ -29,6 +30,7 @@ int max_lobes(const std::vector<MaterialNode>& nodes, uint32_t m, int depth) {
       return 1;
     case MaterialKind::kPlastic:
     case MaterialKind::kGlass:
+    case MaterialKind::kSubsurface:
       return 2;
     case MaterialKind::kTranslucent:
       return 4;
@@ -141,6 +143,38 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       if (!build_fourier_table(archive, e, table.get(), error)) return false;
       m.fourier = table.get();
       fourier_tables_.push_back(std::move(table));
+    } else if (type == "subsurface" || type == "kdsubsurface") {
+      m.kind = MaterialKind::kSubsurface;
+      m.kr = rin("Kr");
+      m.kt = rin("Kt");
+      m.eta = fin("eta");
+      m.uroughness = fin("uroughness");
+      m.vroughness = fin("vroughness");
+      m.ss_scale = archive.get_float(e, "scale", 1);
+      m.from_diffuse = type == "kdsubsurface";
+      if (m.from_diffuse) {
+        m.kd = rin("Kd");
+        m.mfp = rin("mfp");
+      } else {
+        m.sigma_a = rin("sigma_a");
+        m.sigma_s = rin("sigma_s");
+      }
+      pbrta::BssrdfTableView view;
+      std::string why;
+      if (!pbrta::bssrdf_table_of(archive, e, &view, &why)) {
+        *error = archive.where(e) + ": error: " + why + " (recompile the scene with pbrtc 2.1)";
+        return false;
+      }
+      auto table = std::make_unique<BssrdfTable>();
+      table->n_rho = int(view.n_rho);
+      table->n_radius = int(view.n_radius);
+      table->rho = view.rho;
+      table->radius = view.radius;
+      table->profile = view.profile;
+      table->rho_eff = view.rho_eff;
+      table->cdf = view.cdf;
+      m.bssrdf = table.get();
+      bssrdf_tables_.push_back(std::move(table));
     } else if (type == "mix") {
       m.kind = MaterialKind::kMix;
       m.amount = rin("amount");
@@ -243,7 +277,8 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
       if (!r.is_black()) bsdf->add(make_specular_reflection(r, Fresnel::no_op()));
       break;
     }
-    case MaterialKind::kGlass: {
+    case MaterialKind::kGlass:
+    case MaterialKind::kSubsurface: {
       float eta = tex.eval(m.eta, si);
       float urough = tex.eval(m.uroughness, si), vrough = tex.eval(m.vroughness, si);
       Rgb r = clamp(tex.eval(m.kr, si)), t = clamp(tex.eval(m.kt, si));
@@ -337,6 +372,24 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
     case MaterialKind::kMix:
       break;
   }
+}
+
+bool MaterialSet::compute_bssrdf(uint32_t material, const SurfaceInteraction& si,
+                                 Bssrdf* out) const {
+  const MaterialNode& m = nodes_[material];
+  if (!m.bssrdf) return false;
+  const TextureSet& tex = *textures_;
+  Rgb sigma_a, sigma_s;
+  if (m.from_diffuse) {
+    Rgb mfp = clamp(tex.eval(m.mfp, si)) * m.ss_scale;
+    subsurface_from_diffuse(*m.bssrdf, clamp(tex.eval(m.kd, si)), mfp, &sigma_a, &sigma_s);
+  } else {
+    sigma_a = clamp(tex.eval(m.sigma_a, si)) * m.ss_scale;
+    sigma_s = clamp(tex.eval(m.sigma_s, si)) * m.ss_scale;
+  }
+  out->init(m.bssrdf, sigma_a, sigma_s, tex.eval(m.eta, si), si.p, si.shading.n, si.shading.dpdu,
+            material);
+  return true;
 }
 
 }  // namespace rt

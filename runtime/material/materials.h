@@ -25,6 +25,7 @@
 #include "format/scene_archive.h"
 #include "runtime/core/interaction.h"
 #include "runtime/material/bsdf.h"
+#include "runtime/material/bssrdf.h"
 #include "runtime/material/disney_material.h"
 #include "runtime/material/fourier_bxdf.h"
 #include "runtime/texture/textures.h"
@@ -44,6 +45,7 @@ enum class MaterialKind : uint8_t {
   kDisney,
   kFourier,
   kMix,
+  kSubsurface,  // subsurface and kdsubsurface: glass's lobes and a BSSRDF
 };
 
 // One material's inputs; which fields a kind reads is in materials.cpp.
@@ -59,6 +61,12 @@ struct MaterialNode {
   uint32_t mix[2] = {kNone, kNone};
   DisneyInputs disney;
   const FourierTable* fourier = nullptr;  // kFourier: owned by the set
+  // kSubsurface: the coefficients (sigma_a, sigma_s), or for kdsubsurface the
+  // diffuse reflectance (kd) and mean free path they derive from; times scale.
+  RgbInput sigma_a, sigma_s, mfp;
+  bool from_diffuse = false;
+  float ss_scale = 1;
+  const BssrdfTable* bssrdf = nullptr;  // owned by the set
 };
 
 class MaterialSet {
@@ -71,6 +79,12 @@ class MaterialSet {
   bool is_interface(uint32_t material) const {
     return nodes_[material].kind == MaterialKind::kNone;
   }
+
+  bool has_bssrdf(uint32_t material) const { return nodes_[material].bssrdf != nullptr; }
+  // For a subsurface material, after compute_bsdf (which bump-mapped si): its BSSRDF at si,
+  // as pbrt-v3's TabulatedBSSRDF. False for any other material (a mix carries none, as in
+  // pbrt-v3).
+  bool compute_bssrdf(uint32_t material, const SurfaceInteraction& si, Bssrdf* out) const;
 
   // Applies bump mapping (updating si's shading frame) and fills *bsdf.
   // False, with *bsdf untouched, for the interface material.
@@ -85,6 +99,7 @@ class MaterialSet {
   std::vector<MaterialNode> nodes_;
   // unique_ptr: nodes point at their tables, which must not move with the set.
   std::vector<std::unique_ptr<FourierTable>> fourier_tables_;
+  std::vector<std::unique_ptr<BssrdfTable>> bssrdf_tables_;
 };
 
 }  // namespace rt

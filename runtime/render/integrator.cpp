@@ -390,7 +390,7 @@ struct Kernels {
   // pbrt-v3's path integrator; with kMedia, its volpath: rays carry the
   // medium they travel in, which may scatter them (a phase-function vertex
   // with its own light sample) before they reach the surface.
-  template <bool kMedia>
+  template <bool kMedia, bool kSubsurface>
   static Rgb li_path(const Self& I, const RayDifferential& camera_ray, Sampler& sampler,
                      RayCounters* c) {
     Rgb l, beta(1.f);
@@ -459,11 +459,69 @@ struct Kernels {
         float eta = bsdf.eta;
         eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);
       }
+      const uint32_t arrived_in = medium;
       if constexpr (kMedia) medium = medium_after(I, si, wi, medium);
       ray = RayDifferential(si.spawn_ray(wi));
+      if constexpr (kSubsurface) {
+        // Light refracted into a subsurface material leaves it at a point the BSSRDF picks,
+        // where it is lit directly and continues by the exit lobe.
+        const uint32_t m = I.scene_->shapes[si.shape].material;
+        Bssrdf bssrdf;
+        if ((flags & kTransmission) && I.scene_->materials.compute_bssrdf(m, si, &bssrdf)) {
+          SurfaceInteraction pi;
+          float sp_pdf = 0;
+          Rgb sp = sample_exit(I, bssrdf, si, sampler.get_1d(), sampler.get_2d(), &pi, &sp_pdf, c);
+          if (sp.is_black() || sp_pdf == 0) break;
+          beta *= sp / sp_pdf;
+          Bsdf exit;
+          exit.init(pi);
+          exit.add(make_bssrdf_exit(bssrdf.eta, TransportMode::kRadiance));
+          pi.wo = pi.shading.n;
+          l += beta * sample_one_light<kMedia>(I, pi, surface_scatter(I, pi, exit, arrived_in),
+                                               sampler, &I.distribution_, c);
+          float exit_pdf = 0;
+          uint8_t exit_flags = 0;
+          Rgb fe = exit.sample_f(pi.wo, &wi, sampler.get_2d(), &exit_pdf, kAllBxdf, &exit_flags);
+          if (fe.is_black() || exit_pdf == 0) break;
+          beta *= fe * (abs_dot(wi, pi.shading.n) / exit_pdf);
+          specular_bounce = exit_flags & kSpecular;
+          if constexpr (kMedia) medium = medium_after(I, pi, wi, arrived_in);
+          ray = RayDifferential(pi.spawn_ray(wi));
+        }
+      }
       if (!russian_roulette(I, &beta, eta_scale, bounces, sampler)) break;
     }
     return l;
+  }
+
+  // pbrt-v3's SeparableBSSRDF::Sample_Sp: the probe chord's hits on the same
+  // material, one picked uniformly; returns Sp there and its pdf (per area,
+  // over the axes, channels and hits).
+  static Rgb sample_exit(const Self& I, const Bssrdf& b, const SurfaceInteraction& po, float u1,
+                         Vec2 u2, SurfaceInteraction* pi, float* pdf, RayCounters* c) {
+    *pdf = 0;
+    Vec3 start, target;
+    float u_pick;
+    if (!b.probe(u1, u2, &start, &target, &u_pick)) return Rgb();
+    // A few hits suffice for any closed shape; a chord through more is cut short.
+    constexpr int kMaxHits = 16;
+    SurfaceInteraction hits[kMaxHits];
+    int found = 0;
+    Interaction base;
+    base.p = start;
+    base.time = po.time;
+    for (int guard = 0; guard < 1024 && found < kMaxHits; ++guard) {
+      Ray r = base.spawn_ray_to(target);
+      if (r.d == Vec3{}) break;
+      SurfaceInteraction& h = hits[found];
+      if (!intersect(I, r, &h, c)) break;
+      base = h;
+      if (I.scene_->shapes[h.shape].material == b.material) ++found;
+    }
+    if (found == 0) return Rgb();
+    *pi = hits[std::min(int(u_pick * float(found)), found - 1)];
+    *pdf = b.pdf_sp(pi->p, pi->n) / float(found);
+    return b.sr(length(po.p - pi->p));
   }
 
   // pbrt-v3's roulette after the fourth bounce; false: the path ends.
@@ -519,14 +577,15 @@ struct Kernels {
     return Rgb(sum);
   }
 
-  static Integrator::Kernel pick(IntegratorType t, bool media) {
+  static Integrator::Kernel pick(IntegratorType t, bool media, bool subsurface) {
     switch (t) {
       case IntegratorType::kAmbientOcclusion:
         return &li_ambient_occlusion;
       case IntegratorType::kPath:
-        return &li_path<false>;
+        return subsurface ? &li_path<false, true> : &li_path<false, false>;
       case IntegratorType::kVolPath:
-        return media ? &li_path<true> : &li_path<false>;
+        if (media) return subsurface ? &li_path<true, true> : &li_path<true, false>;
+        return subsurface ? &li_path<false, true> : &li_path<false, false>;
       default:
         return &li_whitted_or_direct;
     }
@@ -545,14 +604,15 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
   const bool area = scene.effects & pbrta::kEffectAreaLights;
   const bool infinite = scene.effects & pbrta::kEffectInfiniteLights;
   const bool media = simulates_media(settings.type) && scene.media.size() > 0;
+  const bool subsurface = scene.effects & pbrta::kEffectSubsurface;
   if (area && infinite)
-    kernel_ = Kernels<true, true>::pick(settings.type, media);
+    kernel_ = Kernels<true, true>::pick(settings.type, media, subsurface);
   else if (area)
-    kernel_ = Kernels<true, false>::pick(settings.type, media);
+    kernel_ = Kernels<true, false>::pick(settings.type, media, subsurface);
   else if (infinite)
-    kernel_ = Kernels<false, true>::pick(settings.type, media);
+    kernel_ = Kernels<false, true>::pick(settings.type, media, subsurface);
   else
-    kernel_ = Kernels<false, false>::pick(settings.type, media);
+    kernel_ = Kernels<false, false>::pick(settings.type, media, subsurface);
   return true;
 }
 

@@ -397,9 +397,48 @@ TEST(FrontendErrors, MediumPresetIsResolvedAtCompileTime) {
             (std::vector<float>{1, 2, 3}));
 }
 
+// The subsurface material's preset is resolved by pbrtc too, with g forced to 0 as pbrt-v3
+// does (the table holds reduced coefficients), and its profile table is derived for its g and
+// eta (format/bssrdf_table.h).
+TEST(FrontendErrors, SubsurfacePresetAndTable) {
+  Compile c(
+      in_world("Material \"subsurface\" \"string name\" \"Skin1\" \"float g\" 0.7\n"
+               "Shape \"sphere\"\nMaterial \"kdsubsurface\" \"float eta\" 1.5\n"
+               "Shape \"sphere\"\n"));
+  ASSERT_TRUE(c.ok) << c.first_error();
+  const Entity* skin = nullptr;
+  const Entity* kd = nullptr;
+  for (const MaterialDesc& m : c.scene.materials) {
+    if (m.params.type_name() == "subsurface") skin = &m.params;
+    if (m.params.type_name() == "kdsubsurface") kd = &m.params;
+  }
+  ASSERT_TRUE(skin && kd);
+  EXPECT_EQ(std::vector<float>(skin->get_floats("sigma_a"), skin->get_floats("sigma_a") + 3),
+            (std::vector<float>{0.032f, 0.17f, 0.48f}));
+  EXPECT_EQ(std::vector<float>(skin->get_floats("sigma_s"), skin->get_floats("sigma_s") + 3),
+            (std::vector<float>{0.74f, 0.88f, 1.01f}));
+  EXPECT_EQ(skin->get_float("g"), 0);
+  for (const Entity* e : {skin, kd}) {
+    uint32_t n_rho = 0, n_profile = 0;
+    e->get_floats("bssrdfrho", &n_rho);
+    e->get_floats("bssrdfprofile", &n_profile);
+    EXPECT_EQ(n_rho, 100u);
+    EXPECT_EQ(n_profile, 6400u);
+  }
+  // The profile depends on eta: the two tables differ.
+  uint32_t n = 0;
+  const float* a = skin->get_floats("bssrdfrhoeff", &n);
+  const float* b = kd->get_floats("bssrdfrhoeff");
+  EXPECT_NE(a[n - 1], b[n - 1]);
+  EXPECT_EQ(
+      first_error(in_world("Material \"subsurface\" \"string name\" \"Skin7\"\n")).substr(0, 72),
+      "scene.pbrt:2:37: error: unknown subsurface preset \"Skin7\" (known: Apple,");
+}
+
 TEST(FrontendErrors, GridMediumWithColouredExtinctionWarns) {
-  Compile c(in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
-                     "\"float density\" [1] \"rgb sigma_a\" [1 2 3] \"rgb sigma_s\" [1 1 1]\n"));
+  Compile c(
+      in_world("MakeNamedMedium \"m\" \"string type\" \"heterogeneous\" "
+               "\"float density\" [1] \"rgb sigma_a\" [1 2 3] \"rgb sigma_s\" [1 1 1]\n"));
   EXPECT_TRUE(c.ok) << c.first_error();
   EXPECT_EQ(c.warnings(),
             std::vector<std::string>{"scene.pbrt:2:1: warning: heterogeneous medium: sigma_a + "

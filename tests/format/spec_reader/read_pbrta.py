@@ -151,7 +151,7 @@ def parse_default(p):
 
 NONE = 0xFFFFFFFF
 MAGIC = b"\x89PBRTA\r\n"
-MAJOR, MINOR = 2, 0
+MAJOR, MINOR = 2, 1
 KINDS = {1: "scene", 2: "strings", 3: "entities", 4: "values", 5: "words", 6: "transforms",
          7: "textures", 8: "materials", 9: "media", 10: "lights", 11: "area_lights",
          12: "shapes", 13: "objects", 14: "object_shapes", 15: "instances", 16: "meshes",
@@ -395,6 +395,9 @@ class Archive:
                 self.check_curve(e)
             elif name == "heterogeneous" and cat == self.schema.category["medium"]:
                 self.check_density(e)
+            elif (name in ("subsurface", "kdsubsurface") and cat == self.schema.category["material"]
+                  and self.minor >= 1):
+                self.check_bssrdf(e)
 
     def check_section_count(self, kind, count, element_size=None):
         s = self.sections_of.get(kind)
@@ -712,6 +715,20 @@ class Archive:
                 and all(0 <= m <= mmax and 0 <= off and off + channels * m <= len(coeffs)
                         for off, m in zip(offsets[::2], offsets[1::2]))):
             self.fail(f"entity {e}: inconsistent fourier table", VALUES)
+
+    def check_bssrdf(self, e):
+        """ARCHIVE.md section 10's rules for a subsurface material's profile table (2.1)."""
+        rho, radius, profile, rho_eff, cdf = (
+            self.value(e, name) or [] for name in
+            ("bssrdfrho", "bssrdfradius", "bssrdfprofile", "bssrdfrhoeff", "bssrdfcdf"))
+        n, m = len(rho), len(radius)
+        increasing = lambda xs: all(a < b for a, b in zip(xs, xs[1:]))
+        if not (4 <= n <= 4096 and 4 <= m <= 4096 and len(profile) == n * m and len(cdf) == n * m
+                and len(rho_eff) == n and increasing(rho) and 0 <= rho[0] and rho[-1] <= 1
+                and increasing(radius) and radius[0] == 0
+                and all(math.isfinite(x) for x in (*rho, *radius, *profile, *rho_eff, *cdf))
+                and all(x >= 0 for x in (*profile, *rho_eff))):
+            self.fail(f"entity {e}: inconsistent BSSRDF table", VALUES)
 
     def check_curve(self, e):
         """ARCHIVE.md section 10's rules for a curve's counts."""

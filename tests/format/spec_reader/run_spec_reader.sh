@@ -28,6 +28,7 @@ compile mappings_none "$s/hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbr
 compile mappings_f16 "$s/hm-textures/pbrt-v3-rs/scenes/textures/2d-mappings.pbrt" \
   --texture-precision f16
 compile envmap "$s/v3-figures/f8-22.pbrt"
+compile subsurface "$s/v3-figures/f11-15.pbrt"
 compile anim "$s/rs-anim-bluespheres/anim-bluespheres.pbrt"
 compile instances "$s/hm-instances/pbrt-v3-rs/scenes/objects/instances.pbrt"
 
