@@ -778,6 +778,12 @@ void SceneBuilder::EndOfInput(Loc loc) {
     if (!material_used[i]) continue;
     const Entity& m = sc->materials[i].params;
     if (m.type_name() == "subsurface" || m.type_name() == "kdsubsurface") fx.subsurface = true;
+    if (m.type_name() == "disney" && !m.get_bool("thin")) {
+      // A solid disney material scatters under its surface where it has a scatter distance.
+      const Value& sd = m.values[size_t(m.slot("scatterdistance"))];
+      const float* d = m.get_floats("scatterdistance");
+      if (sd.texture != kNone || d[0] > 0 || d[1] > 0 || d[2] > 0) fx.subsurface = true;
+    }
     for (const Value& v : m.values)
       if (v.texture != kNone) fx.textures = true;
   }

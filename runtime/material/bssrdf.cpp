@@ -46,8 +46,24 @@ void Bssrdf::init(const BssrdfTable* t, Rgb sigma_a, Rgb sigma_s, float eta_, Ve
   material = material_;
 }
 
+void Bssrdf::init_disney(Rgb r, Rgb d, float eta_, Vec3 p_, Vec3 ns_, Vec3 dpdu,
+                         uint32_t material_) {
+  init(nullptr, Rgb(), Rgb(), eta_, p_, ns_, dpdu, material_);
+  disney_r = r;
+  disney_d = d;
+}
+
 Rgb Bssrdf::sr(float r) const {
   Rgb out;
+  if (!table) {
+    r = std::max(r, 1e-6f);  // the profile's 1/r singularity
+    for (int c = 0; c < 3; ++c) {
+      float d = disney_d[c];
+      if (d > 0)
+        out[c] = disney_r[c] * (std::exp(-r / d) + std::exp(-r / (3 * d))) / (8 * kPi * d * r);
+    }
+    return out;
+  }
   for (int c = 0; c < 3; ++c)
     out[c] = std::max(
         0.f, profile_at(*table, rho[c], r * sigma_t[c], nullptr) * sigma_t[c] * sigma_t[c]);
@@ -55,6 +71,12 @@ Rgb Bssrdf::sr(float r) const {
 }
 
 float Bssrdf::sample_sr(int ch, float u) const {
+  if (!table) {
+    // A quarter of the samples from the short exponential, the rest from the long one.
+    const float d = disney_d[ch];
+    if (u < .25f) return d * std::log(1 / (1 - std::min(u * 4, kOneMinusEpsilon)));
+    return 3 * d * std::log(1 / (1 - std::min((u - .25f) / .75f, kOneMinusEpsilon)));
+  }
   if (sigma_t[ch] == 0) return -1;
   const BssrdfTable& t = *table;
   float pdf;
@@ -64,6 +86,13 @@ float Bssrdf::sample_sr(int ch, float u) const {
 }
 
 float Bssrdf::pdf_sr(int ch, float r) const {
+  if (!table) {
+    const float d = disney_d[ch];
+    if (!(d > 0)) return 0;
+    r = std::max(r, 1e-6f);
+    return .25f * std::exp(-r / d) / (2 * kPi * d * r) +
+           .75f * std::exp(-r / (3 * d)) / (6 * kPi * d * r);
+  }
   float rho_eff = 0;
   float sr = profile_at(*table, rho[ch], r * sigma_t[ch], &rho_eff);
   if (!(rho_eff > 0)) return 0;

@@ -3,7 +3,8 @@
 // Light entering a subsurface material leaves it elsewhere: the BSSRDF at the
 // entry point po is separable into a radial profile Sp(pi) = Sr(|po - pi|),
 // read from the material's photon-beam-diffusion table (format/bssrdf_table.h)
-// by albedo and optical radius, and the exit lobe (make_bssrdf_exit, bxdf.h).
+// by albedo and optical radius (or, for the disney material, Burley's
+// analytic profile), and the exit lobe (make_bssrdf_exit, bxdf.h).
 // Sampling an exit point: probe() picks a projection axis of po's shading
 // frame (the normal with probability 1/2, the tangents 1/4 each), a colour
 // channel and a radius from that channel's profile, and returns the chord of
@@ -31,8 +32,9 @@ struct BssrdfTable {
 };
 
 struct Bssrdf {
-  const BssrdfTable* table = nullptr;
-  Rgb sigma_t, rho;  // extinction and albedo, per channel
+  const BssrdfTable* table = nullptr;  // null: the disney profile
+  Rgb sigma_t, rho;                    // tabulated: extinction and albedo, per channel
+  Rgb disney_r, disney_d;              // disney: the profile's albedo and scatter distance
   float eta = 1;
   Vec3 p;           // the entry point po
   Vec3 ns, ss, ts;  // its shading frame
@@ -41,6 +43,10 @@ struct Bssrdf {
   // sigma_a and sigma_s at po; the frame from the shading normal and dp/du.
   void init(const BssrdfTable* t, Rgb sigma_a, Rgb sigma_s, float eta, Vec3 p, Vec3 ns, Vec3 dpdu,
             uint32_t material);
+  // pbrt-v3's DisneyBSSRDF: Burley's normalised diffusion, two exponentials in r of
+  // scales d and 3d (Burley 2015, "Extending the Disney BRDF to a BSDF with Integrated
+  // Subsurface Scattering"), albedo r.
+  void init_disney(Rgb r, Rgb d, float eta, Vec3 p, Vec3 ns, Vec3 dpdu, uint32_t material);
   Rgb sr(float r) const;
   // A radius from channel ch's profile; negative when the channel does not scatter.
   float sample_sr(int ch, float u) const;

@@ -76,7 +76,7 @@ Rgb specular_f(const DisneyLobe& b, Vec3 wo, Vec3 wi) {
   if (is_zero(wh)) return Rgb(0);
   wh = normalize(wh);
   Rgb fr = disney_fresnel(b.r, b.metallic, b.eta, dot(wi, face_forward(wh, Vec3{0, 0, 1})));
-  return b.specular_r * fr * (b.distribution.d(wh) * masking(b, wo, wi) / (4 * cos_i * cos_o));
+  return fr * (b.distribution.d(wh) * masking(b, wo, wi) / (4 * cos_i * cos_o));
 }
 
 Rgb clearcoat_f(const DisneyLobe& b, Vec3 wo, Vec3 wi) {
@@ -233,8 +233,10 @@ Rgb DisneyLobe::sample_f(Vec3 wo, Vec3* wi, Vec2 u, float* pdf_out) const {
   return f(wo, *wi);
 }
 
-int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[kMaxDisneyLobes]) {
+int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[kMaxDisneyLobes],
+                      bool* subsurface) {
   int n = 0;
+  if (subsurface) *subsurface = false;
   auto add = [&](DisneyLobeKind kind, uint8_t flags, Rgb r) -> DisneyLobe& {
     DisneyLobe& b = out[n++];
     b = DisneyLobe();
@@ -260,8 +262,11 @@ int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[
           c * (diffuse_weight * p.flatness * (1 - dt)))
           .roughness = p.roughness;
     } else {
-      if (!p.scatter_distance.is_black()) return -1;
-      add(DisneyLobeKind::kDiffuse, kDiffuseReflection, c * diffuse_weight);
+      if (!p.scatter_distance.is_black()) {
+        if (subsurface) *subsurface = true;
+      } else {
+        add(DisneyLobeKind::kDiffuse, kDiffuseReflection, c * diffuse_weight);
+      }
     }
     add(DisneyLobeKind::kRetro, kDiffuseReflection, c * diffuse_weight).roughness = p.roughness;
     if (p.sheen > 0)
@@ -277,7 +282,6 @@ int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[
   float r0 = sqr(p.eta - 1) / sqr(p.eta + 1);
   Rgb spec0 = lerp_rgb(p.metallic, r0 * lerp_rgb(p.specular_tint, Rgb(1), tint), c);
   DisneyLobe& spec = add(DisneyLobeKind::kSpecular, kReflection | kGlossy, spec0);
-  spec.specular_r = c;
   spec.distribution = d;
   spec.separable_g = true;
   spec.metallic = p.metallic;

@@ -17,7 +17,8 @@
 //
 // make_disney_lobes() is pbrt-v3's DisneyMaterial::ComputeScatteringFunctions
 // after texture lookup: which lobes with which weights. The solid surface
-// with a non-black scatterdistance needs a BSSRDF; it reports that instead.
+// with a non-black scatterdistance scatters by a BSSRDF instead of its
+// diffuse lobe; it reports that.
 //
 // Bxdf's kDisney kind carries a DisneyLobe and delegates to it; MaterialSet's
 // "disney" material builds the lobes with make_disney_lobes().
@@ -49,11 +50,7 @@ struct DisneyLobe {
   TransportMode mode = TransportMode::kRadiance;
   bool separable_g = false;  // specular and solid transmission
   Rgb r;                     // weight: reflectance, specular's R0, transmittance
-  // The specular lobe's overall reflectance on top of its Fresnel term:
-  // pbrt-v3 builds it as MicrofacetReflection(color, ...), so it is tinted by
-  // the base colour as well as by R0.
-  Rgb specular_r{1};
-  float roughness = 0;  // fake subsurface, retro
+  float roughness = 0;       // fake subsurface, retro
   float clearcoat_alpha = 0.1f;
   float metallic = 0, eta = 1.5f;  // specular's Fresnel; transmission's index (inside)
   MicrofacetDistribution distribution;
@@ -78,10 +75,12 @@ struct DisneyParams {
 
 inline constexpr int kMaxDisneyLobes = 8;
 
-// Fills out[0..n) and returns n; -1 when the parameters need subsurface
-// scattering (a solid surface with a scatter distance), which this renderer
-// does not have.
-int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[kMaxDisneyLobes]);
+// Fills out[0..n) and returns n. A solid surface with a scatter distance has
+// no diffuse lobe: light enters by specular transmission into a BSSRDF
+// (pbrt-v3's DisneyBSSRDF); *subsurface is then set and the caller adds that
+// transmission lobe (make_specular_transmission(1, 1, eta)) itself.
+int make_disney_lobes(const DisneyParams& p, TransportMode mode, DisneyLobe out[kMaxDisneyLobes],
+                      bool* subsurface = nullptr);
 
 // Pieces the tests check against hand computation.
 float schlick_weight(float cos_theta);              // (1 - cos)^5, clamped

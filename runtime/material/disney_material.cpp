@@ -17,8 +17,7 @@ bool may_have_diffuse(const DisneyInputs& in) {
 
 }  // namespace
 
-bool read_disney_inputs(const pbrta::SceneArchive& a, uint32_t e, DisneyInputs* in,
-                        std::string* error) {
+void read_disney_inputs(const pbrta::SceneArchive& a, uint32_t e, DisneyInputs* in) {
   in->color = rgb_input(a, e, "color");
   in->scatter_distance = rgb_input(a, e, "scatterdistance");
   in->metallic = float_input(a, e, "metallic");
@@ -34,21 +33,6 @@ bool read_disney_inputs(const pbrta::SceneArchive& a, uint32_t e, DisneyInputs* 
   in->flatness = float_input(a, e, "flatness");
   in->diff_trans = float_input(a, e, "difftrans");
   in->thin = a.get_int(e, "thin", 0) != 0;
-  // pbrt-v3 looks at scatterdistance only where the diffuse part is present.
-  if (!in->thin && may_have_diffuse(*in)) {
-    if (in->scatter_distance.texture != kNone) {
-      *error =
-          "not supported yet: disney material with subsurface scattering (textured "
-          "scatterdistance) (" +
-          a.where(e) + ")";
-      return false;
-    }
-    if (!in->scatter_distance.value.is_black()) {
-      *error = "not supported yet: disney material with subsurface scattering (" + a.where(e) + ")";
-      return false;
-    }
-  }
-  return true;
 }
 
 int max_disney_lobes(const DisneyInputs& in) {

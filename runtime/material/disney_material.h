@@ -4,14 +4,11 @@
 // constant or a texture; format/SCHEMA.md's names and defaults);
 // evaluate_disney() looks them up at a shading point into the DisneyParams
 // make_disney_lobes() turns into lobes (disney_bxdf.h). Bump mapping is the
-// caller's, as for every material. A solid (not thin) surface whose diffuse
-// part can be present and whose scatterdistance is a non-black constant or
-// a texture needs subsurface scattering (pbrt-v3's DisneyBSSRDF): reading
-// fails with "not supported yet". A textured scatterdistance is refused
-// whole rather than per point, since pbrt-v3 would switch to the BSSRDF
-// wherever the texture is non-black and a silent partial render would be
-// wrong there. max_disney_lobes() bounds the lobes make_disney_lobes() can
-// make over all points (for mixes against Bsdf::kMaxLobes).
+// caller's, as for every material. A solid (not thin) surface with a
+// non-black scatterdistance at a point scatters under its surface there
+// (MaterialSet::compute_bssrdf, pbrt-v3's DisneyBSSRDF). max_disney_lobes()
+// bounds the lobes make_disney_lobes() can make over all points (for mixes
+// against Bsdf::kMaxLobes).
 #pragma once
 
 #include <string>
@@ -30,8 +27,7 @@ struct DisneyInputs {
   bool thin = false;
 };
 
-[[nodiscard]] bool read_disney_inputs(const pbrta::SceneArchive& archive, uint32_t entity,
-                                      DisneyInputs* out, std::string* error);
+void read_disney_inputs(const pbrta::SceneArchive& archive, uint32_t entity, DisneyInputs* out);
 int max_disney_lobes(const DisneyInputs& in);
 DisneyParams evaluate_disney(const DisneyInputs& in, const TextureSet& textures,
                              const SurfaceInteraction& si);

@@ -136,7 +136,7 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       m.roughness = fin("roughness");
     } else if (type == "disney") {
       m.kind = MaterialKind::kDisney;
-      if (!read_disney_inputs(archive, e, &m.disney, error)) return false;
+      read_disney_inputs(archive, e, &m.disney);
     } else if (type == "fourier") {
       m.kind = MaterialKind::kFourier;
       auto table = std::make_unique<FourierTable>();
@@ -359,8 +359,10 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
       DisneyParams p = evaluate_disney(m.disney, tex, si);
       bsdf->init(si);  // pbrt-v3's DisneyMaterial leaves the BSDF's eta at 1
       DisneyLobe lobes[kMaxDisneyLobes];
-      // -1 (subsurface scattering) cannot happen: build() refused those inputs.
-      int n = make_disney_lobes(p, mode, lobes);
+      bool subsurface = false;
+      int n = make_disney_lobes(p, mode, lobes, &subsurface);
+      // Light enters the BSSRDF (compute_bssrdf) by refraction without loss.
+      if (subsurface) bsdf->add(make_specular_transmission(Rgb(1), 1.f, p.eta, mode));
       for (int i = 0; i < n; ++i) bsdf->add(make_disney(lobes[i]));
       break;
     }
@@ -377,8 +379,19 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
 bool MaterialSet::compute_bssrdf(uint32_t material, const SurfaceInteraction& si,
                                  Bssrdf* out) const {
   const MaterialNode& m = nodes_[material];
-  if (!m.bssrdf) return false;
   const TextureSet& tex = *textures_;
+  if (m.kind == MaterialKind::kDisney) {
+    if (m.disney.thin) return false;
+    DisneyParams p = evaluate_disney(m.disney, tex, si);
+    float diffuse_weight = (1 - p.metallic) * (1 - p.spec_trans);
+    if (p.scatter_distance.is_black() || !(diffuse_weight > 0)) return false;
+    // The profile's d is a fifth of the scatter distance, as in pbrt-v3 (which credits Burley
+    // and Chiang for the factor).
+    out->init_disney(clamp(p.color) * diffuse_weight, p.scatter_distance * 0.2f, p.eta, si.p,
+                     si.shading.n, si.shading.dpdu, material);
+    return true;
+  }
+  if (!m.bssrdf) return false;
   Rgb sigma_a, sigma_s;
   if (m.from_diffuse) {
     Rgb mfp = clamp(tex.eval(m.mfp, si)) * m.ss_scale;

@@ -80,10 +80,9 @@ class MaterialSet {
     return nodes_[material].kind == MaterialKind::kNone;
   }
 
-  bool has_bssrdf(uint32_t material) const { return nodes_[material].bssrdf != nullptr; }
   // For a subsurface material, after compute_bsdf (which bump-mapped si): its BSSRDF at si,
-  // as pbrt-v3's TabulatedBSSRDF. False for any other material (a mix carries none, as in
-  // pbrt-v3).
+  // pbrt-v3's TabulatedBSSRDF, or for a solid disney material with a scatter distance there
+  // its DisneyBSSRDF. False for any other material (a mix carries none, as in pbrt-v3).
   bool compute_bssrdf(uint32_t material, const SurfaceInteraction& si, Bssrdf* out) const;
 
   // Applies bump mapping (updating si's shading frame) and fills *bsdf.

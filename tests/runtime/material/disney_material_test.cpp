@@ -99,13 +99,13 @@ constexpr int kGlossyT = kTransmission | kGlossy, kDiffuseT = kTransmission | kD
 // pbrt-v3's DisneyMaterial::ComputeScatteringFunctions for each setup.
 TEST_F(DisneyMaterialTest, LobesAndFlagsAreThoseOfPbrtV3) {
   using K = DisneyLobeKind;
-  // Metallic 1: no diffuse part, only the specular lobe; R0 the colour, and
-  // pbrt-v3 also tints the whole lobe by the colour.
+  // Metallic 1: no diffuse part, only the specular lobe, R0 the colour (its
+  // reflectance on top of the Fresnel term is 1: pbrt-v3 renders a black
+  // dielectric disney sphere in a white furnace at 0.0151, not 0).
   Bsdf metal = bsdf_of(kMetallic);
   EXPECT_EQ(disney_kinds(metal), std::vector<K>{K::kSpecular});
   EXPECT_EQ(flags_of(metal), std::vector<int>{kGlossyR});
   EXPECT_EQ(metal.lobe(0).disney.r, Rgb(0.9f, 0.6f, 0.2f));
-  EXPECT_EQ(metal.lobe(0).disney.specular_r, Rgb(0.9f, 0.6f, 0.2f));
   // anisotropic 0.5: aspect sqrt(1 - 0.45), alpha = roughness^2 / aspect, * aspect.
   float aspect = std::sqrt(1 - 0.45f);
   EXPECT_FLOAT_EQ(metal.lobe(0).disney.distribution.alpha_x, 0.25f / aspect);
@@ -149,16 +149,19 @@ TEST_F(DisneyMaterialTest, LobesAndFlagsAreThoseOfPbrtV3) {
             (std::vector<K>{K::kDiffuse, K::kRetro, K::kSpecular}));
 }
 
-// The specular lobe's value is pbrt-v3's MicrofacetReflection(colour, ...)
-// with the Disney Fresnel: check one direction pair by hand.
-TEST_F(DisneyMaterialTest, MetalSpecularIsTintedByTheColour) {
+// The specular lobe's value is pbrt-v3's MicrofacetReflection(1, ...) with
+// the Disney Fresnel, whose R0 carries the colour of a metal: check one
+// direction pair by hand. (An older pbrt-v3 multiplied the lobe by the colour
+// too; the pbrt-v3 of ../shared/peers renders a black dielectric disney
+// sphere in a white furnace at 0.0151, its specular reflection alone.)
+TEST_F(DisneyMaterialTest, MetalSpecularIsColouredByItsFresnel) {
   Bsdf b = bsdf_of(kMetallic);
   const DisneyLobe& l = b.lobe(0).disney;
   Vec3 wo = normalize(Vec3{0.3f, 0.1f, 0.9f}), wi = normalize(Vec3{-0.2f, -0.3f, 0.8f});
   Vec3 wh = normalize(wo + wi);
   Rgb fr = disney_fresnel(l.r, 1, 1.5f, dot(wi, wh));
   float g = l.distribution.g1(wo) * l.distribution.g1(wi);
-  Rgb expected = Rgb(0.9f, 0.6f, 0.2f) * fr * (l.distribution.d(wh) * g / (4 * wo.z * wi.z));
+  Rgb expected = fr * (l.distribution.d(wh) * g / (4 * wo.z * wi.z));
   Rgb f = b.lobe(0).f(wo, wi);
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[k], expected[k], 1e-5f * expected[k]) << k;
 }
@@ -177,7 +180,7 @@ TEST_F(DisneyMaterialTest, BackSideSpecularSeesTheInsideFresnel) {
     Vec3 wh = normalize(wo + wi);
     float cos_i = dot(wi, wh.z < 0 ? -wh : wh);
     float g = l.distribution.g1(wo) * l.distribution.g1(wi);
-    return Rgb(0.7f, 0.5f, 0.3f) * fr_dielectric(cos_i, 1, 1.5f) *
+    return Rgb(fr_dielectric(cos_i, 1, 1.5f)) *
            (l.distribution.d(wh) * g / (4 * std::fabs(wo.z * wi.z)));
   };
   Vec3 wo = normalize(Vec3{0.6f, 0, 0.5f}), wi = normalize(Vec3{-0.55f, 0.1f, 0.5f});
@@ -278,7 +281,8 @@ TEST_F(DisneyMaterialTest, SampleAgreesWithEvaluation) {
 // retro-reflection is not energy conserving at grazing angles on rough
 // surfaces (pbrt-v3 adds it at the full diffuse weight even on thin ones:
 // roughness 0.7 on the thin setup reaches 1.09 at cos 0.05), so the setups
-// keep the roughness where the model itself stays below 1.
+// keep the roughness where the model itself stays below 1, but for the thin
+// one at grazing angles.
 TEST_F(DisneyMaterialTest, AlbedoIsAtMostOne) {
   Rng rng(9);
   const Vec3 n = flat_hit().n;
@@ -301,6 +305,9 @@ TEST_F(DisneyMaterialTest, AlbedoIsAtMostOne) {
         sum2 += v * v;
       }
       double mean = sum / count, sigma = std::sqrt((sum2 / count - mean * mean) / count);
+      // The thin setup's untinted specular and full-weight retro reach 1.11 at cos 0.05 and
+      // 1.05 at 0.15 (pbrt-v3's model): it is held to the bound from cos 0.25 on.
+      if (s == kThin && c < 0.25f) continue;
       EXPECT_LE(mean, 1 + 4 * sigma) << "shape " << s << " cos " << c;
       lowest = std::min(lowest, mean);
     }
@@ -342,19 +349,12 @@ TEST_F(DisneyMaterialTest, BumpMapTiltsTheShadingFrame) {
   EXPECT_EQ(bumped.num_lobes(), 3);
 }
 
-TEST(DisneyMaterial, UnsupportedSetupsFailAtBuild) {
+TEST(DisneyMaterial, TooManyLobesFailAtBuild) {
   struct Case {
     const char* name;
     const char* body;
     const char* message;
   } cases[] = {
-      {"disney_sss", "Material \"disney\" \"rgb scatterdistance\" [0.1 0.2 0.3]\nShape \"sphere\"",
-       "not supported yet: disney material with subsurface scattering (scene.pbrt:"},
-      {"disney_sss_textured",
-       "Texture \"sd\" \"spectrum\" \"constant\" \"rgb value\" [0.1 0.1 0.1]\n"
-       "Material \"disney\" \"texture scatterdistance\" \"sd\"\nShape \"sphere\"",
-       "not supported yet: disney material with subsurface scattering (textured scatterdistance) "
-       "(scene.pbrt:"},
       {"disney_mix_too_many",
        "MakeNamedMaterial \"a\" \"string type\" \"disney\" \"bool thin\" \"true\" "
        "\"float sheen\" 0.5\n"
