@@ -66,11 +66,15 @@ echo "CPU: $cpu ($(nproc) cores, ${isa^^}); $rounds interleaved rounds; $(date -
 echo
 echo "| scene | spp | thr | pbrt-v3 s | pbrtrun s | whole v3/run | v3 render s | run render s | render v3/run | RSS v3/run MiB |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
-while read -r entry ref spp resdiv ci; do
+while read -r entry ref spp resdiv ci ours; do
   case "$entry" in ''|'#'*) continue ;; esac
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
   [ -n "$spp_override" ] && spp="$spp_override"
-  scene="$shared/scenes/$entry"
+  # own/...: the project's scenes (tests/convergence/own), else the shared corpus.
+  case "$entry" in
+    own/*) scene="$root/tests/convergence/$entry" ;;
+    *) scene="$shared/scenes/$entry" ;;
+  esac
   if ! "$build/pbrtc" -q "$scene" -o "$out/s.pbrta" 2>"$out/compile.log"; then
     echo "| $entry | $spp | - | compile failed: $(tail -n1 "$out/compile.log") | | | | | | |"
     continue
