@@ -6,6 +6,29 @@
 
 namespace rt {
 
+namespace {
+
+// Solves F(t) = u on [0, 1] for an increasing F (eval gives F and its derivative f at t), from
+// the guess t: Newton steps, bisecting whenever a step leaves the bracket that shrinks around
+// the root. *f gets the derivative at the answer.
+template <class Eval>
+float newton_bisection(float t, float u, float* f, const Eval& eval) {
+  float a = 0, b = 1, big_f = 0;
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    if (!(t >= a && t <= b)) t = 0.5f * (a + b);
+    eval(t, &big_f, f);
+    if (std::fabs(big_f - u) < 1e-6f || b - a < 1e-6f) break;
+    if (big_f - u < 0)
+      a = t;
+    else
+      b = t;
+    t -= (big_f - u) / *f;
+  }
+  return t;
+}
+
+}  // namespace
+
 bool catmull_rom_weights(int size, const float* nodes, float x, int* offset, float weights[4]) {
   if (!(x >= nodes[0] && x <= nodes[size - 1])) return false;
   int idx = find_interval(size, [&](int i) { return nodes[i] <= x; });
@@ -72,19 +95,12 @@ float sample_catmull_rom_2d(int size1, int size2, const float* nodes1, const flo
   // cubic's integral F(t) = u, falling back to bisection when a step leaves [a, b].
   float t =
       f0 != f1 ? (f0 - std::sqrt(std::max(0.f, f0 * f0 + 2 * u * (f1 - f0)))) / (f0 - f1) : u / f0;
-  float a = 0, b = 1, big_f = 0, small_f = 0;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    if (!(t >= a && t <= b)) t = 0.5f * (a + b);
-    big_f = t * (f0 + t * (.5f * d0 + t * ((1.f / 3.f) * (-2 * d0 - d1) + f1 - f0 +
-                                           t * (.25f * (d0 + d1) + .5f * (f0 - f1)))));
-    small_f = f0 + t * (d0 + t * (-2 * d0 - d1 + 3 * (f1 - f0) + t * (d0 + d1 + 2 * (f0 - f1))));
-    if (std::fabs(big_f - u) < 1e-6f || b - a < 1e-6f) break;
-    if (big_f - u < 0)
-      a = t;
-    else
-      b = t;
-    t -= (big_f - u) / small_f;
-  }
+  float small_f = 0;
+  t = newton_bisection(t, u, &small_f, [&](float x, float* big, float* small) {
+    *big = x * (f0 + x * (.5f * d0 + x * ((1.f / 3.f) * (-2 * d0 - d1) + f1 - f0 +
+                                          x * (.25f * (d0 + d1) + .5f * (f0 - f1)))));
+    *small = f0 + x * (d0 + x * (-2 * d0 - d1 + 3 * (f1 - f0) + x * (d0 + d1 + 2 * (f0 - f1))));
+  });
   if (fval) *fval = small_f;
   *pdf = small_f / total;
   return x0 + width * t;
@@ -97,22 +113,15 @@ float invert_catmull_rom(int n, const float* x, const float* values, float u) {
   const float x0 = x[i], x1 = x[i + 1], width = x1 - x0, f0 = values[i], f1 = values[i + 1];
   const float d0 = i > 0 ? width * (f1 - values[i - 1]) / (x1 - x[i - 1]) : f1 - f0;
   const float d1 = i + 2 < n ? width * (values[i + 2] - f0) / (x[i + 2] - x0) : f1 - f0;
-  // Newton steps on the Hermite cubic F(t) = u, bisecting when a step leaves [a, b].
-  float a = 0, b = 1, t = .5f;
-  for (int iteration = 0; iteration < 100; ++iteration) {
-    if (!(t > a && t < b)) t = 0.5f * (a + b);
-    float t2 = t * t, t3 = t2 * t;
-    float big_f = (2 * t3 - 3 * t2 + 1) * f0 + (-2 * t3 + 3 * t2) * f1 + (t3 - 2 * t2 + t) * d0 +
-                  (t3 - t2) * d1;
-    float small_f = (6 * t2 - 6 * t) * f0 + (-6 * t2 + 6 * t) * f1 + (3 * t2 - 4 * t + 1) * d0 +
-                    (3 * t2 - 2 * t) * d1;
-    if (std::fabs(big_f - u) < 1e-6f || b - a < 1e-6f) break;
-    if (big_f - u < 0)
-      a = t;
-    else
-      b = t;
-    t -= (big_f - u) / small_f;
-  }
+  // The Hermite cubic through the segment, solved for F(t) = u.
+  float slope = 0;
+  float t = newton_bisection(.5f, u, &slope, [&](float x, float* big, float* small) {
+    float x2 = x * x, x3 = x2 * x;
+    *big = (2 * x3 - 3 * x2 + 1) * f0 + (-2 * x3 + 3 * x2) * f1 + (x3 - 2 * x2 + x) * d0 +
+           (x3 - x2) * d1;
+    *small = (6 * x2 - 6 * x) * f0 + (-6 * x2 + 6 * x) * f1 + (3 * x2 - 4 * x + 1) * d0 +
+             (3 * x2 - 2 * x) * d1;
+  });
   return x0 + t * width;
 }
 

@@ -65,6 +65,39 @@ MicrofacetDistribution trowbridge_reitz(float urough, float vrough, bool remap) 
   return d;
 }
 
+// A subsurface or kdsubsurface material's scattering inputs and its profile table, which
+// stays in the archive (the node points at it through a BssrdfTable the set owns).
+bool read_subsurface(const pbrta::SceneArchive& archive, uint32_t e, MaterialNode* m,
+                     std::vector<std::unique_ptr<BssrdfTable>>* tables, std::string* error) {
+  auto rin = [&](std::string_view p) { return rgb_input(archive, e, p); };
+  m->ss_scale = archive.get_float(e, "scale", 1);
+  m->from_diffuse = archive.type_name(e) == "kdsubsurface";
+  if (m->from_diffuse) {
+    m->kd = rin("Kd");
+    m->mfp = rin("mfp");
+  } else {
+    m->sigma_a = rin("sigma_a");
+    m->sigma_s = rin("sigma_s");
+  }
+  pbrta::BssrdfTableView view;
+  std::string why;
+  if (!pbrta::bssrdf_table_of(archive, e, &view, &why)) {
+    *error = archive.where(e) + ": error: " + why + " (recompile the scene with pbrtc 2.1)";
+    return false;
+  }
+  auto table = std::make_unique<BssrdfTable>();
+  table->n_rho = int(view.n_rho);
+  table->n_radius = int(view.n_radius);
+  table->rho = view.rho;
+  table->radius = view.radius;
+  table->profile = view.profile;
+  table->rho_eff = view.rho_eff;
+  table->cdf = view.cdf;
+  m->bssrdf = table.get();
+  tables->push_back(std::move(table));
+  return true;
+}
+
 }  // namespace
 
 bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& textures,
@@ -104,13 +137,17 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
     } else if (type == "mirror") {
       m.kind = MaterialKind::kMirror;
       m.kr = rin("Kr");
-    } else if (type == "glass") {
-      m.kind = MaterialKind::kGlass;
+    } else if (type == "glass" || type == "subsurface" || type == "kdsubsurface") {
+      // The subsurface materials' surface is glass's (pbrt-v3 builds the same lobes).
+      m.kind = type == "glass" ? MaterialKind::kGlass : MaterialKind::kSubsurface;
       m.kr = rin("Kr");
       m.kt = rin("Kt");
       m.eta = fin("eta");
       m.uroughness = fin("uroughness");
       m.vroughness = fin("vroughness");
+      if (m.kind == MaterialKind::kSubsurface &&
+          !read_subsurface(archive, e, &m, &bssrdf_tables_, error))
+        return false;
     } else if (type == "uber") {
       m.kind = MaterialKind::kUber;
       m.kd = rin("Kd");
@@ -143,38 +180,6 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       if (!build_fourier_table(archive, e, table.get(), error)) return false;
       m.fourier = table.get();
       fourier_tables_.push_back(std::move(table));
-    } else if (type == "subsurface" || type == "kdsubsurface") {
-      m.kind = MaterialKind::kSubsurface;
-      m.kr = rin("Kr");
-      m.kt = rin("Kt");
-      m.eta = fin("eta");
-      m.uroughness = fin("uroughness");
-      m.vroughness = fin("vroughness");
-      m.ss_scale = archive.get_float(e, "scale", 1);
-      m.from_diffuse = type == "kdsubsurface";
-      if (m.from_diffuse) {
-        m.kd = rin("Kd");
-        m.mfp = rin("mfp");
-      } else {
-        m.sigma_a = rin("sigma_a");
-        m.sigma_s = rin("sigma_s");
-      }
-      pbrta::BssrdfTableView view;
-      std::string why;
-      if (!pbrta::bssrdf_table_of(archive, e, &view, &why)) {
-        *error = archive.where(e) + ": error: " + why + " (recompile the scene with pbrtc 2.1)";
-        return false;
-      }
-      auto table = std::make_unique<BssrdfTable>();
-      table->n_rho = int(view.n_rho);
-      table->n_radius = int(view.n_radius);
-      table->rho = view.rho;
-      table->radius = view.radius;
-      table->profile = view.profile;
-      table->rho_eff = view.rho_eff;
-      table->cdf = view.cdf;
-      m.bssrdf = table.get();
-      bssrdf_tables_.push_back(std::move(table));
     } else if (type == "mix") {
       m.kind = MaterialKind::kMix;
       m.amount = rin("amount");

@@ -58,6 +58,20 @@ bool grid_ray(const Medium& m, const Ray& ray, GridRay* g) {
   return clip_unit_cube(g->o, g->d, &g->t0, &g->t1);
 }
 
+// Tentative collisions along g, drawn cell by cell at each majorant cell's
+// rate: collide(t, density / majorant) at each; it returns true to stop.
+template <typename Collide>
+void track(const Medium& m, const GridRay& g, Sampler& sampler, Collide&& collide) {
+  m.majorants.walk(g.o, g.d, g.t0, g.t1, [&](float t0, float t1, float majorant) {
+    const float inv = 1 / (majorant * m.grid_sigma_t);
+    for (float t = t0;;) {
+      t -= std::log(1 - sampler.get_1d()) * inv;
+      if (t >= t1) return false;
+      if (collide(t, m.density_at(g.o + g.d * t) / majorant)) return true;
+    }
+  });
+}
+
 }  // namespace
 
 float Medium::density_at(Vec3 p) const {
@@ -161,17 +175,11 @@ Rgb MediumSet::sample(uint32_t mi, const Ray& ray, Sampler& sampler, bool* scatt
   GridRay g;
   if (m.grid_sigma_t <= 0 || !grid_ray(m, ray, &g)) return Rgb(1.f);
   float t_hit = 0;
-  m.majorants.walk(g.o, g.d, g.t0, g.t1, [&](float t0, float t1, float majorant) {
-    const float inv = 1 / (majorant * m.grid_sigma_t);
-    for (float t = t0;;) {
-      t -= std::log(1 - sampler.get_1d()) * inv;
-      if (t >= t1) return false;
-      if (m.density_at(g.o + g.d * t) > sampler.get_1d() * majorant) {
-        t_hit = t;
-        *scattered = true;
-        return true;
-      }
-    }
+  track(m, g, sampler, [&](float t, float density_ratio) {
+    if (density_ratio <= sampler.get_1d()) return false;  // a null collision
+    t_hit = t;
+    *scattered = true;
+    return true;
   });
   if (!*scattered) return Rgb(1.f);
   *p = g.wo + g.wd * t_hit;
@@ -185,21 +193,17 @@ Rgb MediumSet::tr(uint32_t mi, const Ray& ray, Sampler& sampler) const {
   GridRay g;
   if (m.grid_sigma_t <= 0 || !grid_ray(m, ray, &g)) return Rgb(1.f);
   float tr = 1;
-  m.majorants.walk(g.o, g.d, g.t0, g.t1, [&](float t0, float t1, float majorant) {
-    const float inv = 1 / (majorant * m.grid_sigma_t);
-    for (float t = t0;;) {
-      t -= std::log(1 - sampler.get_1d()) * inv;
-      if (t >= t1) return false;
-      tr *= 1 - m.density_at(g.o + g.d * t) / majorant;
-      if (tr < 0.1f) {  // pbrt-v3's Russian roulette on small transmittance
-        float q = std::max(0.05f, 1 - tr);
-        if (sampler.get_1d() < q) {
-          tr = 0;
-          return true;
-        }
-        tr /= 1 - q;
+  track(m, g, sampler, [&](float, float density_ratio) {
+    tr *= 1 - density_ratio;
+    if (tr < 0.1f) {  // pbrt-v3's Russian roulette on small transmittance
+      float q = std::max(0.05f, 1 - tr);
+      if (sampler.get_1d() < q) {
+        tr = 0;
+        return true;
       }
+      tr /= 1 - q;
     }
+    return false;
   });
   return Rgb(tr);
 }
