@@ -69,6 +69,14 @@ bool invert(const double in[4][4], double out[4][4]) {
 
 }  // namespace
 
+bool invert_doubles(const double* m, double* out) {
+  double in[4][4], inv[4][4];
+  for (int i = 0; i < 16; ++i) in[i / 4][i % 4] = m[i];
+  if (!invert(in, inv)) return false;
+  for (int i = 0; i < 16; ++i) out[i] = inv[i / 4][i % 4];
+  return true;
+}
+
 bool inverse(const Matrix4& a, Matrix4* out) {
   double in[4][4], inv[4][4];
   for (int i = 0; i < 4; ++i)

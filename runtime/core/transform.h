@@ -20,6 +20,8 @@ Matrix4 mul(const Matrix4& a, const Matrix4& b);
 Matrix4 transpose(const Matrix4& a);
 // Gauss-Jordan inverse with full pivoting in double precision; false if singular.
 bool inverse(const Matrix4& a, Matrix4* out);
+// The same for a row-major 4x4 of doubles (the archive's transforms).
+bool invert_doubles(const double* m, double* out);
 
 class Transform {
  public:

@@ -371,6 +371,7 @@ Bounds3 quadric_object_bounds(const ShapeInfo& s) {
 Bounds3 quadric_world_bounds(const ShapeInfo& s) {
   Bounds3 ob = quadric_object_bounds(s), wb;
   if (ob.empty()) return wb;
+  if (s.motion) return s.motion->motion_bounds(ob);  // padded far beyond rounding
   for (int c = 0; c < 8; ++c) {
     Vec3 corner{c & 1 ? ob.hi.x : ob.lo.x, c & 2 ? ob.hi.y : ob.lo.y, c & 4 ? ob.hi.z : ob.lo.z};
     Vec3 err;

@@ -22,7 +22,8 @@ namespace rt {
 // cuts do not shrink it). Empty for non-quadrics.
 Bounds3 quadric_object_bounds(const ShapeInfo& s);
 // That box through s.object_to_world (the space intersect_quadric's rays are
-// in), padded outwards for the transform's rounding: the box to give Embree.
+// in), padded outwards for the transform's rounding: the box to give Embree;
+// for an animated shape, the box over its whole motion.
 Bounds3 quadric_world_bounds(const ShapeInfo& s);
 
 // Closest hit of a world-space ray with quadric s in (0, ray.tmax). The ray is

@@ -211,6 +211,15 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float*
                        SurfaceInteraction* si) {
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
+  if (s.motion) {
+    // Where the shape is at the ray's time; pbrt-v3 builds a moving shape with the identity
+    // transform, so the motion's handedness does not flip it.
+    ShapeInfo scratch = s;
+    scratch.object_to_world = s.motion->at(r.time);
+    scratch.swaps_handedness = false;
+    return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
+                             si);
+  }
   if (!inst) return intersect_quadric(s, g.prepared, r, t, si);
   // The normalised parameters do not depend on the transform: only the
   // composed transform is made per ray.
@@ -346,8 +355,15 @@ bool Builder::check_shapes() {
                 a_.where(s.entity) + ")";
       return false;
     }
-    if (s.animated) {
-      *error_ = "not supported yet: animated transform (motion blur) (" + a_.where(s.entity) + ")";
+    // Moving quadrics are intersected where they are at each ray's time; moving meshes, moving
+    // shapes in object definitions and moving emitters are not yet.
+    if (s.animated &&
+        (s.kind == ShapeKind::kTriangles || s.object != kNone || s.area_light != kNone)) {
+      *error_ = "not supported yet: animated transform (motion blur) on a" +
+                std::string(s.kind == ShapeKind::kTriangles ? " mesh"
+                            : s.object != kNone             ? " shape in an object"
+                                                            : "n area light") +
+                " (" + a_.where(s.entity) + ")";
       return false;
     }
     if ((s.alpha_texture != kNone || s.shadow_alpha_texture != kNone) && !impl_->textures) {
@@ -445,7 +461,7 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
 
 unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds) {
   const ShapeInfo& s = shapes_[shape];
-  bounds->extend(s.object_to_world.bounds(quadric_object_bounds(s)));
+  bounds->extend(quadric_world_bounds(s));
   GeomData& g = impl_->geoms.emplace_back();
   g.impl = impl_;
   g.shape = shape;

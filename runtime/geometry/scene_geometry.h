@@ -14,7 +14,9 @@
 // Triangle::Intersect would (triangle_hit.h), so materials, lights and ray
 // spawning see pbrt-v3's numbers; occluded() answers any hit. Both take
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
-// Unsupported input (curves, animated transforms) fails build() with
+// A quadric with an animated transform is intersected where it is at each
+// ray's time, inside motion bounds. Unsupported input (curves, animated meshes,
+// animated shapes in objects and animated instances) fails build() with
 // "not supported yet: <what> (file:line)".
 #pragma once
 

@@ -29,6 +29,13 @@ Vec3 get_point(const pbrta::SceneArchive& a, uint32_t e, std::string_view name, 
 
 bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
   shapes_.resize(a.shapes.size);
+  size_t animated = 0;
+  for (uint32_t i = 0; i < a.shapes.size; ++i) {
+    const pbrta::TransformRecord& t = a.transforms[a.shapes[i].transform];
+    animated += std::memcmp(t.start, t.end, sizeof t.start) != 0;
+  }
+  motions_.clear();
+  motions_.reserve(animated);
   for (uint32_t i = 0; i < a.shapes.size; ++i) {
     const pbrta::ShapeRecord& r = a.shapes[i];
     ShapeInfo& s = shapes_[i];
@@ -37,6 +44,13 @@ bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
     const pbrta::TransformRecord& t = a.transforms[r.transform];
     s.object_to_world = Transform::from_doubles(t.start);
     s.animated = std::memcmp(t.start, t.end, sizeof t.start) != 0;
+    if (s.animated) {
+      s.motion = &motions_.emplace_back(t.start, t.end, float(t.start_time), float(t.end_time));
+      if (!Transform::from_doubles(t.end).invertible()) {
+        *error = a.where(r.entity) + ": error: shape end transform is singular";
+        return false;
+      }
+    }
     if (!s.object_to_world.invertible() || s.object_to_world.is_projective()) {
       *error = a.where(r.entity) + ": error: shape transform is singular or projective";
       return false;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "format/scene_archive.h"
+#include "runtime/core/animated_transform.h"
 #include "runtime/core/transform.h"
 
 namespace rt {
@@ -56,6 +57,10 @@ struct ShapeInfo {
   bool reverse_orientation = false;
   bool swaps_handedness = false;
   bool animated = false;  // the record's transform differs at start and end
+  // Animated shapes: the transform over the shutter (object_to_world is its
+  // start). pbrt-v3 makes such a shape with the identity transform and moves
+  // it as a whole, so its orientation never counts the transform's handedness.
+  const AnimatedTransform* motion = nullptr;
   uint32_t material = kNone;
   uint32_t area_light = kNone;  // index into the archive's area lights
   uint32_t object = kNone;      // object definition, or kNone for the world
@@ -86,6 +91,7 @@ class ShapeTable {
 
  private:
   std::vector<ShapeInfo> shapes_;
+  std::vector<AnimatedTransform> motions_;  // sized once: shapes point into it
 };
 
 }  // namespace rt

@@ -34,16 +34,13 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
     return false;
   }
   const pbrta::TransformRecord& t = a.transforms[scene.camera_transform];
-  if (std::memcmp(t.start, t.end, sizeof t.start) != 0) {
-    *error = "not supported yet: animated camera transform (motion blur) (" + a.where(e) + ")";
-    return false;
-  }
   Transform camera_from_world = Transform::from_doubles(t.start);
-  if (!camera_from_world.invertible()) {
+  if (!camera_from_world.invertible() || !Transform::from_doubles(t.end).invertible()) {
     *error = a.where(e) + ": error: the camera transform is singular";
     return false;
   }
   camera_to_world_ = camera_from_world.inverse();
+  motion_ = AnimatedTransform(t.start, t.end, float(t.start_time), float(t.end_time), true);
   resolution_ = res;
   shutter_open_ = a.get_float(e, "shutteropen", 0);
   shutter_close_ = a.get_float(e, "shutterclose", 1);
@@ -138,7 +135,7 @@ float Camera::realistic_ray(const CameraSample& s, Ray* ray) const {
 
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
   if (type_ == Type::kRealistic) {
-    const Transform& w = camera_to_world_;
+    const Transform w = to_world(lerp(s.time, shutter_open_, shutter_close_));
     auto world_ray = [&](const CameraSample& cs, Ray* r) {
       float weight = realistic_ray(cs, r);
       if (weight > 0) {
@@ -217,7 +214,7 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     r.has_differentials = true;
   }
   // To world space.
-  const Transform& w = camera_to_world_;
+  const Transform w = to_world(r.time);
   out->o = w.point(r.o);
   out->d = normalize(w.vector(r.d));
   out->tmax = kInfinity;

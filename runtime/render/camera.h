@@ -14,11 +14,16 @@
 // weight (relative to the on-axis pupil area under "simpleweighting", the
 // radiometric one otherwise). Its differentials are finite differences of
 // rays from film points 0.05 pixel away, as pbrt-v3's generic camera does.
+//
+// Each ray has a time in [shutteropen, shutterclose]; a camera whose
+// transform differs at the start and end times moves to where pbrt-v3's
+// animated transform puts it then (animated_transform.h).
 #pragma once
 
 #include <string>
 
 #include "format/scene_archive.h"
+#include "runtime/core/animated_transform.h"
 #include "runtime/core/ray.h"
 #include "runtime/core/transform.h"
 #include "runtime/render/lens_system.h"
@@ -54,6 +59,11 @@ class Camera {
 
   Type type_ = Type::kPerspective;
   Transform camera_to_world_;
+  // An animated camera moves by pbrt-v3's interpolation of its world-from-camera keyframes.
+  AnimatedTransform motion_;
+  Transform to_world(float time) const {
+    return motion_.animated() ? motion_.at(time) : camera_to_world_;
+  }
   Transform raster_to_camera_;
   Vec3 dx_camera_, dy_camera_;
   float lens_radius_ = 0, focal_distance_ = 1e6f;
