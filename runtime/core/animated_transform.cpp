@@ -157,6 +157,21 @@ Transform AnimatedTransform::at(float time) const {
   return Transform::from_doubles(m);
 }
 
+bool AnimatedTransform::diagonal_keyframe(int k, float t[3], float q[4], float scale[3]) const {
+  const Key& key = k == 0 ? k0_ : k1_;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (i != j &&
+          std::fabs(key.s[i][j]) > 1e-6 * (std::fabs(key.s[i][i]) + std::fabs(key.s[j][j])))
+        return false;
+  for (int i = 0; i < 3; ++i) {
+    t[i] = float(key.t[i]);
+    scale[i] = float(key.s[i][i]);
+  }
+  for (int c = 0; c < 4; ++c) q[c] = float(key.q[c]);
+  return true;
+}
+
 Bounds3 AnimatedTransform::motion_bounds(const Bounds3& b) const {
   if (!animated_) return start_.bounds(b);
   Bounds3 out;

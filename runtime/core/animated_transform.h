@@ -24,7 +24,14 @@ class AnimatedTransform {
                     bool invert = false);
 
   bool animated() const { return animated_; }
+  float start_time() const { return t0_; }
+  float end_time() const { return t1_; }
+  const Transform& start() const { return start_; }
   Transform at(float time) const;
+  // Keyframe k's decomposition when its scale part is diagonal (no shear,
+  // scale along the object's own axes): translation, rotation (x, y, z, w)
+  // and the three scales; false otherwise.
+  bool diagonal_keyframe(int k, float t[3], float q[4], float scale[3]) const;
   Bounds3 motion_bounds(const Bounds3& b) const;
 
  private:

@@ -38,6 +38,9 @@ struct InstanceData {
   uint32_t child = kNone;             // index into Impl::children
   uint32_t archive_instance = kNone;  // kNone for a transform group
   bool mirrors = false;               // an object instance whose transform mirrors
+  // A moving mesh: its object-space scene moved by this over time (to_world is its start), an
+  // instance as pbrt-v3's TransformedPrimitive is.
+  const AnimatedTransform* motion = nullptr;
 };
 
 // The context every query hands Embree; its callbacks get it back and cast.
@@ -75,6 +78,14 @@ struct SceneGeometry::Impl {
   std::deque<std::vector<float>> copies;  // transformed vertex copies (padded for Embree)
   std::deque<VertexPatches> patches;      // watertight vertex fallback (watertight.h)
   bool watertight = false;                // SceneGeometry::set_watertight
+  // Moving meshes' shared keyframe times (pbrt-v3's TransformTimes): a ray's time maps to
+  // Embree's [0, 1] through them.
+  bool has_moving_meshes = false;
+  float motion_t0 = 0, motion_t1 = 1;
+  float embree_time(float time) const {
+    if (!has_moving_meshes || !(motion_t1 > motion_t0)) return 0;
+    return std::clamp((time - motion_t0) / (motion_t1 - motion_t0), 0.f, 1.f);
+  }
 
   std::mutex error_mutex;
   std::string embree_error;
@@ -101,7 +112,12 @@ struct SceneGeometry::Impl {
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
     space.to_world = inst ? &inst->to_world : nullptr;
-    space.instance = inst && inst->archive_instance != kNone;
+    Transform moving;
+    if (inst && inst->motion) {
+      moving = inst->motion->at(ray.time);
+      space.to_world = &moving;
+    }
+    space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
     triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, si);
   }
@@ -325,6 +341,7 @@ class Builder {
   unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
+  void attach_moving(uint32_t child, const AnimatedTransform& motion);
   void record_top(unsigned id, const GeomData* g, uint32_t instance);
   bool embree_ok();
 
@@ -357,10 +374,13 @@ bool Builder::check_shapes() {
     }
     // Moving quadrics are intersected where they are at each ray's time; moving meshes, moving
     // shapes in object definitions and moving emitters are not yet.
-    if (s.animated &&
-        (s.kind == ShapeKind::kTriangles || s.object != kNone || s.area_light != kNone)) {
+    float tt[3], tq[4], ts[3];
+    const bool rigid = s.motion && s.motion->diagonal_keyframe(0, tt, tq, ts) &&
+                       s.motion->diagonal_keyframe(1, tt, tq, ts);
+    if (s.animated && ((s.kind == ShapeKind::kTriangles && !rigid) || s.object != kNone ||
+                       s.area_light != kNone)) {
       *error_ = "not supported yet: animated transform (motion blur) on a" +
-                std::string(s.kind == ShapeKind::kTriangles ? " mesh"
+                std::string(s.kind == ShapeKind::kTriangles ? " mesh with shear"
                             : s.object != kNone             ? " shape in an object"
                                                             : "n area light") +
                 " (" + a_.where(s.entity) + ")";
@@ -503,6 +523,46 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
   if (archive_instance != kNone) bounds_->extend(to_world.bounds(impl_->children[child].bounds));
 }
 
+// A moving mesh's child scene, moved by Embree's quaternion motion blur between the two
+// keyframes: translation and scale linear, rotation by slerp, as pbrt-v3 interpolates (the
+// checks admit only keyframes whose scale part is diagonal, which Embree's decomposition holds
+// exactly). Hits are rebuilt with AnimatedTransform::at, the same interpolation.
+void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion) {
+  InstanceData d;
+  d.to_world = motion.start();
+  d.child = child;
+  d.motion = &motion;
+  d.mirrors = motion.start().swaps_handedness();
+  impl_->instances.push_back(d);
+  impl_->has_moving_meshes = true;
+  impl_->motion_t0 = motion.start_time();
+  impl_->motion_t1 = motion.end_time();
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_INSTANCE);
+  rtcSetGeometryInstancedScene(geom, impl_->children[child].scene);
+  rtcSetGeometryTimeStepCount(geom, 2);
+  for (int k = 0; k < 2; ++k) {
+    float t[3], q[4], sc[3];
+    motion.diagonal_keyframe(k, t, q, sc);
+    RTCQuaternionDecomposition x;
+    rtcInitQuaternionDecomposition(&x);
+    x.scale_x = sc[0];
+    x.scale_y = sc[1];
+    x.scale_z = sc[2];
+    x.quaternion_i = q[0];
+    x.quaternion_j = q[1];
+    x.quaternion_k = q[2];
+    x.quaternion_r = q[3];
+    x.translation_x = t[0];
+    x.translation_y = t[1];
+    x.translation_z = t[2];
+    rtcSetGeometryTransformQuaternion(geom, unsigned(k), &x);
+  }
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(impl_->top, geom);
+  rtcReleaseGeometry(geom);
+  record_top(id, nullptr, uint32_t(impl_->instances.size() - 1));
+}
+
 bool Builder::run() {
   std::vector<Transform> instance_transforms;
   if (!check_shapes() || !check_instances(&instance_transforms)) return false;
@@ -524,13 +584,22 @@ bool Builder::run() {
   // World shapes: identity meshes and all quadrics (their callbacks take
   // world rays) in the top level; other meshes grouped by transform.
   std::map<std::array<float, 16>, uint32_t> groups;
-  std::vector<uint32_t> group_children;
+  std::vector<std::pair<uint32_t, uint32_t>> group_children;  // (child, its first shape)
+  std::vector<std::pair<uint32_t, uint32_t>> moving;          // (child, shape) of moving meshes
   for (uint32_t i = 0; i < shapes_.size(); ++i) {
     const ShapeInfo& s = shapes_[i];
     if (s.object != kNone) continue;
     if (is_quadric(s.kind)) {
       unsigned id = attach_quadric(impl_->top, i, bounds_);
       record_top(id, &impl_->geoms.back(), kNone);
+    } else if (!empty_mesh(s) && s.motion) {
+      uint32_t child = add_child();
+      Bounds3 object_box;
+      unsigned id = attach_mesh(impl_->children[child].scene, i, false, &object_box);
+      impl_->children[child].bounds.extend(object_box);
+      record_child(child, id, &impl_->geoms.back());
+      moving.push_back({child, i});
+      bounds_->extend(s.motion->motion_bounds(object_box));
     } else if (!empty_mesh(s)) {
       if (s.object_to_world.is_identity()) {
         unsigned id = attach_mesh(impl_->top, i, false, bounds_);
@@ -542,7 +611,7 @@ bool Builder::run() {
       auto it = groups.find(key);
       if (it == groups.end()) {
         it = groups.emplace(key, add_child()).first;
-        group_children.push_back(i);  // the group's first shape gives its transform
+        group_children.push_back({it->second, i});  // the first shape gives the transform
       }
       uint32_t child = it->second;
       // Group bounds in world space are the vertices through the transform
@@ -555,7 +624,6 @@ bool Builder::run() {
       record_child(child, id, &impl_->geoms.back());
     }
   }
-  const uint32_t num_groups = uint32_t(impl_->children.size());
 
   // Object definitions: one child scene each, in instance space.
   std::vector<uint32_t> object_child(a_.objects.size, kNone);
@@ -581,8 +649,9 @@ bool Builder::run() {
   for (Impl::Child& c : impl_->children) rtcCommitScene(c.scene);
   if (!embree_ok()) return false;
 
-  for (uint32_t g = 0; g < num_groups; ++g)
-    attach_instance(g, shapes_[group_children[g]].object_to_world, kNone);
+  for (auto [child, shape] : group_children)
+    attach_instance(child, shapes_[shape].object_to_world, kNone);
+  for (auto [child, shape] : moving) attach_moving(child, *shapes_[shape].motion);
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
     uint32_t child = object_child[a_.instances[i].object];
     if (child == kNone) continue;  // an empty object
@@ -640,6 +709,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
   ctx.skip_shape = kNone;
   RTCRayHit rh;
   init_ray(ray, &rh.ray);
+  rh.ray.time = impl_->embree_time(ray.time);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->top, &ctx.rtc, &rh);
@@ -672,6 +742,7 @@ bool SceneGeometry::occluded(const Ray& ray, uint32_t skip_shape) const {
   ctx.skip_shape = skip_shape;
   RTCRay r;
   init_ray(ray, &r);
+  r.time = impl_->embree_time(ray.time);
   rtcOccluded1(impl_->top, &ctx.rtc, &r);
   return r.tfar < 0;
 }

@@ -15,8 +15,10 @@
 // spawning see pbrt-v3's numbers; occluded() answers any hit. Both take
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
 // A quadric with an animated transform is intersected where it is at each
-// ray's time, inside motion bounds. Unsupported input (curves, animated meshes,
-// animated shapes in objects and animated instances) fails build() with
+// ray's time, inside motion bounds; a moving mesh sits in its own scene under
+// an Embree instance with quaternion motion blur (keyframes without shear),
+// its hits rebuilt at the ray's time. Unsupported input (curves, moving
+// meshes with shear, moving shapes in objects and moving instances) fails build() with
 // "not supported yet: <what> (file:line)".
 #pragma once
 

@@ -56,7 +56,8 @@ bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
       return false;
     }
     s.reverse_orientation = r.flags & pbrta::kShapeReverseOrientation;
-    s.swaps_handedness = r.flags & pbrta::kShapeSwapsHandedness;
+    // pbrt-v3 makes a moving shape with the identity transform: its handedness never flips it.
+    s.swaps_handedness = (r.flags & pbrta::kShapeSwapsHandedness) && !s.animated;
     s.material = r.material;
     s.area_light = r.area_light;
     s.object = r.object;
