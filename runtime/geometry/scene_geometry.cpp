@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "runtime/core/clock.h"
+#include "runtime/geometry/curve_hit.h"
 #include "runtime/geometry/quadric_intersect.h"
 #include "runtime/geometry/triangle_hit.h"
 #include "runtime/geometry/watertight.h"
@@ -22,11 +23,12 @@ namespace rt {
 
 namespace {
 
-// Embree user data of every triangle and quadric geometry.
+// Embree user data of every triangle, quadric and curve geometry.
 struct GeomData {
   const SceneGeometry::Impl* impl = nullptr;
   uint32_t shape = kNone;
   bool quadric = false;
+  bool curve = false;                // the curve's pieces; prepared.world_to_object is the shape's
   const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
   bool copied = false;               // positions are a copy through the shape's transform
   PreparedQuadric prepared;          // quadrics; inside instances only .shape applies
@@ -47,7 +49,7 @@ struct InstanceData {
 struct QueryContext {
   RTCIntersectContext rtc;         // must stay first
   const Ray* ray;                  // the world-space ray
-  SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric hit; null for occluded()
+  SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric or curve hit, or null
   float near_t;                    // triangle hits at t <= near_t are re-tested (near_filter)
   uint32_t skip_shape;             // occluded(): a world quadric that cannot block this ray
 };
@@ -281,6 +283,61 @@ void quadric_occluded(const RTCOccludedFunctionNArguments* args) {
   if (world_quadric_hit(*g, inst_id, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
 }
 
+void curve_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const ShapeInfo& s = (*g->impl->shapes)[g->shape];
+  Bounds3 box = s.curve->piece_bounds(args->primID);
+  Bounds3 b = s.motion ? s.motion->motion_bounds(box) : s.object_to_world.bounds(box);
+  *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
+}
+
+// A curve piece hit by the world ray, under the transforms world_quadric_hit
+// would use: the motion at the ray's time, the instance's composed on, or the
+// shape's own.
+bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, const Ray& r,
+                           float* t, SurfaceInteraction* si) {
+  const ShapeInfo& s = (*g.impl->shapes)[g.shape];
+  const InstanceData* inst = g.impl->instance_of(inst_id);
+  if (!s.motion && !inst)
+    return world_curve_hit(s, s.object_to_world, g.prepared.world_to_object, piece, r, t, si);
+  const Transform m = s.motion ? s.motion->at(r.time) : inst->to_world * s.object_to_world;
+  return world_curve_hit(s, m, m.inverse(), piece, r, t, si);
+}
+
+void curve_intersect(const RTCIntersectFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  unsigned inst_id = args->context->instID[0];
+  Ray r = *ctx->ray;
+  r.tmax = rh->ray.tfar;
+  SurfaceInteraction si;
+  float t;
+  if (!world_curve_piece_hit(*g, inst_id, args->primID, r, &t, &si) || !(t < rh->ray.tfar)) return;
+  rh->ray.tfar = t;
+  rh->hit.u = rh->hit.v = 0;
+  rh->hit.Ng_x = si.n.x;
+  rh->hit.Ng_y = si.n.y;
+  rh->hit.Ng_z = si.n.z;
+  rh->hit.primID = args->primID;
+  rh->hit.geomID = args->geomID;
+  rh->hit.instID[0] = inst_id;
+  if (ctx->quadric_si) *ctx->quadric_si = si;
+}
+
+void curve_occluded(const RTCOccludedFunctionNArguments* args) {
+  if (!args->valid[0]) return;
+  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
+  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
+  RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
+  Ray r = *ctx->ray;
+  r.tmax = ray->tfar;
+  float t;
+  if (world_curve_piece_hit(*g, args->context->instID[0], args->primID, r, &t, nullptr))
+    ray->tfar = -kInfinity;
+}
+
 // Embree accepts t <= tfar; pbrt-v3's interval is open at tmax.
 float open_tfar(float tmax) {
   return std::isinf(tmax) ? tmax : next_float_down(tmax);
@@ -340,6 +397,7 @@ class Builder {
   RTCScene new_scene();
   unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
+  unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
   void attach_moving(uint32_t child, const AnimatedTransform& motion);
   void record_top(unsigned id, const GeomData* g, uint32_t instance);
@@ -363,10 +421,6 @@ bool Builder::embree_ok() {
 bool Builder::check_shapes() {
   for (uint32_t i = 0; i < shapes_.size(); ++i) {
     const ShapeInfo& s = shapes_[i];
-    if (s.kind == ShapeKind::kCurve) {
-      *error_ = "not supported yet: curve shape (" + a_.where(s.entity) + ")";
-      return false;
-    }
     if (s.kind == ShapeKind::kTriangles && a_.shapes[i].mesh == pbrta::kNoIndex) {
       *error_ = "not supported yet: " + std::string(a_.type_name(s.entity)) + " shape (" +
                 a_.where(s.entity) + ")";
@@ -500,6 +554,33 @@ unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds
   return id;
 }
 
+// A curve: one Embree user primitive per piece (curve.h), in the space of the
+// scene it joins (world, or an object's instance space), as quadrics are.
+unsigned Builder::attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds) {
+  const ShapeInfo& s = shapes_[shape];
+  const CurveShape& c = *s.curve;
+  for (uint32_t i = 0; i < c.num_pieces(); ++i) {
+    Bounds3 box = c.piece_bounds(i);
+    bounds->extend(s.motion ? s.motion->motion_bounds(box) : s.object_to_world.bounds(box));
+  }
+  GeomData& g = impl_->geoms.emplace_back();
+  g.impl = impl_;
+  g.shape = shape;
+  g.curve = true;
+  g.prepared.world_to_object = s.object_to_world.inverse();
+  RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(geom, c.num_pieces());
+  rtcSetGeometryUserData(geom, &g);
+  rtcSetGeometryBoundsFunction(geom, curve_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(geom, curve_intersect);
+  rtcSetGeometryOccludedFunction(geom, curve_occluded);
+  rtcCommitGeometry(geom);
+  unsigned id = rtcAttachGeometry(scene, geom);
+  rtcReleaseGeometry(geom);
+  stats_->curves += c.num_pieces();
+  return id;
+}
+
 // An Embree instance of child scene `child`. Object instances add their
 // object's box through the transform to the world bound, as pbrt-v3's
 // TransformedPrimitive does; transform groups added their vertices already.
@@ -589,8 +670,9 @@ bool Builder::run() {
   for (uint32_t i = 0; i < shapes_.size(); ++i) {
     const ShapeInfo& s = shapes_[i];
     if (s.object != kNone) continue;
-    if (is_quadric(s.kind)) {
-      unsigned id = attach_quadric(impl_->top, i, bounds_);
+    if (is_quadric(s.kind) || s.kind == ShapeKind::kCurve) {
+      unsigned id = s.kind == ShapeKind::kCurve ? attach_curve(impl_->top, i, bounds_)
+                                                : attach_quadric(impl_->top, i, bounds_);
       record_top(id, &impl_->geoms.back(), kNone);
     } else if (!empty_mesh(s) && s.motion) {
       uint32_t child = add_child();
@@ -636,11 +718,12 @@ bool Builder::run() {
     for (uint32_t k = 0; k < rec.num_shapes; ++k) {
       uint32_t shape = a_.object_shapes[rec.first_shape + k];
       const ShapeInfo& s = shapes_[shape];
-      if (!is_quadric(s.kind) && empty_mesh(s)) continue;
+      if (s.kind == ShapeKind::kTriangles && empty_mesh(s)) continue;
       if (child == kNone) child = add_child();
       Impl::Child& c = impl_->children[child];
-      unsigned id = is_quadric(s.kind)
-                        ? attach_quadric(c.scene, shape, &c.bounds)
+      unsigned id = is_quadric(s.kind) ? attach_quadric(c.scene, shape, &c.bounds)
+                    : s.kind == ShapeKind::kCurve
+                        ? attach_curve(c.scene, shape, &c.bounds)
                         : attach_mesh(c.scene, shape, !s.object_to_world.is_identity(), &c.bounds);
       record_child(child, id, &impl_->geoms.back());
     }
@@ -717,9 +800,9 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
 
   const InstanceData* inst = impl_->instance_of(rh.hit.instID[0]);
   const GeomData* g = impl_->geom_of(inst, rh.hit.geomID);
-  if (g->quadric) {
+  if (g->quadric || g->curve) {
     // The callback left the accepted hit in *si.
-    si->prim = 0;
+    si->prim = g->curve ? rh.hit.primID : 0;
     si->face_index = 0;
     si->dpdx = si->dpdy = Vec3{};
     si->dudx = si->dvdx = si->dudy = si->dvdy = 0;

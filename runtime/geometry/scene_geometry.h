@@ -7,7 +7,8 @@
 // definition is one child scene, instanced once per ObjectInstance (a mesh
 // with its own transform inside an object is copied through that transform:
 // Embree here has a single instance level); quadrics are user geometries
-// calling runtime/geometry/quadric_intersect.h. Alpha and shadowalpha are
+// calling runtime/geometry/quadric_intersect.h, curves are user geometries of
+// their pieces (curve_hit.h). Alpha and shadowalpha are
 // Embree filters that drop hits where the value is exactly 0.
 //
 // intersect() rebuilds the closest hit in world space exactly as pbrt-v3's
@@ -17,7 +18,7 @@
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
 // an Embree instance with quaternion motion blur (keyframes without shear),
-// its hits rebuilt at the ray's time. Unsupported input (curves, moving
+// its hits rebuilt at the ray's time. Unsupported input (moving
 // meshes with shear, moving shapes in objects and moving instances) fails build() with
 // "not supported yet: <what> (file:line)".
 #pragma once
@@ -37,7 +38,7 @@ class TextureSet;
 struct GeometryStats {
   double build_seconds = 0;
   uint64_t embree_bytes = 0;  // Embree's own allocations after the build
-  uint32_t triangles = 0, quadrics = 0, instances = 0, copied_meshes = 0;
+  uint32_t triangles = 0, quadrics = 0, curves = 0, instances = 0, copied_meshes = 0;
 };
 
 class SceneGeometry {

@@ -29,13 +29,17 @@ Vec3 get_point(const pbrta::SceneArchive& a, uint32_t e, std::string_view name, 
 
 bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
   shapes_.resize(a.shapes.size);
-  size_t animated = 0;
+  size_t animated = 0, curves = 0;
   for (uint32_t i = 0; i < a.shapes.size; ++i) {
     const pbrta::TransformRecord& t = a.transforms[a.shapes[i].transform];
     animated += std::memcmp(t.start, t.end, sizeof t.start) != 0;
+    curves += a.shapes[i].mesh == pbrta::kNoIndex &&
+              kind_of(a.type_name(a.shapes[i].entity)) == ShapeKind::kCurve;
   }
   motions_.clear();
   motions_.reserve(animated);
+  curves_.clear();
+  curves_.reserve(curves);
   for (uint32_t i = 0; i < a.shapes.size; ++i) {
     const pbrta::ShapeRecord& r = a.shapes[i];
     ShapeInfo& s = shapes_[i];
@@ -89,6 +93,10 @@ bool ShapeTable::build(const pbrta::SceneArchive& a, std::string* error) {
       case ShapeKind::kHyperboloid:
         q.p1 = get_point(a, e, "p1", {0, 0, 0});
         q.p2 = get_point(a, e, "p2", {1, 1, 1});
+        break;
+      case ShapeKind::kCurve:
+        s.curve = &curves_.emplace_back();
+        if (!make_curve(a, e, &curves_.back(), error)) return false;
         break;
       default:
         break;

@@ -3,7 +3,8 @@
 // One ShapeInfo per archive ShapeRecord (same index): its kind, its
 // world-from-object transform (for shapes inside an object definition: the
 // object-from-shape transform; the instance adds its own), orientation flags,
-// the quadric's parameters with pbrt-v3's computed defaults applied, and for
+// the quadric's parameters with pbrt-v3's computed defaults applied, a curve's
+// Bézier segments (curve.h), and for
 // triangle meshes pointers straight into the archive's geometry arrays
 // (object space; never copied). Intersection (runtime/geometry), area-light
 // sampling (runtime/light) and materials read this table; it is built once
@@ -17,6 +18,7 @@
 #include "format/scene_archive.h"
 #include "runtime/core/animated_transform.h"
 #include "runtime/core/transform.h"
+#include "runtime/geometry/curve.h"
 
 namespace rt {
 
@@ -70,6 +72,7 @@ struct ShapeInfo {
   bool medium_transition() const { return inside_medium != outside_medium; }
   QuadricParams q;
   MeshView mesh;
+  const CurveShape* curve = nullptr;  // kCurve: its Bézier segments
   // alpha / shadowalpha: constant value or texture index (kNone = constant).
   float alpha = 1, shadow_alpha = 1;
   uint32_t alpha_texture = kNone, shadow_alpha_texture = kNone;
@@ -92,6 +95,7 @@ class ShapeTable {
  private:
   std::vector<ShapeInfo> shapes_;
   std::vector<AnimatedTransform> motions_;  // sized once: shapes point into it
+  std::vector<CurveShape> curves_;          // likewise
 };
 
 }  // namespace rt

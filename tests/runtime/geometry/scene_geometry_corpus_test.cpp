@@ -1,5 +1,5 @@
 // Real scenes of the shared corpus (a few, chosen for instances, alpha masks,
-// quadrics, refined and large meshes, and a curve) either build into Embree
+// quadrics, refined and large meshes, and curves) either build into Embree
 // or fail with "not supported yet: ..."; built scenes answer rays with hits
 // inside their world bound, and intersect() and occluded() agree. (All 65
 // entry scenes of the corpus pass this too, but compiling them takes ~20 s.)
@@ -69,8 +69,8 @@ TEST(SceneGeometryCorpus, SharedScenesBuildOrSayWhy) {
     }
     EXPECT_GT(hits, 0);
   }
-  EXPECT_EQ(built, 7);
-  EXPECT_EQ(unsupported, 1);  // all-shapes has a curve
+  EXPECT_EQ(built, 8);
+  EXPECT_EQ(unsupported, 0);
 }
 
 }  // namespace

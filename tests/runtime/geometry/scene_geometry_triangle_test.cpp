@@ -204,13 +204,21 @@ AttributeEnd
 }
 
 TEST(SceneGeometryTriangle, UnsupportedInputs) {
-  auto curve = load_world("sg_curve", R"(
-Shape "curve" "point P" [0 0 0  1 0 0  1 1 0  0 1 0] "float width" 0.1
+  auto moving = load_world("sg_moving_in_object", R"(
+ObjectBegin "m"
+  ActiveTransform EndTime
+  Translate 1 0 0
+  ActiveTransform All
+  Shape "sphere"
+ObjectEnd
+ObjectInstance "m"
 )");
-  EXPECT_FALSE(curve->built);
-  EXPECT_NE(curve->error.find("not supported yet: curve shape ("), std::string::npos)
-      << curve->error;
-  EXPECT_NE(curve->error.find("scene.pbrt:4)"), std::string::npos) << curve->error;
+  EXPECT_FALSE(moving->built);
+  EXPECT_NE(moving->error.find("not supported yet: animated transform (motion blur) on a shape in "
+                               "an object ("),
+            std::string::npos)
+      << moving->error;
+  EXPECT_NE(moving->error.find("scene.pbrt:8)"), std::string::npos) << moving->error;
 }
 
 }  // namespace
