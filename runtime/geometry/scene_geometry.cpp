@@ -76,10 +76,11 @@ struct SceneGeometry::Impl {
   std::vector<const GeomData*> top_geoms;  // by top-level geomID; null for instances
   std::vector<uint32_t> top_instance;      // by top-level geomID: index into instances, or kNone
   std::vector<InstanceData> instances;
-  std::deque<GeomData> geoms;             // stable addresses for Embree's user pointers
-  std::deque<std::vector<float>> copies;  // transformed vertex copies (padded for Embree)
-  std::deque<VertexPatches> patches;      // watertight vertex fallback (watertight.h)
-  bool watertight = false;                // SceneGeometry::set_watertight
+  std::deque<GeomData> geoms;                      // stable addresses for Embree's user pointers
+  std::deque<std::vector<float>> copies;           // transformed vertex copies (padded for Embree)
+  std::deque<VertexPatches> patches;               // watertight vertex fallback (watertight.h)
+  std::deque<AnimatedTransform> instance_motions;  // moving object instances
+  bool watertight = false;                         // SceneGeometry::set_watertight
   // Moving meshes' shared keyframe times (pbrt-v3's TransformTimes): a ray's time maps to
   // Embree's [0, 1] through them.
   bool has_moving_meshes = false;
@@ -242,7 +243,8 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float*
   // The normalised parameters do not depend on the transform: only the
   // composed transform is made per ray.
   ShapeInfo scratch = s;
-  scratch.object_to_world = inst->to_world * s.object_to_world;
+  scratch.object_to_world =
+      (inst->motion ? inst->motion->at(r.time) : inst->to_world) * s.object_to_world;
   return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
                            si);
 }
@@ -300,7 +302,9 @@ bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, 
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (!s.motion && !inst)
     return world_curve_hit(s, s.object_to_world, g.prepared.world_to_object, piece, r, t, si);
-  const Transform m = s.motion ? s.motion->at(r.time) : inst->to_world * s.object_to_world;
+  const Transform m = s.motion       ? s.motion->at(r.time)
+                      : inst->motion ? inst->motion->at(r.time) * s.object_to_world
+                                     : inst->to_world * s.object_to_world;
   return world_curve_hit(s, m, m.inverse(), piece, r, t, si);
 }
 
@@ -393,13 +397,14 @@ class Builder {
 
  private:
   bool check_shapes();
-  bool check_instances(std::vector<Transform>* transforms);
+  bool check_instances(std::vector<Transform>* transforms,
+                       std::vector<const AnimatedTransform*>* motions);
   RTCScene new_scene();
   unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
-  void attach_moving(uint32_t child, const AnimatedTransform& motion);
+  void attach_moving(uint32_t child, const AnimatedTransform& motion, uint32_t archive_instance);
   void record_top(unsigned id, const GeomData* g, uint32_t instance);
   bool embree_ok();
 
@@ -448,22 +453,34 @@ bool Builder::check_shapes() {
   return true;
 }
 
-bool Builder::check_instances(std::vector<Transform>* transforms) {
+// Instance transforms; a moving instance also gets its motion, which Embree's
+// quaternion motion blur expresses only without shear.
+bool Builder::check_instances(std::vector<Transform>* transforms,
+                              std::vector<const AnimatedTransform*>* motions) {
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
     const pbrta::InstanceRecord& r = a_.instances[i];
     const pbrta::TransformRecord& t = a_.transforms[r.transform];
-    if (std::memcmp(t.start, t.end, sizeof t.start) != 0) {
-      *error_ =
-          "not supported yet: animated transform (motion blur) (" + a_.where(r.provenance) + ")";
-      return false;
-    }
     Transform x = Transform::from_doubles(t.start);
-    if (!x.invertible() || x.is_projective()) {
+    Transform end = Transform::from_doubles(t.end);
+    if (!x.invertible() || x.is_projective() || !end.invertible() || end.is_projective()) {
       *error_ =
           a_.where(r.provenance) + ": error: object instance transform is singular or projective";
       return false;
     }
     transforms->push_back(x);
+    motions->push_back(nullptr);
+    if (std::memcmp(t.start, t.end, sizeof t.start) == 0) continue;
+    const AnimatedTransform& m = impl_->instance_motions.emplace_back(
+        t.start, t.end, float(t.start_time), float(t.end_time));
+    float tt[3], tq[4], ts[3];
+    if (!m.diagonal_keyframe(0, tt, tq, ts) || !m.diagonal_keyframe(1, tt, tq, ts)) {
+      *error_ =
+          "not supported yet: animated transform (motion blur) with shear on an object "
+          "instance (" +
+          a_.where(r.provenance) + ")";
+      return false;
+    }
+    motions->back() = &m;
   }
   return true;
 }
@@ -608,10 +625,12 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
 // keyframes: translation and scale linear, rotation by slerp, as pbrt-v3 interpolates (the
 // checks admit only keyframes whose scale part is diagonal, which Embree's decomposition holds
 // exactly). Hits are rebuilt with AnimatedTransform::at, the same interpolation.
-void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion) {
+void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
+                            uint32_t archive_instance) {
   InstanceData d;
   d.to_world = motion.start();
   d.child = child;
+  d.archive_instance = archive_instance;
   d.motion = &motion;
   d.mirrors = motion.start().swaps_handedness();
   impl_->instances.push_back(d);
@@ -646,7 +665,8 @@ void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion) {
 
 bool Builder::run() {
   std::vector<Transform> instance_transforms;
-  if (!check_shapes() || !check_instances(&instance_transforms)) return false;
+  std::vector<const AnimatedTransform*> instance_motions;
+  if (!check_shapes() || !check_instances(&instance_transforms, &instance_motions)) return false;
 
   impl_->top = new_scene();
   auto add_child = [&] {
@@ -734,11 +754,27 @@ bool Builder::run() {
 
   for (auto [child, shape] : group_children)
     attach_instance(child, shapes_[shape].object_to_world, kNone);
-  for (auto [child, shape] : moving) attach_moving(child, *shapes_[shape].motion);
+  // Embree's ray time spans one keyframe interval, shared by every moving mesh and instance.
+  std::vector<const AnimatedTransform*> all_moving;
+  for (auto [child, shape] : moving) all_moving.push_back(shapes_[shape].motion);
+  for (const AnimatedTransform* m : instance_motions)
+    if (m) all_moving.push_back(m);
+  for (const AnimatedTransform* m : all_moving)
+    if (m->start_time() != all_moving[0]->start_time() ||
+        m->end_time() != all_moving[0]->end_time()) {
+      *error_ = "not supported yet: moving meshes or instances with different TransformTimes";
+      return false;
+    }
+  for (auto [child, shape] : moving) attach_moving(child, *shapes_[shape].motion, kNone);
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
     uint32_t child = object_child[a_.instances[i].object];
     if (child == kNone) continue;  // an empty object
-    attach_instance(child, instance_transforms[i], i);
+    if (const AnimatedTransform* m = instance_motions[i]) {
+      attach_moving(child, *m, i);
+      bounds_->extend(m->motion_bounds(impl_->children[child].bounds));
+    } else {
+      attach_instance(child, instance_transforms[i], i);
+    }
     ++stats_->instances;
   }
   rtcCommitScene(impl_->top);

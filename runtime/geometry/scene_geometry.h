@@ -18,9 +18,9 @@
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
 // an Embree instance with quaternion motion blur (keyframes without shear),
-// its hits rebuilt at the ray's time. Unsupported input (moving
-// meshes with shear, moving shapes in objects and moving instances) fails build() with
-// "not supported yet: <what> (file:line)".
+// its hits rebuilt at the ray's time; a moving object instance likewise. Unsupported
+// input (moving meshes or instances with shear or with different TransformTimes,
+// moving shapes inside objects) fails build() with "not supported yet: <what> (file:line)".
 #pragma once
 
 #include <cstdint>

@@ -280,20 +280,62 @@ Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 1 1 0] "integer indices" [0 1 2]
             std::string::npos)
       << animated->error;
 
-  auto animated_instance = load_world("sg_anim_inst", R"(
+  auto sheared_instance = load_world("sg_anim_inst_shear", R"(
 ObjectBegin "o"
   Shape "sphere"
 ObjectEnd
 ActiveTransform EndTime
-Translate 1 0 0
+Transform [1 0 0 0  0.5 1 0 0  0 0 1 0  0 0 0 1]
 ActiveTransform All
 ObjectInstance "o"
 )");
-  EXPECT_FALSE(animated_instance->built);
-  EXPECT_NE(animated_instance->error.find(
-                "not supported yet: animated transform (motion blur) (scene.pbrt:10)"),
+  EXPECT_FALSE(sheared_instance->built);
+  EXPECT_NE(sheared_instance->error.find("not supported yet: animated transform (motion blur) "
+                                         "with shear on an object instance (scene.pbrt:10)"),
             std::string::npos)
-      << animated_instance->error;
+      << sheared_instance->error;
+}
+
+// A moving object instance (a triangle, a sphere and a curve inside): everything in it is
+// where the instance's interpolated transform puts it at the ray's time, and the world bound
+// holds the whole motion.
+TEST(SceneGeometryInstance, MovingInstanceAtTheRaysTime) {
+  auto moving = load_world("sg_anim_inst", R"(
+ObjectBegin "o"
+  Shape "trianglemesh" "point3 P" [-1 -1 0 1 -1 0 1 1 0 -1 1 0] "integer indices" [0 1 2 0 2 3]
+  Translate 0 0 2
+  Shape "sphere" "float radius" 0.5
+  Translate 0 0 2
+  Shape "curve" "point P" [-1 0 0  -0.3 0 0  0.3 0 0  1 0 0] "float width" 0.2
+ObjectEnd
+ActiveTransform EndTime
+Translate 4 0 0
+ActiveTransform All
+ObjectInstance "o"
+)");
+  ASSERT_TRUE(moving->built) << moving->error;
+  EXPECT_GE(moving->geometry.world_bounds().hi.x, 5);
+  for (float time : {0.f, 0.25f, 1.f}) {
+    SCOPED_TRACE(time);
+    const float x = 4 * time;
+    SurfaceInteraction si;
+    Ray quad = make_ray({x + 0.5f, 0.2f, -5}, {0, 0, 1});
+    quad.time = time;
+    ASSERT_TRUE(moving->geometry.intersect(quad, &si));
+    expect_vec_near(si.p, {x + 0.5f, 0.2f, 0}, 1e-4f);
+    EXPECT_EQ(si.instance, 0u);
+    Ray sphere = make_ray({x, 0, 10}, {0, 0, -1});
+    sphere.time = time;
+    ASSERT_TRUE(moving->geometry.intersect(sphere, &si));
+    EXPECT_NEAR(si.p.z, 4, 1e-4f);  // the curve at z = 4 is nearer than the sphere's top
+    Ray beside = make_ray({x + 0.7f, 0.3f, 10}, {0, 0, -1});  // past the curve's width
+    beside.time = time;
+    ASSERT_TRUE(moving->geometry.intersect(beside, &si));
+    EXPECT_NEAR(si.p.z, 0, 1e-4f);
+    Ray old_place = make_ray({x - 1.5f, 0.2f, -5}, {0, 0, 1});
+    old_place.time = time;
+    EXPECT_FALSE(moving->geometry.occluded(old_place));
+  }
 }
 
 }  // namespace
