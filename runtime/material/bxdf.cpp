@@ -119,6 +119,8 @@ Rgb raw_f(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return fresnel_blend_f(b, wo, wi);
     case BxdfKind::kDisney:
       return b.disney.f(wo, wi);
+    case BxdfKind::kHair:
+      return b.hair.f(wo, wi);
     case BxdfKind::kFourier:
       return FourierLobe{b.fourier, b.mode}.f(wo, wi);
     case BxdfKind::kBssrdfExit:
@@ -149,6 +151,8 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
       return .5f * (abs_cos_theta(wi) * kInvPi + half_vector_reflection_pdf(b, wo, wi));
     case BxdfKind::kDisney:
       return b.disney.pdf(wo, wi);
+    case BxdfKind::kHair:
+      return b.hair.pdf(wo, wi);
     case BxdfKind::kFourier:
       return FourierLobe{b.fourier, b.mode}.pdf(wo, wi);
     case BxdfKind::kSpecularReflection:
@@ -243,6 +247,8 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
     case BxdfKind::kDisney:
       // Each Disney lobe is one kind of scattering: what was sampled is its flags.
       return b.disney.sample_f(wo, wi, u, pdf);
+    case BxdfKind::kHair:
+      return b.hair.sample_f(wo, wi, u, pdf);
     case BxdfKind::kFourier:
       return FourierLobe{b.fourier, b.mode}.sample_f(wo, wi, u, pdf);
   }
@@ -357,6 +363,14 @@ Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d) {
   b.r = rd;
   b.t = rs;
   b.distribution = d;
+  return b;
+}
+
+Bxdf make_hair(const HairLobe& lobe) {
+  Bxdf b;
+  b.kind = BxdfKind::kHair;
+  b.flags = lobe.flags;
+  b.hair = lobe;
   return b;
 }
 

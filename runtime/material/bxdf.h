@@ -9,7 +9,8 @@
 // Disney material's lobes (kDisney: f/sample_f/pdf are the carried
 // DisneyLobe's, disney_bxdf.h), and the fourier material's tabulated BSDF
 // (kFourier: a pointer to its table, fourier_bxdf.h), and the subsurface exit lobe
-// (kBssrdfExit). Payloads only one kind reads share storage
+// (kBssrdfExit), and pbrt-v3's hair BSDF (kHair: the carried HairLobe,
+// hair_bxdf.h). Payloads only one kind reads share storage
 // in an anonymous union (Bsdf holds 8 Bxdfs inline, so size matters): a new
 // kind with its own plain-data payload goes there too. Every lobe
 // carries `scale` (1 unless a mix material weighted it: pbrt-v3's ScaledBxDF,
@@ -25,6 +26,7 @@
 #include "runtime/material/bxdf_flags.h"
 #include "runtime/material/disney_bxdf.h"
 #include "runtime/material/fresnel.h"
+#include "runtime/material/hair_bxdf.h"
 #include "runtime/material/microfacet.h"
 
 namespace rt {
@@ -42,6 +44,7 @@ enum class BxdfKind : uint8_t {
   kDisney,
   kFourier,
   kBssrdfExit,
+  kHair,
 };
 
 struct FourierTable;  // runtime/material/fourier_bxdf.h
@@ -63,6 +66,7 @@ struct Bxdf {
     Fresnel fresnel;              // specular and microfacet reflection
     DisneyLobe disney;            // kDisney: the whole lobe (r, t, eta, ... unused)
     const FourierTable* fourier;  // kFourier: the material's table
+    HairLobe hair;                // kHair: the whole lobe
   };
   MicrofacetDistribution distribution;
 
@@ -97,6 +101,8 @@ Bxdf make_fresnel_blend(Rgb rd, Rgb rs, const MicrofacetDistribution& d);
 Bxdf make_bssrdf_exit(float eta, TransportMode mode);
 // Carries one of the Disney material's lobes; flags are the lobe's.
 Bxdf make_disney(const DisneyLobe& lobe);
+// Carries the hair material's lobe; flags are the lobe's.
+Bxdf make_hair(const HairLobe& lobe);
 // The fourier material's lobe; the table must outlive it.
 Bxdf make_fourier(const FourierTable* table, TransportMode mode);
 

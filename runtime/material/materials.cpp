@@ -39,6 +39,7 @@ int max_lobes(const std::vector<MaterialNode>& nodes, uint32_t m, int depth) {
     case MaterialKind::kDisney:
       return max_disney_lobes(n.disney);
     case MaterialKind::kFourier:
+    case MaterialKind::kHair:
       return 1;
     case MaterialKind::kMix:
       if (depth > 16) return 1000;  // a cycle: reported as too many lobes
@@ -180,6 +181,27 @@ bool MaterialSet::build(const pbrta::SceneArchive& archive, const TextureSet& te
       if (!build_fourier_table(archive, e, table.get(), error)) return false;
       m.fourier = table.get();
       fourier_tables_.push_back(std::move(table));
+    } else if (type == "hair") {
+      m.kind = MaterialKind::kHair;
+      // pbrt-v3's precedence (pbrtc warns about the ignored ones): sigma_a, color, melanin.
+      if (archive.given(e, "sigma_a")) {
+        m.hair_absorption = HairAbsorption::kSigmaA;
+        m.sigma_a = rin("sigma_a");
+      } else if (archive.given(e, "color")) {
+        m.hair_absorption = HairAbsorption::kColor;
+        m.hair_color = rin("color");
+      } else if (archive.given(e, "eumelanin") || archive.given(e, "pheomelanin")) {
+        m.hair_absorption = HairAbsorption::kMelanin;
+        m.eumelanin = fin("eumelanin");
+        m.pheomelanin = fin("pheomelanin");
+      } else {
+        m.hair_absorption = HairAbsorption::kSigmaA;
+        m.sigma_a.value = hair_sigma_a_from_concentration(1.3f, 0);  // brown hair
+      }
+      m.eta = fin("eta");
+      m.beta_m = fin("beta_m");
+      m.beta_n = fin("beta_n");
+      m.alpha = fin("alpha");
     } else if (type == "mix") {
       m.kind = MaterialKind::kMix;
       m.amount = rin("amount");
@@ -274,6 +296,28 @@ void MaterialSet::add_lobes(const MaterialNode& m, const SurfaceInteraction& si,
       Fresnel fr = Fresnel::conductor(Rgb(1), tex.eval(m.metal_eta, si), tex.eval(m.metal_k, si));
       bsdf->add(make_microfacet_reflection(
           Rgb(1), trowbridge_reitz(urough, vrough, m.remap_roughness), fr));
+      break;
+    }
+    case MaterialKind::kHair: {
+      const float eta = tex.eval(m.eta, si), beta_n = tex.eval(m.beta_n, si);
+      bsdf->init(si, eta);
+      Rgb sigma_a;
+      switch (m.hair_absorption) {
+        case HairAbsorption::kSigmaA:
+          sigma_a = clamp(tex.eval(m.sigma_a, si));
+          break;
+        case HairAbsorption::kColor:
+          sigma_a = hair_sigma_a_from_reflectance(clamp(tex.eval(m.hair_color, si)), beta_n);
+          break;
+        case HairAbsorption::kMelanin:
+          sigma_a = hair_sigma_a_from_concentration(std::max(0.f, tex.eval(m.eumelanin, si)),
+                                                    std::max(0.f, tex.eval(m.pheomelanin, si)));
+          break;
+      }
+      // v runs across a curve's width: the offset h from the fiber's axis, -1 to 1.
+      const float h = -1 + 2 * si.uv.y;
+      bsdf->add(make_hair(
+          make_hair_lobe(h, eta, sigma_a, tex.eval(m.beta_m, si), beta_n, tex.eval(m.alpha, si))));
       break;
     }
     case MaterialKind::kMirror: {

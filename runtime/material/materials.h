@@ -5,7 +5,8 @@
 // archive's, as ShapeRecord.material uses them): matte, plastic, metal,
 // mirror, glass, uber, substrate, translucent, fourier (its table read in
 // place from the archive, which must outlive the set), disney (not its subsurface
-// scattering: see disney_material.h), mix and the interface material
+// scattering: see disney_material.h), hair (on curves: v across the fiber is
+// its offset h), mix and the interface material
 // "none". Anything else fails with "not supported yet: <type> material
 // (file:line)". compute_bsdf() follows each pbrt-v3 material's
 // ComputeScatteringFunctions: bump mapping first (it updates si's shading
@@ -46,7 +47,11 @@ enum class MaterialKind : uint8_t {
   kFourier,
   kMix,
   kSubsurface,  // subsurface and kdsubsurface: glass's lobes and a BSSRDF
+  kHair,
 };
+
+// Where the hair material's absorption comes from: pbrt-v3's order of precedence.
+enum class HairAbsorption : uint8_t { kSigmaA, kColor, kMelanin };
 
 // One material's inputs; which fields a kind reads is in materials.cpp.
 struct MaterialNode {
@@ -67,6 +72,11 @@ struct MaterialNode {
   bool from_diffuse = false;
   float ss_scale = 1;
   const BssrdfTable* bssrdf = nullptr;  // owned by the set
+  // kHair (also eta, and sigma_a when given; without any absorption input sigma_a holds
+  // pbrt-v3's default, eumelanin 1.3).
+  HairAbsorption hair_absorption = HairAbsorption::kSigmaA;
+  RgbInput hair_color;
+  FloatInput eumelanin, pheomelanin, beta_m, beta_n, alpha;
 };
 
 class MaterialSet {

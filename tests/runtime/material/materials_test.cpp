@@ -245,16 +245,43 @@ TEST_F(MaterialsTest, InterfaceMaterialHasNoBsdf) {
   EXPECT_FALSE(scene.materials.compute_bsdf(m, &si, TransportMode::kRadiance, true, &b));
 }
 
-TEST(Materials, UnsupportedTypesFailWithWhere) {
-  for (const char* type : {"hair"}) {
-    MaterialScene s;
-    EXPECT_FALSE(s.load(std::string("unsupported_") + type,
-                        std::string("Material \"") + type + "\"\nShape \"sphere\"\n"));
-    EXPECT_NE(s.error.find(std::string("not supported yet: ") + type + " material ("),
-              std::string::npos)
-        << s.error;
-    EXPECT_NE(s.error.find("scene.pbrt:"), std::string::npos) << s.error;
+// The hair material: one hair lobe whose offset h is -1 + 2 v, its absorption from sigma_a,
+// color or melanin in pbrt-v3's order of precedence, brown hair (eumelanin 1.3) by default.
+TEST(Materials, HairTakesAbsorptionInPbrtsOrder) {
+  MaterialScene s;
+  ASSERT_TRUE(s.load("hair_materials", R"(
+Material "hair" "rgb sigma_a" [0.5 1 2] "rgb color" [0.1 0.1 0.1] "float eumelanin" 8
+Shape "sphere"
+Material "hair" "rgb color" [0.3 0.2 0.1] "float eumelanin" 8 "float beta_n" 0.5
+Shape "sphere"
+Material "hair" "float pheomelanin" 2
+Shape "sphere"
+Material "hair" "float alpha" 0 "float eta" 1.4 "float beta_m" 0.2
+Shape "sphere"
+)")) << s.error;
+  const Rgb expected[] = {
+      Rgb(0.5f, 1, 2), hair_sigma_a_from_reflectance(Rgb(0.3f, 0.2f, 0.1f), 0.5f),
+      hair_sigma_a_from_concentration(0, 2), hair_sigma_a_from_concentration(1.3f, 0)};
+  for (uint32_t shape = 0; shape < 4; ++shape) {
+    SCOPED_TRACE(shape);
+    SurfaceInteraction si = flat_hit();
+    si.uv = {0.3f, 0.8f};
+    Bsdf b;
+    ASSERT_TRUE(s.materials.compute_bsdf(s.material_of_shape(shape), &si, TransportMode::kRadiance,
+                                         true, &b));
+    ASSERT_EQ(b.num_lobes(), 1);
+    const Bxdf& lobe = b.lobe(0);
+    ASSERT_EQ(lobe.kind, BxdfKind::kHair);
+    EXPECT_NEAR(lobe.hair.h, 0.6f, 1e-6f);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(lobe.hair.sigma_a[k], expected[shape][k], 1e-5f);
   }
+  SurfaceInteraction si = flat_hit();
+  Bsdf b;
+  ASSERT_TRUE(
+      s.materials.compute_bsdf(s.material_of_shape(3), &si, TransportMode::kRadiance, true, &b));
+  EXPECT_NEAR(b.lobe(0).hair.eta, 1.4f, 1e-6f);
+  EXPECT_EQ(b.lobe(0).hair.sin_alpha, 0.f);
+  EXPECT_NEAR(b.eta, 1.4f, 1e-6f);
 }
 
 TEST(Materials, MixWithTheInterfaceMaterialFails) {
