@@ -51,13 +51,28 @@ while read -r entry ref spp resdiv ci ours; do
     own/*) scene="$root/tests/convergence/$entry"; refpath="$(dirname "$scene")/$ref" ;;
     *) scene="$shared/scenes/$entry"; refpath="$shared/refs/$ref" ;;
   esac
+  # A 6th column "v3-no-hdr" (shared scenes): compile the scene as pbrt-v3 sees it. pbrt-v3
+  # cannot read .hdr maps and renders such an infinite light as its constant L, which is the
+  # scene without the map; the text is piped to pbrtc from the scene's directory, so relative
+  # paths still resolve. Everything else in the scene is checked as usual.
+  as_v3=0
+  if [ "$ours" = "v3-no-hdr" ]; then as_v3=1; ours=""; fi
   ours="${ours:-$spp}"
   name="$(basename "${ref%.exr}")"
   archive="$out/$name.pbrta"
   half=$((ours / 2))
   log="$out/$name.log"
   ran=$((ran + 1))
-  if ! "$build/pbrtc" -q "$scene" -o "$archive" >"$log" 2>&1; then
+  if [ "$as_v3" = 1 ]; then
+    compile() {
+      (cd "$(dirname "$scene")" &&
+        sed -E 's/"string mapname" *\[? *"[^"]*\.hdr" *\]?//' "$(basename "$scene")" |
+        "$build/pbrtc" -q - -o "$archive")
+    }
+  else
+    compile() { "$build/pbrtc" -q "$scene" -o "$archive"; }
+  fi
+  if ! compile >"$log" 2>&1; then
     printf '%-62s %s\n' "$entry" "COMPILE FAILED: $(grep -m1 error "$log")"
     status=1
     continue
