@@ -78,6 +78,33 @@ Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world) const {
   return maps_[il.map].lookup_trilinear(st) * il.l;
 }
 
+bool LightSet::sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* wi,
+                               float* pdf) const {
+  float map_pdf = 0;
+  *uv = il.distribution.sample_continuous(u, &map_pdf);
+  if (map_pdf == 0) return false;
+  // (u, v) is (phi / 2pi, theta / pi) of the map's spherical parameterisation;
+  // the 1 / (2 pi^2 sin theta) is the Jacobian from the unit square to solid angle.
+  float theta = uv->y * kPi, phi = uv->x * 2 * kPi;
+  float sin_theta = std::sin(theta);
+  *wi = il.light_to_world.vector(
+      Vec3{sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::cos(theta)});
+  *pdf = sin_theta == 0 ? 0 : map_pdf / (2 * kPi * kPi * sin_theta);
+  return true;
+}
+
+float LightSet::infinite_pdf(const InfiniteLight& il, Vec3 wi) const {
+  Vec3 w = il.world_to_light.vector(wi);
+  float theta = spherical_theta(w), phi = spherical_phi(w);
+  float sin_theta = std::sin(theta);
+  if (sin_theta == 0) return 0;
+  return il.distribution.pdf(Vec2{phi * kInv2Pi, theta * kInvPi}) / (2 * kPi * kPi * sin_theta);
+}
+
+Rgb LightSet::infinite_at(const InfiniteLight& il, Vec2 uv) const {
+  return il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(uv) * il.l;
+}
+
 Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const {
   const Entry& e = entries_[light];
   s->li = Rgb();
@@ -118,22 +145,15 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
       s->p_light = it;
       if (shape.kind == ShapeKind::kSphere || shape.kind == ShapeKind::kDisk)
         s->own_shape = e.shape;
-      const AreaEmitter& em = emitters_[e.data];
-      if (em.twosided || dot(it.n, -s->wi) > 0) s->li = em.l;
+      s->li = emitters_[e.data].l_along(it.n, -s->wi);
       return s->li;
     }
     case LightKind::kInfinite: {
       const InfiniteLight& il = infinite_[e.data];
-      float map_pdf = 0;
-      Vec2 uv = il.distribution.sample_continuous(u, &map_pdf);
-      if (map_pdf == 0) return s->li;
-      float theta = uv.y * kPi, phi = uv.x * 2 * kPi;
-      float sin_theta = std::sin(theta);
-      s->wi = il.light_to_world.vector(
-          Vec3{sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::cos(theta)});
-      s->pdf = sin_theta == 0 ? 0 : map_pdf / (2 * kPi * kPi * sin_theta);
+      Vec2 uv;
+      if (!sample_infinite(il, u, &uv, &s->wi, &s->pdf)) return s->li;
       s->p_light = point_at(ref.p + s->wi * (2 * world_radius_), ref.time);
-      s->li = il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(uv) * il.l;
+      s->li = infinite_at(il, uv);
       return s->li;
     }
   }
@@ -147,14 +167,7 @@ float LightSet::pdf_li(uint32_t light, const Interaction& ref, Vec3 wi,
     if (!hit) return 0;
     return shape_pdf_from((*shapes_)[e.shape], e.prim, ref, wi, *hit);
   }
-  if (e.kind == LightKind::kInfinite) {
-    const InfiniteLight& il = infinite_[e.data];
-    Vec3 w = il.world_to_light.vector(wi);
-    float theta = spherical_theta(w), phi = spherical_phi(w);
-    float sin_theta = std::sin(theta);
-    if (sin_theta == 0) return 0;
-    return il.distribution.pdf(Vec2{phi * kInv2Pi, theta * kInvPi}) / (2 * kPi * kPi * sin_theta);
-  }
+  if (e.kind == LightKind::kInfinite) return infinite_pdf(infinite_[e.data], wi);
   return 0;
 }
 
@@ -168,8 +181,7 @@ uint32_t LightSet::area_light_at(const SurfaceInteraction& hit) const {
 Rgb LightSet::area_le(const SurfaceInteraction& hit, Vec3 w) const {
   uint32_t light = area_light_at(hit);
   if (light == kNone) return Rgb();
-  const AreaEmitter& em = emitters_[entries_[light].data];
-  return em.twosided || dot(hit.n, w) > 0 ? em.l : Rgb();
+  return emitters_[entries_[light].data].l_along(hit.n, w);
 }
 
 Rgb LightSet::infinite_le(const RayDifferential& ray) const {

@@ -18,6 +18,13 @@
 //     side hit.n faces, unless twosided). Instanced shapes never emit (pbrtc
 //     drops area lights inside object definitions, as pbrt-v3 does).
 //   power: pbrt-v3's Light::Power, for the "power" light distribution.
+//   sample_le / pdf_le: pbrt-v3's Sample_Le / Pdf_Le, emission leaving the
+//     light for light tracing (bdpt, sppm); see light_emission.cpp. Their
+//     conventions are pbrt-v3's, which bdpt's weights rely on: positional
+//     lights sample pdf_pos 1 but pdf_le reports 0 (a delta position has no
+//     area density); distant lights sample pdf_dir 1 but pdf_le reports 0;
+//     *n_light is the ray direction for every light but an area light (so
+//     |cos(n_light, d)| is 1 there), whose n_light is the surface normal.
 // Every light's `scale` multiplies its L/I. The spot falloff is pbrt-v3's
 // fourth power of the linear ramp in cos theta. Environment maps are looked up
 // (bilinear, level 0) and then multiplied by L * scale; their Distribution2D
@@ -79,6 +86,22 @@ class LightSet {
   Rgb infinite_le_one(uint32_t light, const RayDifferential& ray) const;
   bool has_infinite() const { return !infinite_lights_.empty(); }
   Rgb power(uint32_t light) const;
+  // pbrt-v3's Sample_Le: a ray leaving light `light` at time `time` (ray->time = time),
+  // *n_light (an area light: its surface normal at ray->o, never flipped for a
+  // two-sided light's back; every other light: ray->d, as pbrt-v3 sets it), the
+  // area pdf *pdf_pos of ray->o (1 for delta positions; 1 / (pi r^2) of the disk
+  // of the world sphere for distant and infinite lights) and the solid-angle pdf
+  // *pdf_dir of ray->d (1 for a distant light's delta direction). Returns the
+  // radiance (point-like lights: intensity) leaving along the ray; 0 with zero
+  // pdfs when there is nothing to sample. u1 places the origin (point-like
+  // lights: the direction), u2 the direction (distant lights: unused; infinite:
+  // the disk point), as in pbrt-v3.
+  Rgb sample_le(uint32_t light, Vec2 u1, Vec2 u2, float time, Ray* ray, Vec3* n_light,
+                float* pdf_pos, float* pdf_dir) const;
+  // pbrt-v3's Pdf_Le for a ray leaving the light (an area light: ray.o on its
+  // surface with normal n_light; ignored by the others). Delta positions give
+  // *pdf_pos 0 and a distant light *pdf_dir 0, as in pbrt-v3.
+  void pdf_le(uint32_t light, const Ray& ray, Vec3 n_light, float* pdf_pos, float* pdf_dir) const;
 
  private:
   // A light: its kind, and an index into that kind's table (for area lights
@@ -111,6 +134,8 @@ class LightSet {
     Rgb l;
     bool twosided = false;
     int nsamples = 1;
+    // pbrt-v3's DiffuseAreaLight::L: radiance leaving a point of normal n along w.
+    Rgb l_along(Vec3 n, Vec3 w) const { return twosided || dot(n, w) > 0 ? l : Rgb(); }
   };
   struct InfiniteLight {
     Transform light_to_world, world_to_light;
@@ -122,6 +147,12 @@ class LightSet {
 
   Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
   Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world) const;
+  // An infinite light's importance sampling, shared by the Li and Le paths: a
+  // direction wi towards the light drawn from the distribution, its map (u, v)
+  // and solid-angle pdf (0 at the poles); false when the distribution gives 0.
+  bool sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* wi, float* pdf) const;
+  float infinite_pdf(const InfiniteLight& il, Vec3 wi) const;  // wi towards the light
+  Rgb infinite_at(const InfiniteLight& il, Vec2 uv) const;     // radiance at map (u, v)
   bool add_light(const pbrta::SceneArchive& a, uint32_t index, std::string* error);
   bool add_area_lights(const pbrta::SceneArchive& a, std::string* error);
 
