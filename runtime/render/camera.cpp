@@ -42,6 +42,7 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   camera_to_world_ = camera_from_world.inverse();
   motion_ = AnimatedTransform(t.start, t.end, float(t.start_time), float(t.end_time), true);
   resolution_ = res;
+  if (!sample_bounds_given_) sample_bounds_ = {{0, 0}, res};
   shutter_open_ = a.get_float(e, "shutteropen", 0);
   shutter_close_ = a.get_float(e, "shutterclose", 1);
   if (type_ == Type::kEnvironment) return true;
@@ -86,6 +87,14 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   if (type_ == Type::kOrthographic) {
     dx_camera_ = raster_to_camera_.vector({1, 0, 0});
     dy_camera_ = raster_to_camera_.vector({0, 1, 0});
+  } else {
+    // The corners of the full image projected onto z = 1 (pbrt-v3 takes the full resolution
+    // here, not the sample bounds, even for a cropped film or a wide filter).
+    Vec3 p_min = raster_to_camera_.point({0, 0, 0});
+    Vec3 p_max = raster_to_camera_.point({float(res.x), float(res.y), 0});
+    p_min = p_min / p_min.z;
+    p_max = p_max / p_max.z;
+    image_area_ = std::abs((p_max.x - p_min.x) * (p_max.y - p_min.y));
   }
   return true;
 }
@@ -227,6 +236,81 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     out->ry_d = normalize(w.vector(r.ry_d));
   }
   return 1;
+}
+
+float Camera::lens_area() const {
+  // A pinhole counts as area 1 (pbrt-v3), so its positional pdf is 1 and We per solid angle only.
+  return lens_radius_ != 0 ? kPi * lens_radius_ * lens_radius_ : 1;
+}
+
+bool Camera::inside_sample_bounds(Vec2 p) const {
+  // Half-open, compared in float as the raster point is continuous.
+  return p.x >= float(sample_bounds_.min.x) && p.x < float(sample_bounds_.max.x) &&
+         p.y >= float(sample_bounds_.min.y) && p.y < float(sample_bounds_.max.y);
+}
+
+bool Camera::project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const {
+  const Transform w = to_world(ray.time);
+  Vec3 d = normalize(ray.d);
+  *cos_theta = dot(d, normalize(w.vector({0, 0, 1})));
+  if (*cos_theta <= 0) return false;
+  // A thin lens images the plane of focus sharply and a pinhole every depth, so the point where
+  // the ray crosses that plane (z = 1 for the pinhole) projects to its raster position; the
+  // ray leaves from the lens at z = 0.
+  float t = (lens_radius_ > 0 ? focal_distance_ : 1) / *cos_theta;
+  Vec3 p_camera = w.inverse().point(ray.o + d * t);
+  Vec3 p = raster_to_camera_.inverse().point(p_camera);
+  *p_raster = {p.x, p.y};
+  return true;
+}
+
+Rgb Camera::we(const Ray& ray, Vec2* p_raster) const {
+  if (type_ != Type::kPerspective) return Rgb(0);
+  float cos_theta;
+  Vec2 p;
+  if (!project_to_raster(ray, &cos_theta, &p)) return Rgb(0);
+  // pbrt-v3 reports the raster point even when it falls outside the image.
+  if (p_raster) *p_raster = p;
+  if (!inside_sample_bounds(p)) return Rgb(0);
+  // Uniform over the area A on z = 1, where dA = dw / cos^3 (at distance 1 / cos, seen at
+  // angle theta); dividing by the measurement equation's cos(theta) leaves 1 / (A lens cos^4).
+  float cos2 = cos_theta * cos_theta;
+  return Rgb(1 / (image_area_ * lens_area() * cos2 * cos2));
+}
+
+void Camera::pdf_we(const Ray& ray, float* pdf_pos, float* pdf_dir) const {
+  *pdf_pos = *pdf_dir = 0;
+  if (type_ != Type::kPerspective) return;
+  float cos_theta;
+  Vec2 p;
+  if (!project_to_raster(ray, &cos_theta, &p) || !inside_sample_bounds(p)) return;
+  *pdf_pos = 1 / lens_area();
+  // Uniform over the image area A at distance 1 / cos(theta), seen at angle theta.
+  *pdf_dir = 1 / (image_area_ * cos_theta * cos_theta * cos_theta);
+}
+
+Rgb Camera::sample_wi(const Interaction& ref, Vec2 u, Vec3* wi, float* pdf, Vec2* p_raster,
+                      Interaction* lens) const {
+  *pdf = 0;
+  *wi = {};
+  if (type_ != Type::kPerspective) return Rgb(0);
+  const Transform w = to_world(ref.time);
+  Vec2 p_lens = concentric_sample_disk(u) * lens_radius_;
+  Interaction on_lens;
+  on_lens.p = w.point({p_lens.x, p_lens.y, 0});
+  on_lens.n = normalize(w.vector({0, 0, 1}));
+  on_lens.time = ref.time;
+  if (lens) *lens = on_lens;
+  Vec3 to_lens = on_lens.p - ref.p;
+  float dist = length(to_lens);
+  if (dist == 0) return Rgb(0);
+  *wi = to_lens / dist;
+  Rgb importance = we(Ray{on_lens.p, -*wi, kInfinity, ref.time}, p_raster);
+  if (importance.is_black()) return Rgb(0);
+  // The lens point is uniform by area; seen from ref, that is dist^2 / (|cos| lens area) per
+  // unit solid angle.
+  *pdf = dist * dist / (abs_dot(on_lens.n, *wi) * lens_area());
+  return importance;
 }
 
 }  // namespace rt

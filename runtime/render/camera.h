@@ -18,13 +18,25 @@
 // Each ray has a time in [shutteropen, shutterclose]; a camera whose
 // transform differs at the start and end times moves to where pbrt-v3's
 // animated transform puts it then (animated_transform.h).
+//
+// The bidirectional integrators also need the camera's importance W_e
+// (pbrt book 3rd ed., 16.1.1), which pbrt-v3 defines for the perspective
+// camera only: W_e is normalised so that, over the image's solid angle and
+// the lens, the integral of W_e cos(theta) is 1. As in pbrt-v3, the image's
+// area A on the camera-space plane z = 1 comes from the full resolution,
+// while a ray counts as inside the image by the film's sample bounds
+// (GetSampleBounds: the crop window widened by the filter radius), so with a
+// crop or a wide filter the integral is not exactly 1 there either. The other
+// cameras answer 0, and supports_importance() says which is which.
 #pragma once
 
 #include <string>
 
 #include "format/scene_archive.h"
 #include "runtime/core/animated_transform.h"
+#include "runtime/core/interaction.h"
 #include "runtime/core/ray.h"
+#include "runtime/core/rgb.h"
 #include "runtime/core/transform.h"
 #include "runtime/render/lens_system.h"
 
@@ -44,6 +56,13 @@ class Camera {
   void set_film_diagonal(float metres) { film_diagonal_ = metres; }
   // Rays per radial interval of the exit-pupil search (fewer only in tests).
   void set_pupil_samples(int n) { pupil_samples_ = n; }
+  // The film's sample bounds (Film::sample_bounds()), which decide whether a
+  // ray reaches the image in we() and pdf_we(); call before build(). Without
+  // it they are the full resolution, as for a box filter of radius 0.5 and no crop.
+  void set_sample_bounds(const Bounds2i& bounds) {
+    sample_bounds_ = bounds;
+    sample_bounds_given_ = true;
+  }
   // resolution: the film's full resolution after --resdiv.
   [[nodiscard]] bool build(const pbrta::SceneArchive& archive, Point2i resolution,
                            std::string* error);
@@ -52,10 +71,32 @@ class Camera {
   Type type() const { return type_; }
   const LensSystem& lens() const { return lens_; }  // realistic only
 
+  // Camera importance, pbrt-v3's (perspective only; the others give 0).
+  bool supports_importance() const { return type_ == Type::kPerspective; }
+  // pbrt-v3's PerspectiveCamera::We: the importance a ray leaving the camera carries (0 outside the
+  // image or for a direction facing away), and with p_raster the raster point it passes through.
+  Rgb we(const Ray& ray, Vec2* p_raster = nullptr) const;
+  // pbrt-v3's Pdf_We: positional (1/lens area, or 1 for a pinhole) and directional pdfs of such a
+  // ray.
+  void pdf_we(const Ray& ray, float* pdf_pos, float* pdf_dir) const;
+  // pbrt-v3's Sample_Wi: from reference point `ref` (world; its time used for the camera's
+  // position), a point on the lens (u picks it; pinhole: the camera position), *wi towards the
+  // lens, *pdf the solid-angle density of that lens point seen from ref, *p_raster where the ray
+  // from the lens point through ref lands, and *lens the lens point as an Interaction (p, n =
+  // camera's viewing direction, time; p_error 0). Returns We for that ray (0 and *pdf 0 when
+  // nothing).
+  Rgb sample_wi(const Interaction& ref, Vec2 u, Vec3* wi, float* pdf, Vec2* p_raster,
+                Interaction* lens) const;
+
  private:
   bool build_realistic(const pbrta::SceneArchive& archive, uint32_t entity, std::string* error);
   // The realistic camera's camera-space ray; weight 0 when the lens stops it.
   float realistic_ray(const CameraSample& sample, Ray* ray) const;
+  // Where a ray leaving the lens meets the film, for we() and pdf_we(): false when it faces
+  // away from the viewing direction; else its cosine to it and its raster point.
+  bool project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const;
+  bool inside_sample_bounds(Vec2 p_raster) const;
+  float lens_area() const;
 
   Type type_ = Type::kPerspective;
   Transform camera_to_world_;
@@ -69,6 +110,9 @@ class Camera {
   float lens_radius_ = 0, focal_distance_ = 1e6f;
   float shutter_open_ = 0, shutter_close_ = 1;
   Point2i resolution_;
+  Bounds2i sample_bounds_;
+  bool sample_bounds_given_ = false;
+  float image_area_ = 0;  // perspective: the full image's area on the camera-space plane z = 1
   // Realistic camera.
   LensSystem lens_;
   float film_diagonal_ = -1;  // metres; < 0: from the archive
