@@ -8,6 +8,7 @@
 #include "runtime/core/sampling.h"
 #include "runtime/material/bsdf.h"
 #include "runtime/medium/phase.h"
+#include "runtime/render/bdpt.h"
 
 namespace rt {
 
@@ -24,6 +25,8 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->type = IntegratorType::kVolPath;
   else if (type == "ambientocclusion")
     s->type = IntegratorType::kAmbientOcclusion;
+  else if (type == "bdpt")
+    s->type = IntegratorType::kBdpt;
   else {
     *error = "not supported yet: " + std::string(type) + " integrator (" + a.where(e) + ")";
     return false;
@@ -45,6 +48,11 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->rr_threshold = a.get_float(e, "rrthreshold", 1);
     std::string_view ls = a.get_string(e, "lightsamplestrategy");
     s->light_strategy = ls.empty() ? "spatial" : std::string(ls);
+  }
+  if (s->type == IntegratorType::kBdpt) {
+    // pbrt-v3's bdpt picks the light that starts a light subpath by power by default.
+    std::string_view ls = a.get_string(e, "lightsamplestrategy");
+    s->light_strategy = ls.empty() ? "power" : std::string(ls);
   }
   if (s->type == IntegratorType::kAmbientOcclusion) {
     s->cos_sample = a.get_int(e, "cossample", 1) != 0;
@@ -140,60 +148,9 @@ struct Kernels {
     return sc;
   }
 
-  // The medium a ray leaving hit `si` along w is in: the far side's if the
-  // shape bounds two media, else the one it arrived in.
   static uint32_t medium_after(const Self& I, const SurfaceInteraction& si, Vec3 w,
                                uint32_t medium) {
-    const ShapeInfo& s = I.scene_->shapes[si.shape];
-    if (!s.medium_transition()) return medium;
-    return dot(w, si.n) > 0 ? s.outside_medium : s.inside_medium;
-  }
-
-  // A surface that scatters light; false for the interface material, which only bounds media.
-  static bool has_material(const Self& I, uint32_t shape) {
-    uint32_t m = I.scene_->shapes[shape].material;
-    return m != kNone && !I.scene_->materials.is_interface(m);
-  }
-
-  // pbrt-v3's VisibilityTester::Tr: through interface surfaces (no material),
-  // multiplying each segment's transmittance; 0 at the first real surface.
-  static Rgb transmittance(const Self& I, const Interaction& from, const Interaction& to,
-                           uint32_t medium, Sampler& sampler, RayCounters* c) {
-    Ray ray = from.spawn_ray_to(to);
-    Rgb tr(1.f);
-    for (;;) {
-      SurfaceInteraction si;
-      const bool hit = I.scene_->geometry.intersect(ray, &si);
-      if (hit && has_material(I, si.shape)) return Rgb();
-      if (medium != kNone) {
-        Ray seg = ray;
-        if (hit) seg.tmax = si.t_hit;
-        tr *= I.scene_->media.tr(medium, seg, sampler);
-      }
-      if (!hit || tr.is_black()) return tr;
-      ++c->shadow_rays;
-      medium = medium_after(I, si, ray.d, medium);
-      ray = si.spawn_ray_to(to);
-    }
-  }
-
-  // pbrt-v3's Scene::IntersectTr: the first surface with a material along
-  // ray, and the transmittance of the media crossed to reach it.
-  static bool intersect_tr(const Self& I, Ray ray, uint32_t medium, SurfaceInteraction* si, Rgb* tr,
-                           Sampler& sampler, RayCounters* c) {
-    *tr = Rgb(1.f);
-    for (;;) {
-      const bool hit = intersect(I, ray, si, c);
-      if (medium != kNone) {
-        Ray seg = ray;
-        if (hit) seg.tmax = si->t_hit;
-        *tr *= I.scene_->media.tr(medium, seg, sampler);
-      }
-      if (!hit) return false;
-      if (has_material(I, si->shape)) return true;
-      medium = medium_after(I, *si, ray.d, medium);
-      ray = si->spawn_ray(ray.d);
-    }
+    return rt::medium_after(*I.scene_, si, w, medium);
   }
 
   // pbrt-v3's EstimateDirect: one light sample and one BSDF (or phase
@@ -213,7 +170,7 @@ struct Kernels {
       if (!f.is_black()) {
         ++c->shadow_rays;
         if constexpr (kMedia)
-          li *= transmittance(I, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
+          li *= transmittance(*I.scene_, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
         else if (I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape))
           li = Rgb();
         if (!li.is_black()) {
@@ -235,7 +192,7 @@ struct Kernels {
     Rgb tr(1.f);
     bool found;
     if constexpr (kMedia)
-      found = intersect_tr(I, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
+      found = intersect_tr(*I.scene_, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
     else
       found = intersect(I, ray, &hit, c);
     Rgb le;
@@ -577,8 +534,14 @@ struct Kernels {
     return Rgb(sum);
   }
 
+  static Rgb li_bdpt(const Self& I, const RayDifferential& ray, Sampler& sampler, RayCounters* c) {
+    return I.bdpt_->li(ray, sampler, c);
+  }
+
   static Integrator::Kernel pick(IntegratorType t, bool media, bool subsurface) {
     switch (t) {
+      case IntegratorType::kBdpt:
+        return &li_bdpt;
       case IntegratorType::kAmbientOcclusion:
         return &li_ambient_occlusion;
       case IntegratorType::kPath:
@@ -592,10 +555,22 @@ struct Kernels {
   }
 };
 
+Integrator::Integrator() = default;
+Integrator::~Integrator() = default;
+
 bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settings,
-                      std::string* error) {
+                      std::string* error, const Camera* camera, Film* film) {
   scene_ = &scene;
   settings_ = settings;
+  if (settings.type == IntegratorType::kBdpt) {
+    if (!camera || !film) {
+      *error = "bdpt needs the camera and the film";
+      return false;
+    }
+    bdpt_ = std::make_unique<Bdpt>();
+    if (!bdpt_->init(scene, *camera, film, settings.max_depth, settings.light_strategy, error))
+      return false;
+  }
   const bool path =
       settings.type == IntegratorType::kPath || settings.type == IntegratorType::kVolPath;
   if (path && !distribution_.build(scene.lights, scene.geometry.world_bounds(),
@@ -618,6 +593,10 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
 
 void Integrator::preprocess(Sampler* sampler) {
   light_samples_.clear();
+  if (bdpt_) {
+    bdpt_->preprocess(*sampler);
+    return;
+  }
   if (settings_.type == IntegratorType::kAmbientOcclusion) {
     ao_samples_ = sampler->round_count(settings_.ao_samples);
     sampler->request_2d_array(ao_samples_);

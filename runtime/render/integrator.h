@@ -1,5 +1,5 @@
-// runtime/render/integrator.h — pbrt-v3's whitted, directlighting, path, volpath and
-// ambientocclusion integrators.
+// runtime/render/integrator.h — pbrt-v3's whitted, directlighting, path, volpath,
+// ambientocclusion and bdpt integrators (bdpt: runtime/render/bdpt.h).
 //
 // An Integrator computes the radiance along one camera ray. Its kernel is a
 // template instantiated for the effects the archive says the scene has
@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "runtime/core/rgb.h"
 #include "runtime/light/light_distribution.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/render/visibility.h"
 #include "runtime/sampler/sampler.h"
 
 namespace rt {
@@ -27,8 +29,13 @@ enum class IntegratorType : uint8_t {
   kDirectLighting,
   kPath,
   kVolPath,
-  kAmbientOcclusion
+  kAmbientOcclusion,
+  kBdpt
 };
+
+class Bdpt;
+class Camera;
+class Film;
 
 // Only volpath simulates participating media (bdpt and mlt would too); the
 // others ignore them, as pbrt-v3 does, after a warning.
@@ -56,15 +63,15 @@ struct IntegratorSettings {
 [[nodiscard]] bool read_integrator(const pbrta::SceneArchive& archive, IntegratorSettings* out,
                                    std::string* error);
 
-struct RayCounters {
-  uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
-};
-
 class Integrator {
  public:
+  Integrator();
+  ~Integrator();
+  // bdpt connects to the camera and splats to the film: both must be given and outlive this.
   [[nodiscard]] bool init(const RenderScene& scene, const IntegratorSettings& settings,
-                          std::string* error);
-  // Requests the sampler arrays the integrator will use (before cloning it).
+                          std::string* error, const Camera* camera = nullptr, Film* film = nullptr);
+  // Requests the sampler arrays the integrator will use (before cloning it); bdpt sets the
+  // film's splat scale for the sampler's count.
   void preprocess(Sampler* sampler);
   Rgb li(const RayDifferential& ray, Sampler& sampler, RayCounters* counters) const {
     return kernel_(*this, ray, sampler, counters);
@@ -82,6 +89,7 @@ class Integrator {
   std::vector<int> light_samples_;  // per light, rounded by the sampler (strategy "all")
   int ao_samples_ = 0;              // ambientocclusion's, rounded by the sampler
   Kernel kernel_ = nullptr;
+  std::unique_ptr<Bdpt> bdpt_;
 };
 
 }  // namespace rt

@@ -29,10 +29,15 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
                   {"directlighting", IntegratorType::kDirectLighting},
                   {"path", IntegratorType::kPath},
                   {"volpath", IntegratorType::kVolPath},
-                  {"ambientocclusion", IntegratorType::kAmbientOcclusion}};
+                  {"ambientocclusion", IntegratorType::kAmbientOcclusion},
+                  {"bdpt", IntegratorType::kBdpt}};
     bool found = false;
     for (const auto& t : kTypes)
       if (o.integrator == t.name) {
+        // Each integrator's own default light strategy (pbrt-v3: spatial for path, power for
+        // bdpt) unless the scene's integrator was already that one.
+        if (t.type != s->type)
+          s->light_strategy = t.type == IntegratorType::kBdpt ? "power" : "spatial";
         s->type = t.type;
         found = true;
       }
@@ -42,9 +47,11 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
     }
   }
   if (!o.light_strategy.empty()) {
-    if (s->type != IntegratorType::kPath && s->type != IntegratorType::kVolPath) {
+    if (s->type != IntegratorType::kPath && s->type != IntegratorType::kVolPath &&
+        s->type != IntegratorType::kBdpt) {
       *error = "error: light strategy \"" + o.light_strategy +
-               "\" given, but only the path and volpath integrators sample lights by a strategy";
+               "\" given, but only the path, volpath and bdpt integrators sample lights by a "
+               "strategy";
       return false;
     }
     s->light_strategy = o.light_strategy;
@@ -76,6 +83,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   }
 
   Camera camera;
+  camera.set_sample_bounds(film.sample_bounds());
   if (!camera.build(archive, film.full_resolution(), error)) return false;
   IntegratorSettings settings;
   if (!read_integrator(archive, &settings, error)) return false;
@@ -98,7 +106,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
                                                   film.sample_bounds(), error, options.sampler);
   if (!sampler) return false;
   Integrator integrator;
-  if (!integrator.init(scene, settings, error)) return false;
+  if (!integrator.init(scene, settings, error, &camera, &film)) return false;
   integrator.preprocess(sampler.get());
   result->build_seconds = seconds_since(t_build);
   result->setup_seconds = seconds_since(t_start);

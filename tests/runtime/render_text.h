@@ -46,8 +46,9 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
   Camera camera;
   IntegratorSettings settings;
   auto scene = std::make_unique<RenderScene>();
-  if (!film.build(a, FilmOptions{}, &out.error) ||
-      !camera.build(a, film.full_resolution(), &out.error) ||
+  bool film_ok = film.build(a, FilmOptions{}, &out.error);
+  if (film_ok) camera.set_sample_bounds(film.sample_bounds());
+  if (!film_ok || !camera.build(a, film.full_resolution(), &out.error) ||
       !read_integrator(a, &settings, &out.error) ||
       !load_render_scene(a, scene.get(), &out.error)) {
     ADD_FAILURE() << name << ": " << out.error;
@@ -55,7 +56,7 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
   }
   std::unique_ptr<Sampler> sampler = make_sampler(a, spp, seed, film.sample_bounds(), &out.error);
   Integrator integrator;
-  if (!sampler || !integrator.init(*scene, settings, &out.error)) {
+  if (!sampler || !integrator.init(*scene, settings, &out.error, &camera, &film)) {
     ADD_FAILURE() << name << ": " << out.error;
     return out;
   }

@@ -36,13 +36,15 @@ Rendered render_text(const std::string& name, const std::string& text, int threa
   Camera camera;
   IntegratorSettings settings;
   RenderScene scene;
-  if (!film.build(a, fo, &out.error) || !camera.build(a, film.full_resolution(), &out.error) ||
+  if (!film.build(a, fo, &out.error)) return out;
+  camera.set_sample_bounds(film.sample_bounds());
+  if (!camera.build(a, film.full_resolution(), &out.error) ||
       !read_integrator(a, &settings, &out.error) || !load_render_scene(a, &scene, &out.error))
     return out;
   std::unique_ptr<Sampler> sampler = make_sampler(a, spp, seed, film.sample_bounds(), &out.error);
   if (!sampler) return out;
   Integrator integrator;
-  if (!integrator.init(scene, settings, &out.error)) return out;
+  if (!integrator.init(scene, settings, &out.error, &camera, &film)) return out;
   integrator.preprocess(sampler.get());
   RenderOptions ro;
   ro.quiet = true;
@@ -178,14 +180,14 @@ TEST(Render, SppOverrideSetsTheSampleCount) {
 TEST(Render, UnsupportedIntegratorNamesItselfAndItsLine) {
   Rendered r = render_text("render_unsupported", R"(
 Camera "perspective"
-Integrator "bdpt"
+Integrator "mlt"
 WorldBegin
 Shape "sphere"
 WorldEnd
 )",
                            1);
   EXPECT_FALSE(r.ok);
-  EXPECT_NE(r.error.find("not supported yet: bdpt integrator (scene.pbrt:3)"), std::string::npos)
+  EXPECT_NE(r.error.find("not supported yet: mlt integrator (scene.pbrt:3)"), std::string::npos)
       << r.error;
 }
 

@@ -1,0 +1,44 @@
+// runtime/render/visibility.cpp — see visibility.h.
+#include "runtime/render/visibility.h"
+
+namespace rt {
+
+Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
+                  uint32_t medium, Sampler& sampler, RayCounters* c) {
+  Ray ray = from.spawn_ray_to(to);
+  Rgb tr(1.f);
+  for (;;) {
+    SurfaceInteraction si;
+    const bool hit = scene.geometry.intersect(ray, &si);
+    if (hit && has_material(scene, si.shape)) return Rgb();
+    if (medium != kNone) {
+      Ray seg = ray;
+      if (hit) seg.tmax = si.t_hit;
+      tr *= scene.media.tr(medium, seg, sampler);
+    }
+    if (!hit || tr.is_black()) return tr;
+    ++c->shadow_rays;
+    medium = medium_after(scene, si, ray.d, medium);
+    ray = si.spawn_ray_to(to);
+  }
+}
+
+bool intersect_tr(const RenderScene& scene, Ray ray, uint32_t medium, SurfaceInteraction* si,
+                  Rgb* tr, Sampler& sampler, RayCounters* c) {
+  *tr = Rgb(1.f);
+  for (;;) {
+    ++c->rays;
+    const bool hit = scene.geometry.intersect(ray, si);
+    if (medium != kNone) {
+      Ray seg = ray;
+      if (hit) seg.tmax = si->t_hit;
+      *tr *= scene.media.tr(medium, seg, sampler);
+    }
+    if (!hit) return false;
+    if (has_material(scene, si->shape)) return true;
+    medium = medium_after(scene, *si, ray.d, medium);
+    ray = si->spawn_ray(ray.d);
+  }
+}
+
+}  // namespace rt

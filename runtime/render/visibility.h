@@ -1,0 +1,45 @@
+// runtime/render/visibility.h — what lies between points of a RenderScene: pbrt-v3's
+// VisibilityTester::Tr and Scene::IntersectTr, shared by the path and bidirectional integrators.
+//
+// Surfaces with the interface material ("none", or no material) only bound media: rays pass
+// through them and change medium there (pbrt-v3's GetMedium: the far side's when the shape's
+// two media differ). transmittance() is 0 at the first real surface and otherwise the product
+// of the crossed media's transmittance (1 without media); intersect_tr() finds the first real
+// surface and that product up to it. Both count rays in *counters.
+#pragma once
+
+#include <cstdint>
+
+#include "runtime/core/interaction.h"
+#include "runtime/core/rgb.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+struct RayCounters {
+  uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
+};
+
+// A surface that scatters light; false for the interface material.
+inline bool has_material(const RenderScene& scene, uint32_t shape) {
+  uint32_t m = scene.shapes[shape].material;
+  return m != kNone && !scene.materials.is_interface(m);
+}
+
+// The medium a ray leaving hit si along w is in: the far side's if the shape bounds two
+// media, else `medium`.
+inline uint32_t medium_after(const RenderScene& scene, const SurfaceInteraction& si, Vec3 w,
+                             uint32_t medium) {
+  const ShapeInfo& s = scene.shapes[si.shape];
+  if (!s.medium_transition()) return medium;
+  return dot(w, si.n) > 0 ? s.outside_medium : s.inside_medium;
+}
+
+Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
+                  uint32_t medium, Sampler& sampler, RayCounters* counters);
+
+bool intersect_tr(const RenderScene& scene, Ray ray, uint32_t medium, SurfaceInteraction* si,
+                  Rgb* tr, Sampler& sampler, RayCounters* counters);
+
+}  // namespace rt

@@ -1,0 +1,120 @@
+// pbrt-v3's bdpt against the path tracer on scenes both render without bias: the same
+// image within noise (every strategy, MIS-weighted, sums to the same estimate); light
+// tracing's splats land where the camera sees the light; unsupported input is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "runtime/render_text.h"
+
+namespace rt {
+namespace {
+
+// A closed box lit by a one-sided quad and a point light, with diffuse, glossy and mirror-free
+// materials (no delta chains that only one of the integrators could sample).
+std::string box_scene(const char* integrator) {
+  return std::string(R"(
+LookAt 0 1 -3.5  0 1 0  0 1 0
+Camera "perspective" "float fov" [45]
+Film "image" "integer xresolution" [24] "integer yresolution" [24]
+Sampler "02sequence" "integer pixelsamples" [256]
+Integrator ")") +
+         integrator + R"(" "integer maxdepth" [5]
+WorldBegin
+LightSource "point" "point from" [0.5 1.6 0] "rgb I" [1 1 1]
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [4 4 4]
+  Shape "trianglemesh" "point P" [-0.4 1.99 -0.4  0.4 1.99 -0.4  0.4 1.99 0.4  -0.4 1.99 0.4]
+    "integer indices" [0 1 2 0 2 3]
+AttributeEnd
+Material "matte" "rgb Kd" [0.6 0.6 0.6]
+Shape "trianglemesh" "point P" [-1 0 -4  1 0 -4  1 0 1  -1 0 1] "integer indices" [0 2 1 0 3 2]
+Shape "trianglemesh" "point P" [-1 2 -4  1 2 -4  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
+Shape "trianglemesh" "point P" [-1 0 1  1 0 1  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
+Material "matte" "rgb Kd" [0.7 0.2 0.2]
+Shape "trianglemesh" "point P" [-1 0 -4  -1 0 1  -1 2 1  -1 2 -4] "integer indices" [0 1 2 0 2 3]
+Material "plastic" "rgb Kd" [0.2 0.6 0.2] "rgb Ks" [0.4 0.4 0.4] "float roughness" [0.1]
+Shape "trianglemesh" "point P" [1 0 -4  1 0 1  1 2 1  1 2 -4] "integer indices" [0 2 1 0 3 2]
+AttributeBegin
+  Translate -0.3 0.35 0.2
+  Material "plastic" "rgb Kd" [0.3 0.3 0.6] "rgb Ks" [0.3 0.3 0.3] "float roughness" [0.3]
+  Shape "sphere" "float radius" [0.35]
+AttributeEnd
+WorldEnd
+)";
+}
+
+double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
+  double sum = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) sum += r.at(x, y).luminance();
+  return sum / ((x1 - x0) * (y1 - y0));
+}
+
+TEST(Bdpt, AgreesWithThePathTracer) {
+  Rendered path = render_text("bdpt_box_path", box_scene("path"));
+  Rendered bdpt = render_text("bdpt_box_bdpt", box_scene("bdpt"));
+  ASSERT_TRUE(path.ok && bdpt.ok);
+  // The whole image and each quadrant (walls, floor, ceiling light, sphere).
+  for (int q = 0; q < 5; ++q) {
+    int x0 = q == 4 ? 0 : (q % 2) * 12, y0 = q == 4 ? 0 : (q / 2) * 12;
+    int x1 = q == 4 ? 24 : x0 + 12, y1 = q == 4 ? 24 : y0 + 12;
+    double a = mean_luminance(path, x0, x1, y0, y1), b = mean_luminance(bdpt, x0, x1, y0, y1);
+    EXPECT_NEAR(b / a, 1, 0.03) << "region " << q << ": path " << a << ", bdpt " << b;
+  }
+  EXPECT_EQ(bdpt.stats.nonfinite_samples, 0u);
+}
+
+// A point light over a diffuse floor: much of the image comes from light tracing (t = 1)
+// splats, which sum over all samples of all pixels; scaled by 1 / spp, the image is the same
+// at 16 and 64 samples per pixel.
+TEST(Bdpt, SplatsAreScaledPerSample) {
+  const std::string scene = R"(
+LookAt 0 3 -3  0 0 0  0 1 0
+Camera "perspective" "float fov" [40]
+Film "image" "integer xresolution" [16] "integer yresolution" [16]
+Sampler "02sequence" "integer pixelsamples" [16]
+Integrator "bdpt" "integer maxdepth" [4]
+WorldBegin
+LightSource "point" "point from" [0 3 0] "rgb I" [5 5 5]
+Material "matte" "rgb Kd" [0.5 0.5 0.5]
+Shape "trianglemesh" "point P" [-5 0 -5  5 0 -5  5 0 5  -5 0 5] "integer indices" [0 2 1 0 3 2]
+WorldEnd
+)";
+  Rendered a = render_text("bdpt_splat_16", scene, 0, 16);
+  Rendered b = render_text("bdpt_splat_64", scene, 0, 64);
+  ASSERT_TRUE(a.ok && b.ok);
+  double la = mean_luminance(a, 0, 16, 0, 16), lb = mean_luminance(b, 0, 16, 0, 16);
+  EXPECT_GT(la, 0.05);
+  EXPECT_NEAR(lb / la, 1, 0.05);
+}
+
+TEST(Bdpt, RefusesWhatItCannotRender) {
+  pbrta::SceneArchive a;
+  ASSERT_TRUE(testing_support::compile_text(testing_support::scratch_dir("bdpt_ortho"), R"(
+Camera "orthographic"
+Integrator "bdpt"
+WorldBegin
+Shape "sphere"
+WorldEnd
+)",
+                                            &a));
+  Film film;
+  Camera camera;
+  IntegratorSettings settings;
+  RenderScene scene;
+  std::string error;
+  ASSERT_TRUE(film.build(a, FilmOptions{}, &error)) << error;
+  ASSERT_TRUE(camera.build(a, film.full_resolution(), &error)) << error;
+  ASSERT_TRUE(read_integrator(a, &settings, &error)) << error;
+  ASSERT_TRUE(load_render_scene(a, &scene, &error)) << error;
+  Integrator integrator;
+  EXPECT_FALSE(integrator.init(scene, settings, &error, &camera, &film));
+  EXPECT_NE(error.find("bdpt needs a perspective camera"), std::string::npos) << error;
+  EXPECT_FALSE(integrator.init(scene, settings, &error));
+  EXPECT_NE(error.find("bdpt needs the camera and the film"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace rt
