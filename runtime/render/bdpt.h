@@ -45,9 +45,6 @@ class Bdpt {
   // The camera ray must come from `camera` (its differentials scaled as the renderer does).
   Rgb li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* counters) const;
 
-  // Internal to bdpt.cpp.
-  struct Context;
-
  private:
   const RenderScene* scene_ = nullptr;
   const Camera* camera_ = nullptr;
