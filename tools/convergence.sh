@@ -42,7 +42,7 @@ mkdir -p "$out"
 status=0
 ran=0
 printf '%-62s %s\n' "scene" "result"
-while read -r entry ref spp resdiv ci ours; do
+while read -r entry ref spp resdiv ci ours extra; do
   case "$entry" in ''|'#'*) continue ;; esac
   [ "$only_ci" = 1 ] && [ "$ci" != "ci" ] && continue
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
@@ -57,10 +57,15 @@ while read -r entry ref spp resdiv ci ours; do
   # paths still resolve. Everything else in the scene is checked as usual.
   as_v3=0
   if [ "$ours" = "v3-no-hdr" ]; then as_v3=1; ours=""; fi
+  # "renders=N" after our spp (mlt, sppm: noise correlated between pixels): N renders of
+  # ours / N spp each, seeds 1..N, judged by the spread of their block means (ref-compare
+  # --spread). Otherwise two renders of ours / 2.
+  renders=2
+  case "$extra" in renders=*) renders="${extra#renders=}" ;; esac
   ours="${ours:-$spp}"
   name="$(basename "${ref%.exr}")"
   archive="$out/$name.pbrta"
-  half=$((ours / 2))
+  half=$((ours / renders))
   log="$out/$name.log"
   ran=$((ran + 1))
   if [ "$as_v3" = 1 ]; then
@@ -78,7 +83,7 @@ while read -r entry ref spp resdiv ci ours; do
     continue
   fi
   ok=1
-  for seed in 1 2; do
+  for ((seed = 1; seed <= renders; ++seed)); do
     # Each render has half the samples; textures are filtered as for the
     # reference's count (pbrt-v3 scales differentials by 1/sqrt(spp)).
     if ! "$build/pbrtrun" --quiet "$archive" --spp "$half" --resdiv "$resdiv" --seed "$seed" \
@@ -93,7 +98,11 @@ while read -r entry ref spp resdiv ci ours; do
     status=1
     continue
   fi
-  result="$("$build/ref-compare" "$out/$name.1.exr" "$out/$name.2.exr" "$refpath" \
+  files=()
+  for ((seed = 1; seed <= renders; ++seed)); do files+=("$out/$name.$seed.exr"); done
+  spread=()
+  [ "$renders" -gt 2 ] && spread=(--spread)
+  result="$("$build/ref-compare" "${spread[@]}" "${files[@]}" "$refpath" \
       --spp "$ours" --reference-spp "$spp" --png "$out/$name.png" 2>&1)"
   rc=$?
   printf '%-62s %s\n' "$entry" "${result#*: }"

@@ -12,8 +12,11 @@ shared="${PBRTC_SHARED_DIR:-$root/../shared}"
 pbrt="$shared/peers/pbrt-v3/pbrt"
 [ -x "$pbrt" ] || { echo "make-own-refs: error: $pbrt not found" >&2; exit 2; }
 filter="${1:-}"
-while read -r entry ref spp resdiv ci ours; do
+while read -r entry ref spp resdiv ci ours extra; do
   case "$entry" in own/*) ;; *) continue ;; esac
+  # A reference named after another scene is borrowed (mlt-lights is judged against
+  # bdpt-lights' image of the same world): that scene's entry renders it.
+  [ "$(basename "${ref%.exr}")" = "$(basename "${entry%.pbrt}")" ] || continue
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
   dir="$root/tests/convergence/$(dirname "$entry")"
   echo "make-own-refs: $entry at $spp spp"

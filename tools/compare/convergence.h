@@ -18,6 +18,8 @@
 
 #include <string>
 
+#include <vector>
+
 #include "runtime/film/image_io.h"
 
 namespace compare {
@@ -33,6 +35,23 @@ struct ConvergenceResult {
 
 ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b,
                                     const rt::ImageRgb& ref, double spp_ratio = 1);
+
+// The same rule for renders whose noise is correlated from pixel to pixel (mlt's chains,
+// sppm's photons), where the pixel-wise variance of two renders underestimates a block's:
+// n >= 4 independent renders (different seeds, equal sample counts), ours their mean; each
+// block's variance is the spread of the n renders' block means (sample variance / n), and
+// the block passes when |d| / sqrt((1 + spp_ratio) var + (0.005 ref)^2) stays below the
+// Student-t quantile with n - 1 degrees of freedom that has the normal's two-sided tail at 4
+// (so false alarms are as rare as in the two-render rule). A channel's whole-image mean
+// passes within 1% of the reference's or within the quantile matching the normal's 3-sigma
+// tail of its own spread across the renders (mlt's brightness comes from its bootstrap
+// estimate, which varies by a few percent per render; three tests need no 4-sigma margin). At least 99% of blocks must pass, as above.
+ConvergenceResult check_convergence_spread(const std::vector<rt::ImageRgb>& renders,
+                                           const rt::ImageRgb& ref, double spp_ratio = 1);
+
+// The two-sided Student-t quantile with `dof` degrees of freedom whose tail probability equals
+// the standard normal's beyond +-z.
+double student_t_matching_normal(double z, int dof);
 
 // ours | reference | signed difference (red: ours brighter, blue: darker,
 // scaled so 10% of the reference's mean is full intensity), sRGB.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include "tools/compare/convergence.h"
 
@@ -96,3 +97,58 @@ TEST(ConvergenceRule, ImagesOfDifferentSizesAreAnErrorNotAPass) {
 }
 
 }  // namespace
+
+namespace {
+
+// Noise correlated between pixels, as mlt's chains and sppm's photons make it: each render has
+// blotches (constant over 4x4 pixel patches) and a brightness factor of its own (mlt's
+// bootstrap estimate).
+rt::ImageRgb blotchy(int w, int h, float sigma, float brightness_sigma, float bias,
+                     uint32_t seed) {
+  rt::ImageRgb img = image(w, h);
+  std::mt19937 gen(seed);
+  std::normal_distribution<float> n(0, 1);
+  const float brightness = 1 + brightness_sigma * n(gen);
+  std::vector<float> patch(size_t((w / 4 + 1) * (h / 4 + 1)));
+  for (float& p : patch) p = sigma * n(gen);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float truth = 0.2f + 0.5f * float(x) / w + 0.1f * c + 0.2f * float(y) / h;
+        img.rgb[3 * (size_t(y) * w + x) + c] =
+            truth * (1 + bias) * brightness * (1 + patch[size_t((y / 4) * (w / 4 + 1) + x / 4)]);
+      }
+  return img;
+}
+
+}  // namespace
+
+TEST(ConvergenceRule, StudentQuantileMatchesTheNormalTail) {
+  const double t7 = compare::student_t_matching_normal(4, 7);
+  const double t15 = compare::student_t_matching_normal(4, 15);
+  const double t1000 = compare::student_t_matching_normal(4, 1000);
+  EXPECT_GT(t7, t15);
+  EXPECT_GT(t15, t1000);
+  EXPECT_NEAR(t1000, 4, 0.02);
+  // Tabulated Student t quantiles (two-sided 0.001 at 7 dof: 5.408) bracket it.
+  EXPECT_GT(t7, 5.408);
+}
+
+// Correlated noise: the two-render rule (pixel-wise variance) rejects a render that differs
+// only by noise; the spread of 8 renders' block means accepts it, and still rejects 2% bias.
+TEST(ConvergenceRule, SpreadRuleJudgesCorrelatedNoise) {
+  const float sigma = 0.05f, brightness = 0.02f;
+  rt::ImageRgb ref = noisy(128, 96, 0.002f, 0, 1);
+  std::vector<rt::ImageRgb> renders, biased;
+  for (uint32_t k = 0; k < 8; ++k) {
+    renders.push_back(blotchy(128, 96, sigma, brightness, 0, 10 + k));
+    biased.push_back(blotchy(128, 96, sigma * 0.2f, brightness * 0.2f, 0.02f, 30 + k));
+  }
+  EXPECT_FALSE(compare::check_convergence(renders[0], renders[1], ref).ok);
+  compare::ConvergenceResult r = compare::check_convergence_spread(renders, ref);
+  EXPECT_TRUE(r.ok) << r.blocks_passed << "/" << r.blocks << ", means "
+                    << r.mean_rel_error[0] << " " << r.mean_rel_error[1];
+  compare::ConvergenceResult rb = compare::check_convergence_spread(biased, ref);
+  EXPECT_FALSE(rb.ok) << rb.blocks_passed << "/" << rb.blocks;
+  EXPECT_FALSE(compare::check_convergence_spread({renders[0], renders[1], renders[2]}, ref).ok);
+}
