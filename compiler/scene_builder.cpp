@@ -882,6 +882,12 @@ void SceneBuilder::LightSource(Loc loc, std::string_view type, const ParamList& 
   s_->resolver.report_unused(params, &l.params);
   if (!s_->resolver.check_required(l.params, loc, &params)) return;
   l.world_from_light = s_->cur.t[0];
+  if (s_->cur.t[0] != s_->cur.t[1])
+    s_->diag->warning(loc,
+                      "lights do not move: the light uses its start transform (as pbrt-v3 "
+                      "does)");
+  // pbrt-v3 makes a light with the outside medium of the current MediumInterface and
+  // starts its emitted rays there.
   l.medium = s_->lookup_medium(s_->gs.outside_medium, s_->gs.medium_loc);
   s_->scene->lights.push_back(std::move(l));
 }

@@ -565,6 +565,21 @@ TEST(PbrtSemantics, AreaLightOnAnAnimatedShapeIsIgnoredWithAWarning) {
   EXPECT_EQ(b.shape(0).area_light, kNone);
 }
 
+TEST(PbrtSemantics, AnimatedLightUsesItsStartTransformWithAWarning) {
+  Build b(
+      in_world("Translate 0 2 0\n"
+               "ActiveTransform EndTime\n"
+               "Translate 1 0 0\n"
+               "ActiveTransform All\n"
+               "LightSource \"point\"\n"));
+  EXPECT_TRUE(b.ok);
+  EXPECT_EQ(b.warnings(), std::vector<std::string>{
+                              "scene.pbrt:6:1: warning: lights do not move: the light uses its "
+                              "start transform (as pbrt-v3 does)"});
+  ASSERT_EQ(b.scene.lights.size(), 1u);
+  EXPECT_EQ(b.scene.lights[0].world_from_light.at(1, 3), 2);
+}
+
 TEST(PbrtSemantics, AreaLightAppliesToTheShapesOfItsBlock) {
   Build b(
       in_world("AttributeBegin\n"
@@ -632,7 +647,8 @@ TEST(PbrtSemantics, MediumInterfaceWithOneOrTwoNames) {
   EXPECT_EQ(b.shape(1).outside_medium, 1);
   EXPECT_EQ(b.shape(2).inside_medium, kNone);
   EXPECT_EQ(b.shape(2).outside_medium, 1);
-  EXPECT_EQ(b.scene.lights.at(0).medium, 1);  // a light records the outside medium
+  // A light records the outside medium, which pbrt-v3 emits its rays into.
+  EXPECT_EQ(b.scene.lights.at(0).medium, 1);
   EXPECT_TRUE(b.scene.effects.media);
 }
 
