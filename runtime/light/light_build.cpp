@@ -63,6 +63,8 @@ bool LightSet::build(const pbrta::SceneArchive& a, const ShapeTable& shapes,
   world_bounds.bounding_sphere(&world_center_, &world_radius_);
   for (uint32_t i = 0; i < a.lights.size; ++i)
     if (!add_light(a, i, error)) return false;
+  for (uint32_t i = 0; i < a.lights.size; ++i)
+    media_.push_back(a.lights[i].medium != pbrta::kNoIndex ? a.lights[i].medium : kNone);
   return add_area_lights(a, error);
 }
 

@@ -166,4 +166,20 @@ void LightSet::pdf_le(uint32_t light, const Ray& ray, Vec3 n_light, float* pdf_p
   }
 }
 
+uint32_t LightSet::emission_medium(uint32_t light, Vec3 w, Vec3 n_light) const {
+  const Entry& e = entries_[light];
+  switch (e.kind) {
+    case LightKind::kArea: {
+      const ShapeInfo& s = (*shapes_)[e.shape];
+      if (!s.medium_transition()) return s.outside_medium;
+      return dot(w, n_light) > 0 ? s.outside_medium : s.inside_medium;
+    }
+    case LightKind::kDistant:
+    case LightKind::kInfinite:
+      return kNone;
+    default:
+      return light < media_.size() ? media_[light] : kNone;
+  }
+}
+
 }  // namespace rt

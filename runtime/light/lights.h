@@ -102,6 +102,12 @@ class LightSet {
   // surface with normal n_light; ignored by the others). Delta positions give
   // *pdf_pos 0 and a distant light *pdf_dir 0, as in pbrt-v3.
   void pdf_le(uint32_t light, const Ray& ray, Vec3 n_light, float* pdf_pos, float* pdf_dir) const;
+  // The medium a ray sample_le started along w (from a point with normal n_light) travels in,
+  // as pbrt-v3 has it: a positional light's own medium (the outside medium of the
+  // MediumInterface at its LightSource, which pbrt-v3 gives the light as both of its sides),
+  // none for distant and infinite lights, and for an area light the side of its shape that w
+  // leaves through.
+  uint32_t emission_medium(uint32_t light, Vec3 w, Vec3 n_light) const;
 
  private:
   // A light: its kind, and an index into that kind's table (for area lights
@@ -167,6 +173,7 @@ class LightSet {
   std::vector<uint32_t> infinite_lights_;  // their light indices
   std::vector<MipMap> maps_;
   std::vector<uint32_t> area_first_;  // per shape: its first light index, or kNone
+  std::vector<uint32_t> media_;       // per archive light: the medium it emits into
 };
 
 }  // namespace rt

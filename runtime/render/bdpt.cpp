@@ -1,24 +1,50 @@
 // runtime/render/bdpt.cpp — see bdpt.h. The algorithm is the pbrt book's (3rd ed., 16.3).
 #include "runtime/render/bdpt.h"
 
+#include <cstdio>
+
 #include "runtime/render/subpaths.h"
 
 namespace rt {
 
+namespace {
+
+// pbrt-v3's BufferIndex: strategies ordered by depth, then s.
+int buffer_index(int s, int t) {
+  const int above = s + t - 2;
+  return s + above * (5 + above) / 2;
+}
+
+}  // namespace
+
 bool Bdpt::init(const RenderScene& scene, const Camera& camera, Film* film, int max_depth,
-                std::string_view light_strategy, std::string* error) {
+                std::string_view light_strategy, std::string* error, BdptVisualize visualize) {
   scene_ = &scene;
   camera_ = &camera;
   film_ = film;
   max_depth_ = max_depth;
+  visualize_ = visualize;
+  strategy_films_.clear();
+  if (visualize.strategies || visualize.weights) {
+    strategy_films_.resize(size_t((1 + max_depth) * (6 + max_depth) / 2));
+    const float whole[4] = {0, 1, 0, 1};
+    for (int depth = 0; depth <= max_depth; ++depth)
+      for (int s = 0; s <= depth + 2; ++s) {
+        const int t = depth + 2 - s;
+        if (t == 0 || (s == 1 && t == 1)) continue;
+        char name[64];
+        std::snprintf(name, sizeof name, "bdpt_d%02d_s%02d_t%02d.exr", depth, s, t);
+        auto f = std::make_unique<Film>();
+        if (!f->build(film->full_resolution(), whole, Filter{}, 1, kInfinity,
+                      film->diagonal() * 1000, name, error))
+          return false;
+        strategy_films_[size_t(buffer_index(s, t))] = std::move(f);
+      }
+  }
   if (!camera.supports_importance()) {
     *error =
         "not supported: bdpt needs a perspective camera (pbrt-v3's other cameras have no "
         "importance function either)";
-    return false;
-  }
-  if (scene.media.size() > 0) {
-    *error = "not supported yet: bdpt with participating media";
     return false;
   }
   scene.geometry.world_bounds().bounding_sphere(&world_center_, &world_radius_);
@@ -34,19 +60,39 @@ Rgb Bdpt::li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* c
   const int n_camera = c.camera_subpath(camera_ray, max_depth_ + 2, cam);
   c.choice = &distribution_.lookup(cam[0].p());
   const int n_light = c.light_subpath(max_depth_ + 1, cam[0].si.time, lig);
+  // The camera sample's film point, for strategy images of t >= 2 (the renderer keeps it).
+  Vec2 p_film;
+  if (!strategy_films_.empty()) camera_->we(camera_ray, &p_film);
   Rgb l;
   for (int t = 1; t <= n_camera; ++t)
     for (int s = 0; s <= n_light; ++s) {
       const int depth = t + s - 2;
       if ((s == 1 && t == 1) || depth < 0 || depth > max_depth_) continue;
-      Vec2 p_raster;
-      Rgb lp = c.connect(lig, cam, s, t, &p_raster);
+      Vec2 p_raster = p_film;
+      float mis = 0;
+      Rgb lp = c.connect(lig, cam, s, t, &p_raster, &mis);
+      if (!strategy_films_.empty()) {
+        Rgb value = visualize_.weights ? lp : mis == 0 ? Rgb() : lp / mis;
+        strategy_films_[size_t(buffer_index(s, t))]->add_splat(p_raster, value);
+      }
       if (t != 1)
         l += lp;
       else if (!lp.is_black())
         film_->add_splat(p_raster, lp);
     }
   return l;
+}
+
+const Film* Bdpt::strategy_film(int s, int t) const {
+  const int i = buffer_index(s, t);
+  return i >= 0 && size_t(i) < strategy_films_.size() ? strategy_films_[size_t(i)].get() : nullptr;
+}
+
+bool Bdpt::write_strategy_images(const std::string& directory, std::string* error) const {
+  for (const auto& f : strategy_films_)
+    if (f && !f->write(directory.empty() ? f->filename() : directory + "/" + f->filename(), error))
+      return false;
+  return true;
 }
 
 }  // namespace rt

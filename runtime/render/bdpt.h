@@ -16,14 +16,16 @@
 // the film scales by 1 / spp (set_splat_scale).
 //
 // Importance transport uses TransportMode::kImportance BSDFs and pbrt-v3's
-// shading-normal correction. Participating media are not handled yet (init
-// refuses such scenes); cameras other than perspective have no importance
-// function, as in pbrt-v3, and are refused too. Read-only after init():
+// shading-normal correction; participating media scatter at medium vertices
+// (subpaths.h). Cameras other than perspective have no importance function,
+// as in pbrt-v3, and are refused. Read-only after init():
 // li() is thread-safe.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "runtime/film/film.h"
 #include "runtime/light/light_distribution.h"
@@ -34,14 +36,28 @@
 
 namespace rt {
 
+// pbrt-v3's visualizestrategies / visualizeweights: one image per strategy (s, t) of each
+// depth, bdpt_dDD_sSS_tTT.exr, of that strategy's unweighted or MIS-weighted contributions
+// (splatted, box-filtered, full resolution). The weighted ones add up to the render.
+struct BdptVisualize {
+  bool strategies = false, weights = false;
+};
+
 class Bdpt {
  public:
   [[nodiscard]] bool init(const RenderScene& scene, const Camera& camera, Film* film, int max_depth,
-                          std::string_view light_strategy, std::string* error);
+                          std::string_view light_strategy, std::string* error,
+                          BdptVisualize visualize = {});
   // Light-tracing splats sum over all of a pixel's samples: the film gets pbrt-v3's 1 / spp.
   void preprocess(const Sampler& sampler) {
     film_->set_splat_scale(1.f / float(sampler.samples_per_pixel()));
+    for (auto& f : strategy_films_)
+      if (f) f->set_splat_scale(1.f / float(sampler.samples_per_pixel()));
   }
+  // The strategy images, when asked for, into `directory` ("" = the current one).
+  [[nodiscard]] bool write_strategy_images(const std::string& directory, std::string* error) const;
+  // The strategy image of (s, t), or null (tests).
+  const Film* strategy_film(int s, int t) const;
   // The camera ray must come from `camera` (its differentials scaled as the renderer does).
   Rgb li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* counters) const;
 
@@ -53,6 +69,8 @@ class Bdpt {
   LightDistribution distribution_;
   Vec3 world_center_;
   float world_radius_ = 0;
+  BdptVisualize visualize_;
+  std::vector<std::unique_ptr<Film>> strategy_films_;  // by buffer_index(s, t)
 };
 
 }  // namespace rt

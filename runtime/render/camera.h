@@ -68,6 +68,8 @@ class Camera {
                            std::string* error);
   // A world-space ray with differentials for the sample; returns its weight (1, or 0 for none).
   float generate_ray_differential(const CameraSample& sample, RayDifferential* ray) const;
+  // The time u in [0, 1) names within the shutter interval (light tracing's photon times).
+  float shutter_time(float u) const { return lerp(u, shutter_open_, shutter_close_); }
   Type type() const { return type_; }
   const LensSystem& lens() const { return lens_; }  // realistic only
 

@@ -9,6 +9,7 @@
 #include "runtime/material/bsdf.h"
 #include "runtime/medium/phase.h"
 #include "runtime/render/bdpt.h"
+#include "runtime/render/direct_lighting.h"
 
 namespace rt {
 
@@ -27,6 +28,10 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     s->type = IntegratorType::kAmbientOcclusion;
   else if (type == "bdpt")
     s->type = IntegratorType::kBdpt;
+  else if (type == "mlt")
+    s->type = IntegratorType::kMlt;
+  else if (type == "sppm")
+    s->type = IntegratorType::kSppm;
   else {
     *error = "not supported yet: " + std::string(type) + " integrator (" + a.where(e) + ")";
     return false;
@@ -49,10 +54,35 @@ bool read_integrator(const pbrta::SceneArchive& a, IntegratorSettings* s, std::s
     std::string_view ls = a.get_string(e, "lightsamplestrategy");
     s->light_strategy = ls.empty() ? "spatial" : std::string(ls);
   }
+  if (s->type == IntegratorType::kMlt) {
+    s->mlt_bootstrap = a.get_int(e, "bootstrapsamples", 100000);
+    s->mlt_chains = a.get_int(e, "chains", 1000);
+    s->mlt_mutations_per_pixel = a.get_int(e, "mutationsperpixel", 100);
+    s->mlt_large_step_probability = a.get_float(e, "largestepprobability", 0.3f);
+    s->mlt_sigma = a.get_float(e, "sigma", 0.01f);
+    if (s->mlt_bootstrap < 1 || s->mlt_chains < 1 || s->mlt_mutations_per_pixel < 1) {
+      *error = a.where(e) +
+               ": error: mlt \"bootstrapsamples\", \"chains\" and "
+               "\"mutationsperpixel\" must be at least 1";
+      return false;
+    }
+  }
+  if (s->type == IntegratorType::kSppm) {
+    // pbrtc resolved "numiterations" into "iterations" (the schema's alias).
+    s->sppm_iterations = a.get_int(e, "iterations", 64);
+    s->sppm_photons_per_iteration = a.get_int(e, "photonsperiteration", -1);
+    s->sppm_radius = a.get_float(e, "radius", 1);
+    if (s->sppm_iterations < 1) {
+      *error = a.where(e) + ": error: sppm \"iterations\" must be at least 1";
+      return false;
+    }
+  }
   if (s->type == IntegratorType::kBdpt) {
     // pbrt-v3's bdpt picks the light that starts a light subpath by power by default.
     std::string_view ls = a.get_string(e, "lightsamplestrategy");
     s->light_strategy = ls.empty() ? "power" : std::string(ls);
+    s->bdpt_visualize_strategies = a.get_int(e, "visualizestrategies", 0) != 0;
+    s->bdpt_visualize_weights = a.get_int(e, "visualizeweights", 0) != 0;
   }
   if (s->type == IntegratorType::kAmbientOcclusion) {
     s->cos_sample = a.get_int(e, "cossample", 1) != 0;
@@ -99,53 +129,13 @@ struct Kernels {
     return I.scene_->materials.compute_bsdf(m, si, TransportMode::kRadiance, multiple_lobes, bsdf);
   }
 
-  // What scatters at a vertex: a surface's BSDF (its cosine folded in), or,
-  // with kMedia, a medium's phase function where bsdf is null. medium is the
-  // ray's medium there; a surface that bounds media changes it for rays
-  // leaving through its other side (pbrt-v3's GetMedium).
-  struct Scatter {
-    const Bsdf* bsdf = nullptr;
-    Vec3 wo, n, ns;
-    float g = 0;
-    const ShapeInfo* shape = nullptr;
-    uint32_t medium = kNone;
-
-    uint32_t medium_toward(Vec3 w) const {
-      if (!shape || !shape->medium_transition()) return medium;
-      return dot(w, n) > 0 ? shape->outside_medium : shape->inside_medium;
-    }
-    template <bool kMedia>
-    Rgb f(Vec3 wi, float* pdf) const {
-      const uint8_t flags = kAllBxdf & ~kSpecular;
-      if constexpr (kMedia) {
-        if (!bsdf) return Rgb(*pdf = phase_hg(dot(wo, wi), g));
-      }
-      *pdf = bsdf->pdf(wo, wi, flags);
-      return bsdf->f(wo, wi, flags) * abs_dot(wi, ns);
-    }
-    template <bool kMedia>
-    Rgb sample(Vec2 u, Vec3* wi, float* pdf, bool* specular) const {
-      *specular = false;
-      if constexpr (kMedia) {
-        if (!bsdf) return Rgb(*pdf = sample_hg(wo, g, u, wi));
-      }
-      uint8_t sampled = 0;
-      Rgb f = bsdf->sample_f(wo, wi, u, pdf, kAllBxdf & ~kSpecular, &sampled);
-      *specular = sampled & kSpecular;
-      return f * abs_dot(*wi, ns);
-    }
-  };
+  // What scatters at a vertex, and direct lighting there: direct_lighting.h,
+  // shared with sppm.
+  using Scatter = VertexScatter;
 
   static Scatter surface_scatter(const Self& I, const SurfaceInteraction& si, const Bsdf& bsdf,
                                  uint32_t medium) {
-    Scatter sc;
-    sc.bsdf = &bsdf;
-    sc.wo = si.wo;
-    sc.n = si.n;
-    sc.ns = si.shading.n;
-    sc.shape = &I.scene_->shapes[si.shape];
-    sc.medium = medium;
-    return sc;
+    return rt::surface_scatter(*I.scene_, si, bsdf, medium);
   }
 
   static uint32_t medium_after(const Self& I, const SurfaceInteraction& si, Vec3 w,
@@ -153,91 +143,20 @@ struct Kernels {
     return rt::medium_after(*I.scene_, si, w, medium);
   }
 
-  // pbrt-v3's EstimateDirect: one light sample and one BSDF (or phase
-  // function) sample, MIS-weighted; with kMedia, visibility is transmittance.
   template <bool kMedia>
   static Rgb estimate_direct(const Self& I, const Interaction& it, const Scatter& sc,
                              Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
                              RayCounters* c) {
-    const LightSet& lights = I.scene_->lights;
-    Rgb ld;
-    LightSample ls;
-    Rgb li = lights.sample_li(light, it, u_light, &ls);
-    const bool delta = lights.is_delta(light);
-    if (ls.pdf > 0 && !li.is_black()) {
-      float scattering_pdf = 0;
-      Rgb f = sc.template f<kMedia>(ls.wi, &scattering_pdf);
-      if (!f.is_black()) {
-        ++c->shadow_rays;
-        if constexpr (kMedia)
-          li *= transmittance(*I.scene_, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
-        else if (I.scene_->geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape))
-          li = Rgb();
-        if (!li.is_black()) {
-          if (delta)
-            ld += f * li / ls.pdf;
-          else
-            ld += f * li * (power_heuristic(1, ls.pdf, 1, scattering_pdf) / ls.pdf);
-        }
-      }
-    }
-    if (delta) return ld;
-    Vec3 wi;
-    float scattering_pdf = 0;
-    bool sampled_specular = false;
-    Rgb f = sc.template sample<kMedia>(u_scattering, &wi, &scattering_pdf, &sampled_specular);
-    if (f.is_black() || scattering_pdf <= 0) return ld;
-    Ray ray = it.spawn_ray(wi);
-    SurfaceInteraction hit;
-    Rgb tr(1.f);
-    bool found;
-    if constexpr (kMedia)
-      found = intersect_tr(*I.scene_, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
-    else
-      found = intersect(I, ray, &hit, c);
-    Rgb le;
-    float light_pdf = 0;
-    if (found) {
-      if constexpr (kAreaLights) {
-        if (lights.area_light_at(hit) == light) {
-          le = lights.area_le(hit, -wi);
-          if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, &hit);
-        }
-      }
-    } else if constexpr (kInfinite) {
-      if (lights.kind(light) == LightKind::kInfinite) {
-        RayDifferential rd(ray);
-        le = lights.infinite_le_one(light, rd);
-        if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, nullptr);
-      }
-    }
-    if (le.is_black()) return ld;
-    float weight = 1;
-    if (!sampled_specular) {
-      if (light_pdf == 0) return ld;
-      weight = power_heuristic(1, scattering_pdf, 1, light_pdf);
-    }
-    return ld + f * le * tr * (weight / scattering_pdf);
+    return rt::estimate_direct<kAreaLights, kInfinite, kMedia>(*I.scene_, it, sc, u_scattering,
+                                                               light, u_light, sampler, c);
   }
 
   template <bool kMedia>
   static Rgb sample_one_light(const Self& I, const Interaction& it, const Scatter& sc,
                               Sampler& sampler, const LightDistribution* distribution,
                               RayCounters* c) {
-    uint32_t n = I.scene_->lights.count();
-    if (n == 0) return Rgb();
-    uint32_t light;
-    float light_pmf;
-    if (distribution) {
-      light = uint32_t(distribution->sample(it.p, sampler.get_1d(), &light_pmf));
-      if (light_pmf == 0) return Rgb();
-    } else {
-      light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
-      light_pmf = 1.f / n;
-    }
-    Vec2 u_light = sampler.get_2d();
-    Vec2 u_scattering = sampler.get_2d();
-    return estimate_direct<kMedia>(I, it, sc, u_scattering, light, u_light, sampler, c) / light_pmf;
+    return rt::sample_one_light<kAreaLights, kInfinite, kMedia>(*I.scene_, it, sc, sampler,
+                                                                distribution, c);
   }
 
   static Rgb sample_all_lights(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
@@ -568,7 +487,10 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
       return false;
     }
     bdpt_ = std::make_unique<Bdpt>();
-    if (!bdpt_->init(scene, *camera, film, settings.max_depth, settings.light_strategy, error))
+    BdptVisualize v;
+    v.strategies = settings.bdpt_visualize_strategies;
+    v.weights = settings.bdpt_visualize_weights;
+    if (!bdpt_->init(scene, *camera, film, settings.max_depth, settings.light_strategy, error, v))
       return false;
   }
   const bool path =
@@ -589,6 +511,10 @@ bool Integrator::init(const RenderScene& scene, const IntegratorSettings& settin
   else
     kernel_ = Kernels<false, false>::pick(settings.type, media, subsurface);
   return true;
+}
+
+bool Integrator::write_extra_images(const std::string& directory, std::string* error) const {
+  return !bdpt_ || bdpt_->write_strategy_images(directory, error);
 }
 
 void Integrator::preprocess(Sampler* sampler) {

@@ -30,17 +30,20 @@ enum class IntegratorType : uint8_t {
   kPath,
   kVolPath,
   kAmbientOcclusion,
-  kBdpt
+  kBdpt,
+  kMlt,  // not a per-camera-sample integrator: render_mlt (mlt.h) renders the whole image
+  // Likewise: render_sppm (sppm.h).
+  kSppm,
 };
 
 class Bdpt;
 class Camera;
 class Film;
 
-// Only volpath simulates participating media (bdpt and mlt would too); the
-// others ignore them, as pbrt-v3 does, after a warning.
+// volpath, bdpt and mlt simulate participating media; the others ignore them, as pbrt-v3
+// does, after a warning.
 inline bool simulates_media(IntegratorType t) {
-  return t == IntegratorType::kVolPath;
+  return t == IntegratorType::kVolPath || t == IntegratorType::kBdpt || t == IntegratorType::kMlt;
 }
 
 struct IntegratorSettings {
@@ -56,6 +59,18 @@ struct IntegratorSettings {
   Bounds2i pixel_bounds;
   // Lights' "nsamples" are divided by this (at least 1 left): pbrt-v3's --quick uses 4.
   int light_nsamples_divisor = 1;
+  // mlt (pbrt-v3's names): bootstrapsamples, chains, mutationsperpixel, largestepprobability,
+  // sigma.
+  // bdpt: visualizestrategies / visualizeweights (bdpt.h).
+  bool bdpt_visualize_strategies = false, bdpt_visualize_weights = false;
+  int64_t mlt_bootstrap = 100000, mlt_mutations_per_pixel = 100;
+  int mlt_chains = 1000;
+  float mlt_large_step_probability = 0.3f, mlt_sigma = 0.01f;
+  // sppm (pbrt-v3's names): iterations (alias numiterations), photonsperiteration (-1: one per
+  // film pixel), radius; imagewritefrequency is accepted and ignored (one image at the end).
+  int sppm_iterations = 64;
+  int64_t sppm_photons_per_iteration = -1;
+  float sppm_radius = 1;
 };
 
 // Reads the scene's integrator; "not supported yet: <type> integrator (file:line)"
@@ -77,6 +92,10 @@ class Integrator {
     return kernel_(*this, ray, sampler, counters);
   }
   const IntegratorSettings& settings() const { return settings_; }
+  // bdpt's strategy images (visualizestrategies / visualizeweights) into `directory`; nothing
+  // for the other integrators.
+  [[nodiscard]] bool write_extra_images(const std::string& directory, std::string* error) const;
+  const Bdpt* bdpt() const { return bdpt_.get(); }
 
  private:
   template <bool kAreaLights, bool kInfinite>

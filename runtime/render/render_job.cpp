@@ -11,7 +11,9 @@
 #include "runtime/render/camera.h"
 #include "runtime/render/effects.h"
 #include "runtime/render/integrator.h"
+#include "runtime/render/mlt.h"
 #include "runtime/render/render_scene.h"
+#include "runtime/render/sppm.h"
 #include "runtime/sampler/sampler.h"
 
 namespace rt {
@@ -30,7 +32,8 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
                   {"path", IntegratorType::kPath},
                   {"volpath", IntegratorType::kVolPath},
                   {"ambientocclusion", IntegratorType::kAmbientOcclusion},
-                  {"bdpt", IntegratorType::kBdpt}};
+                  {"bdpt", IntegratorType::kBdpt},
+                  {"mlt", IntegratorType::kMlt}};
     bool found = false;
     for (const auto& t : kTypes)
       if (o.integrator == t.name) {
@@ -114,13 +117,42 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   RenderOptions ro;
   ro.quiet = options.quiet;
   ro.differential_spp = options.differential_spp;
-  result->render = render(camera, *sampler, integrator, &film, ro);
+  long long spp = (long long)sampler->samples_per_pixel();
+  if (settings.type == IntegratorType::kMlt) {
+    // pbrt-v3's --spp sets mlt's mutations per pixel.
+    MltSettings ms;
+    ms.max_depth = settings.max_depth;
+    ms.bootstrap_samples = settings.mlt_bootstrap;
+    ms.chains = settings.mlt_chains;
+    ms.mutations_per_pixel = options.spp > 0 ? options.spp : settings.mlt_mutations_per_pixel;
+    ms.large_step_probability = settings.mlt_large_step_probability;
+    ms.sigma = settings.mlt_sigma;
+    ms.seed = options.seed;
+    spp = ms.mutations_per_pixel;
+    if (!render_mlt(scene, camera, &film, ms, ro, &result->render, error)) return false;
+  } else if (settings.type == IntegratorType::kSppm) {
+    // pbrt-v3's --spp sets sppm's iteration count (one camera sample per pixel each).
+    const SppmSettings ss = sppm_settings(settings, options.spp, options.seed);
+    spp = ss.iterations;
+    result->render = render_sppm(scene, camera, &film, ss, ro);
+  } else {
+    result->render = render(camera, *sampler, integrator, &film, ro);
+  }
 
   if (options.keep_image) result->image = film.image();
   for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
     if (!options.write_files || path->empty() || film.write(*path, error)) continue;
     *error = "error: " + *error;
     return false;
+  }
+  // bdpt's strategy images go beside the image, named as pbrt-v3 names them.
+  if (options.write_files) {
+    const size_t slash = out.find_last_of('/');
+    if (!integrator.write_extra_images(slash == std::string::npos ? "" : out.substr(0, slash),
+                                       error)) {
+      *error = "error: " + *error;
+      return false;
+    }
   }
   if (result->render.nonfinite_samples > 0)
     std::cerr << options.program << ": " << result->render.nonfinite_samples
@@ -129,7 +161,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
       effect_names(media_ignored ? scene.effects & ~pbrta::kEffectMedia : scene.effects);
   if (!media_ignored) result->media = scene.media.stats();
   result->max_depth = settings.max_depth;
-  result->samples_per_pixel = (long long)sampler->samples_per_pixel();
+  result->samples_per_pixel = spp;
   result->geometry = scene.geometry.stats();
   return true;
 }

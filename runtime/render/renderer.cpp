@@ -7,72 +7,17 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <cstdio>
 #include <mutex>
-#include <thread>
 #include <vector>
 
 #include "runtime/core/clock.h"
+#include "runtime/render/progress_bar.h"
 
 namespace rt {
 
 namespace {
 
 constexpr int kTileSize = 16;
-
-class ProgressBar {
- public:
-  ProgressBar(int64_t total, bool quiet) : total_(total), quiet_(quiet) {
-    if (!quiet_) thread_ = std::thread([this] { loop(); });
-  }
-  ~ProgressBar() { finish(); }
-  void add(int64_t n) { done_ += n; }
-  void finish() {
-    if (!thread_.joinable()) return;
-    {
-      std::lock_guard<std::mutex> lock(m_);
-      stop_ = true;
-    }
-    cv_.notify_all();
-    thread_.join();
-    print(true);
-    std::fputc('\n', stderr);
-  }
-
- private:
-  void loop() {
-    std::unique_lock<std::mutex> lock(m_);
-    while (!cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stop_; }))
-      print(false);
-  }
-  void print(bool final) {
-    double elapsed = seconds_since(t0_);
-    double f = total_ > 0 ? double(done_) / double(total_) : 1;
-    const int width = 40;
-    int bars = int(f * width);
-    char bar[width + 1];
-    for (int i = 0; i < width; ++i) bar[i] = i < bars ? '+' : ' ';
-    bar[width] = 0;
-    if (final || f >= 1)
-      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
-    else if (f > 0)
-      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs|%.1fs ETA)  ", bar, 100 * f, elapsed,
-                   elapsed / f - elapsed);
-    else
-      std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
-    std::fflush(stderr);
-  }
-
-  std::atomic<int64_t> done_{0};
-  int64_t total_;
-  bool quiet_;
-  bool stop_ = false;
-  std::mutex m_;
-  std::condition_variable cv_;
-  std::thread thread_;
-  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
-};
 
 struct ThreadCounters {
   RayCounters rays;

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "runtime/medium/phase.h"
+
 namespace rt {
 
 namespace {
@@ -36,6 +38,8 @@ bool Subpaths::connectible(const Vertex& v) const {
       return true;
     case VertexType::kSurface:
       return v.bsdf.num_components(kDiffuse | kGlossy | kReflection | kTransmission) > 0;
+    case VertexType::kMedium:
+      return true;
   }
   return false;
 }
@@ -51,10 +55,11 @@ float Subpaths::convert_density(const Vertex& from, float pdf, const Vertex& nex
 }
 
 Rgb Subpaths::f(const Vertex& v, const Vertex& next, TransportMode mode) const {
-  if (v.type != VertexType::kSurface) return Rgb();
+  if (v.type != VertexType::kSurface && v.type != VertexType::kMedium) return Rgb();
   Vec3 wi = next.p() - v.p();
   if (length_squared(wi) == 0) return Rgb();
   wi = normalize(wi);
+  if (v.type == VertexType::kMedium) return Rgb(phase_hg(dot(v.si.wo, wi), v.g));
   return v.bsdf.f(v.si.wo, wi) * shading_normal_correction(v.si, v.si.wo, wi, mode);
 }
 
@@ -122,14 +127,23 @@ float Subpaths::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) con
   } else {
     Vec3 wp = prev->p() - v.p();
     if (length_squared(wp) == 0) return 0;
-    pdf = v.bsdf.pdf(normalize(wp), wn);
+    wp = normalize(wp);
+    pdf = v.type == VertexType::kMedium ? phase_hg(dot(wp, wn), v.g) : v.bsdf.pdf(wp, wn);
   }
   return convert_density(v, pdf, next);
 }
 
-Rgb Subpaths::visibility(const Interaction& a, const Interaction& c) const {
+// The medium a ray leaving vertex v along w travels in: a surface that bounds two media
+// changes it (pbrt-v3's GetMedium).
+uint32_t Subpaths::medium_toward(const Vertex& v, Vec3 w) const {
+  if (v.type != VertexType::kSurface) return v.medium;
+  return medium_after(scene, v.si, w, v.medium);
+}
+
+// What reaches `to` from vertex `from`: 0 behind a surface, else the media's transmittance.
+Rgb Subpaths::visibility(const Vertex& from, const Interaction& to) const {
   ++counters->shadow_rays;
-  return transmittance(scene, a, c, kNone, sampler, counters);
+  return transmittance(scene, from.si, to, medium_toward(from, to.p - from.p()), sampler, counters);
 }
 
 // The geometric term between two vertices, with their visibility.
@@ -139,12 +153,12 @@ Rgb Subpaths::g(const Vertex& v0, const Vertex& v1) const {
   d = d * std::sqrt(g);
   if (v0.on_surface()) g *= abs_dot(v0.ns(), d);
   if (v1.on_surface()) g *= abs_dot(v1.ns(), d);
-  return visibility(v0.si, v1.si) * g;
+  return visibility(v0, v1.si) * g;
 }
 
 // A walk from ray, filling path[0 ..) (path[-1] is where it starts); pdf is the
 // solid-angle density of ray's direction. pbrt-v3's RandomWalk: no Russian roulette.
-int Subpaths::random_walk(RayDifferential ray, Rgb beta, float pdf, int max_depth,
+int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float pdf, int max_depth,
                           TransportMode mode, Vertex* path) const {
   if (max_depth == 0) return 0;
   int bounces = 0;
@@ -153,9 +167,34 @@ int Subpaths::random_walk(RayDifferential ray, Rgb beta, float pdf, int max_dept
     SurfaceInteraction si;
     ++counters->rays;
     const bool found = scene.geometry.intersect(ray, &si);
+    bool scattered = false;
+    Vec3 p;
+    if (medium != kNone) {
+      Ray segment = ray;
+      if (found) segment.tmax = si.t_hit;
+      beta *= scene.media.sample(medium, segment, sampler, &scattered, &p);
+    }
     if (beta.is_black()) break;
     Vertex& v = path[bounces];
     Vertex& prev = path[bounces - 1];
+    if (scattered) {
+      // A medium vertex: the phase function is its BSDF, and its own inverse density.
+      v = Vertex{};
+      v.type = VertexType::kMedium;
+      v.medium = medium;
+      v.g = scene.media[medium].g;
+      v.si.p = p;
+      v.si.wo = -ray.d;
+      v.si.time = ray.time;
+      v.beta = beta;
+      v.pdf_fwd = convert_density(prev, pdf_fwd, v);
+      if (++bounces >= max_depth) break;
+      Vec3 wi;
+      pdf_fwd = pdf_rev = sample_hg(v.si.wo, v.g, sampler.get_2d(), &wi);
+      ray = RayDifferential(Ray{p, wi, kInfinity, ray.time});
+      prev.pdf_rev = convert_density(v, pdf_rev, prev);
+      continue;
+    }
     if (!found) {
       // Light from infinity, seen by the camera path.
       if (mode == TransportMode::kRadiance) {
@@ -174,10 +213,12 @@ int Subpaths::random_walk(RayDifferential ray, Rgb beta, float pdf, int max_dept
     si.compute_differentials(ray);
     const uint32_t m = scene.shapes[si.shape].material;
     if (m == kNone || !scene.materials.compute_bsdf(m, &si, mode, true, &v.bsdf)) {
-      ray = RayDifferential(si.spawn_ray(ray.d));  // a medium boundary, not a surface
+      medium = medium_after(scene, si, ray.d, medium);  // a medium boundary, not a surface
+      ray = RayDifferential(si.spawn_ray(ray.d));
       continue;
     }
     v.type = VertexType::kSurface;
+    v.medium = medium;
     v.delta = false;
     v.infinite = false;
     v.light = kNone;
@@ -198,6 +239,7 @@ int Subpaths::random_walk(RayDifferential ray, Rgb beta, float pdf, int max_dept
       pdf_rev = pdf_fwd = 0;
     }
     beta *= shading_normal_correction(si, wo, wi, mode);
+    medium = medium_after(scene, si, wi, medium);
     ray = RayDifferential(si.spawn_ray(wi));
     prev.pdf_rev = convert_density(v, pdf_rev, prev);
   }
@@ -212,9 +254,12 @@ int Subpaths::camera_subpath(const RayDifferential& ray, int max_depth, Vertex* 
   c.si.p = ray.o;
   c.si.time = ray.time;
   c.beta = Rgb(1.f);
+  c.medium = scene.camera_medium;
   float pdf_pos = 0, pdf_dir = 0;
   camera.pdf_we(ray, &pdf_pos, &pdf_dir);
-  return random_walk(ray, c.beta, pdf_dir, max_depth - 1, TransportMode::kRadiance, path + 1) + 1;
+  return random_walk(ray, c.medium, c.beta, pdf_dir, max_depth - 1, TransportMode::kRadiance,
+                     path + 1) +
+         1;
 }
 
 int Subpaths::light_subpath(int max_depth, float time, Vertex* path) const {
@@ -240,8 +285,9 @@ int Subpaths::light_subpath(int max_depth, float time, Vertex* path) const {
   v.si.time = time;
   v.beta = le;
   v.pdf_fwd = pdf_pos * light_pmf;
+  v.medium = scene.lights.emission_medium(v.light, ray.d, n_light);
   Rgb beta = le * (abs_dot(n_light, ray.d) / (light_pmf * pdf_pos * pdf_dir));
-  int n = random_walk(RayDifferential(ray), beta, pdf_dir, max_depth - 1,
+  int n = random_walk(RayDifferential(ray), v.medium, beta, pdf_dir, max_depth - 1,
                       TransportMode::kImportance, path + 1);
   if (v.infinite) {
     // Lights at infinity: the first hit's density is the emission disk's, projected; the
@@ -300,7 +346,7 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
 // pbrt-v3's ConnectBDPT: the contribution of strategy (s, t), MIS-weighted; for t = 1 also
 // the raster point it lands on.
 Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s, int t,
-                      Vec2* p_raster) const {
+                      Vec2* p_raster, float* mis) const {
   if (t > 1 && s != 0 && camera_path[t - 1].type == VertexType::kLight) return Rgb();
   Rgb l;
   Vertex sampled;
@@ -322,7 +368,7 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       sampled.beta = we / pdf;
       l = qs.beta * f(qs, sampled, TransportMode::kImportance) * sampled.beta;
       if (qs.on_surface()) l *= abs_dot(wi, qs.ns());
-      if (!l.is_black()) l *= visibility(qs.si, lens);
+      if (!l.is_black()) l *= visibility(qs, lens);
     }
   } else if (s == 1) {
     const Vertex& pt = camera_path[t - 1];
@@ -341,7 +387,7 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       sampled.pdf_fwd = pdf_light_origin(sampled, pt);
       l = pt.beta * f(pt, sampled, TransportMode::kRadiance) * sampled.beta;
       if (pt.on_surface()) l *= abs_dot(ls.wi, pt.ns());
-      if (!l.is_black()) l *= visibility(pt.si, ls.p_light);
+      if (!l.is_black()) l *= visibility(pt, ls.p_light);
     }
   } else {
     const Vertex& qs = light_path[s - 1];
@@ -352,8 +398,11 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       if (!l.is_black()) l *= g(qs, pt);
     }
   }
+  if (mis) *mis = 0;
   if (l.is_black()) return l;
-  return l * mis_weight(light_path, camera_path, sampled, s, t);
+  const float w = mis_weight(light_path, camera_path, sampled, s, t);
+  if (mis) *mis = w;
+  return l * w;
 }
 
 }  // namespace rt

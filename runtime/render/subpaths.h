@@ -8,7 +8,9 @@
 // found by the camera walk; s = 1: a fresh light sample; t = 1: a fresh lens sample, whose
 // raster point replaces *p_raster). Path arrays are written from index 0, and index -1 must
 // exist (the walk records the reverse density of the vertex before the first): PathBuffers
-// gives such arrays. Surfaces only: medium vertices are not handled.
+// gives such arrays. In participating media the walks scatter at medium vertices (the
+// medium's Henyey-Greenstein phase function as their BSDF) and connections carry the media's
+// transmittance; every vertex knows the medium it was reached in.
 #pragma once
 
 #include <vector>
@@ -22,7 +24,7 @@
 
 namespace rt {
 
-enum class VertexType : uint8_t { kCamera, kLight, kSurface };
+enum class VertexType : uint8_t { kCamera, kLight, kSurface, kMedium };
 
 // A path vertex. Endpoints keep their point, normal and time in si (the normal is zero where
 // the endpoint has no surface: the camera, a point light's sample); surfaces keep the whole hit
@@ -34,6 +36,8 @@ struct Vertex {
   bool infinite = false;        // light endpoints: infinite or distant light, or an escaped ray
   uint32_t light = kNone;       // light endpoints: the light (kNone for an escaped ray)
   uint32_t area_light = kNone;  // surfaces: the area light they are part of
+  uint32_t medium = kNone;      // the medium the vertex was reached in (endpoints: start in)
+  float g = 0;                  // medium vertices: the phase function's asymmetry
   Rgb beta;
   float pdf_fwd = 0, pdf_rev = 0;
   SurfaceInteraction si;
@@ -67,8 +71,8 @@ struct Subpaths {
 
   int camera_subpath(const RayDifferential& ray, int max_depth, Vertex* path) const;
   int light_subpath(int max_depth, float time, Vertex* path) const;
-  Rgb connect(const Vertex* light_path, const Vertex* camera_path, int s, int t,
-              Vec2* p_raster) const;
+  Rgb connect(const Vertex* light_path, const Vertex* camera_path, int s, int t, Vec2* p_raster,
+              float* mis = nullptr) const;
 
  private:
   bool is_light(const Vertex& v) const;
@@ -82,10 +86,11 @@ struct Subpaths {
   float pdf_light(const Vertex& v, const Vertex& next) const;
   float pdf_light_origin(const Vertex& v, const Vertex& next) const;
   float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
-  Rgb visibility(const Interaction& a, const Interaction& c) const;
+  uint32_t medium_toward(const Vertex& v, Vec3 w) const;
+  Rgb visibility(const Vertex& from, const Interaction& to) const;
   Rgb g(const Vertex& v0, const Vertex& v1) const;
-  int random_walk(RayDifferential ray, Rgb beta, float pdf, int max_depth, TransportMode mode,
-                  Vertex* path) const;
+  int random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float pdf, int max_depth,
+                  TransportMode mode, Vertex* path) const;
   float mis_weight(const Vertex* light_path, const Vertex* camera_path, const Vertex& sampled,
                    int s, int t) const;
 };

@@ -20,6 +20,7 @@
 #include "runtime/render/integrator.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/renderer.h"
+#include "runtime/render/sppm.h"
 #include "runtime/runtime_test_support.h"
 #include "runtime/sampler/sampler.h"
 #include "test_support.h"
@@ -63,7 +64,10 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
   integrator.preprocess(sampler.get());
   RenderOptions ro;
   ro.quiet = true;
-  out.stats = render(camera, *sampler, integrator, &film, ro);
+  if (settings.type == IntegratorType::kSppm)  // renders the whole image itself, as in render_job
+    out.stats = render_sppm(*scene, camera, &film, sppm_settings(settings, spp, seed), ro);
+  else
+    out.stats = render(camera, *sampler, integrator, &film, ro);
   Bounds2i b = film.cropped_pixel_bounds();
   out.width = b.width();
   out.height = b.height();

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <string>
 
+#include "runtime/render/bdpt.h"
 #include "runtime/render_text.h"
 
 namespace rt {
@@ -88,6 +90,54 @@ WorldEnd
   double la = mean_luminance(a, 0, 16, 0, 16), lb = mean_luminance(b, 0, 16, 0, 16);
   EXPECT_GT(la, 0.05);
   EXPECT_NEAR(lb / la, 1, 0.05);
+}
+
+// visualizeweights: each strategy's MIS-weighted contributions in an image of its own; with
+// the box filter they add up to the render itself, pixel by pixel.
+TEST(Bdpt, WeightedStrategyImagesAddUpToTheRender) {
+  std::string text = box_scene("bdpt");
+  text.replace(text.find("\"integer maxdepth\" [5]"), 22,
+               "\"integer maxdepth\" [3] \"bool visualizeweights\" \"true\"");
+  pbrta::SceneArchive a;
+  ASSERT_TRUE(
+      testing_support::compile_text(testing_support::scratch_dir("bdpt_weights"), text, &a));
+  Film film;
+  Camera camera;
+  IntegratorSettings settings;
+  auto scene = std::make_unique<RenderScene>();
+  std::string error;
+  ASSERT_TRUE(film.build(a, FilmOptions{}, &error)) << error;
+  camera.set_sample_bounds(film.sample_bounds());
+  ASSERT_TRUE(camera.build(a, film.full_resolution(), &error)) << error;
+  ASSERT_TRUE(read_integrator(a, &settings, &error)) << error;
+  ASSERT_TRUE(settings.bdpt_visualize_weights);
+  ASSERT_TRUE(load_render_scene(a, scene.get(), &error)) << error;
+  std::unique_ptr<Sampler> sampler = make_sampler(a, 16, 0, film.sample_bounds(), &error);
+  ASSERT_TRUE(sampler) << error;
+  Integrator integrator;
+  ASSERT_TRUE(integrator.init(*scene, settings, &error, &camera, &film)) << error;
+  integrator.preprocess(sampler.get());
+  RenderOptions ro;
+  ro.quiet = true;
+  render(camera, *sampler, integrator, &film, ro);
+  int images = 0;
+  for (int depth = 0; depth <= 3; ++depth)
+    for (int s = 0; s <= depth + 2; ++s)
+      images += integrator.bdpt()->strategy_film(s, depth + 2 - s) != nullptr;
+  EXPECT_EQ(images, 1 + 3 + 4 + 5);  // depths 0 to 3: t >= 1, and never s = t = 1
+  double total = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 24; ++x) {
+      Rgb sum;
+      for (int depth = 0; depth <= 3; ++depth)
+        for (int s = 0; s <= depth + 2; ++s)
+          if (const Film* f = integrator.bdpt()->strategy_film(s, depth + 2 - s))
+            sum += f->pixel({x, y});
+      Rgb whole = film.pixel({x, y});
+      total += whole.luminance();
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c], whole[c], 1e-4f + 1e-4f * whole[c]);
+    }
+  EXPECT_GT(total, 0);
 }
 
 TEST(Bdpt, RefusesWhatItCannotRender) {

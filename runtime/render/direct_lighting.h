@@ -1,0 +1,169 @@
+// runtime/render/direct_lighting.h — pbrt-v3's EstimateDirect and UniformSampleOneLight
+// (book 3rd ed., 14.3, with 15.3's media), shared by the path-family kernels
+// (integrator.cpp) and sppm's camera pass (sppm.cpp).
+//
+// A VertexScatter says what scatters at a vertex: a surface's BSDF (its cosine
+// folded in) or, with kMedia, a medium's phase function (bsdf null).
+// estimate_direct() takes one light sample and one scattering sample and weights
+// them by the power heuristic; sample_one_light() picks the light from a
+// distribution (uniformly when it is null) and divides by its pmf, drawing the
+// light choice (1D), the light point (2D) and the scattering sample (2D) in
+// pbrt-v3's order, so a sampler's dimensions line up with pbrt-v3's.
+//
+// The templates are instantiated for the scene's effects as the kernels are:
+// kAreaLights (a scattering sample may hit an emitter), kInfinite (it may escape
+// to an infinite light), kMedia (visibility is transmittance). Everything reads
+// the scene only; rays and shadow rays are counted in *c.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+
+#include "runtime/core/rgb.h"
+#include "runtime/core/sampling.h"
+#include "runtime/light/light_distribution.h"
+#include "runtime/material/bsdf.h"
+#include "runtime/medium/phase.h"
+#include "runtime/render/render_scene.h"
+#include "runtime/render/visibility.h"
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+// A surface's BSDF or a medium's phase function at a vertex. medium is the
+// ray's medium there; a surface that bounds media changes it for rays leaving
+// through its other side (pbrt-v3's GetMedium).
+struct VertexScatter {
+  const Bsdf* bsdf = nullptr;
+  Vec3 wo, n, ns;
+  float g = 0;
+  const ShapeInfo* shape = nullptr;
+  uint32_t medium = kNone;
+
+  uint32_t medium_toward(Vec3 w) const {
+    if (!shape || !shape->medium_transition()) return medium;
+    return dot(w, n) > 0 ? shape->outside_medium : shape->inside_medium;
+  }
+  template <bool kMedia>
+  Rgb f(Vec3 wi, float* pdf) const {
+    const uint8_t flags = kAllBxdf & ~kSpecular;
+    if constexpr (kMedia) {
+      if (!bsdf) return Rgb(*pdf = phase_hg(dot(wo, wi), g));
+    }
+    *pdf = bsdf->pdf(wo, wi, flags);
+    return bsdf->f(wo, wi, flags) * abs_dot(wi, ns);
+  }
+  template <bool kMedia>
+  Rgb sample(Vec2 u, Vec3* wi, float* pdf, bool* specular) const {
+    *specular = false;
+    if constexpr (kMedia) {
+      if (!bsdf) return Rgb(*pdf = sample_hg(wo, g, u, wi));
+    }
+    uint8_t sampled = 0;
+    Rgb f = bsdf->sample_f(wo, wi, u, pdf, kAllBxdf & ~kSpecular, &sampled);
+    *specular = sampled & kSpecular;
+    return f * abs_dot(*wi, ns);
+  }
+};
+
+inline VertexScatter surface_scatter(const RenderScene& scene, const SurfaceInteraction& si,
+                                     const Bsdf& bsdf, uint32_t medium) {
+  VertexScatter sc;
+  sc.bsdf = &bsdf;
+  sc.wo = si.wo;
+  sc.n = si.n;
+  sc.ns = si.shading.n;
+  sc.shape = &scene.shapes[si.shape];
+  sc.medium = medium;
+  return sc;
+}
+
+template <bool kAreaLights, bool kInfinite, bool kMedia>
+Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
+                    Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
+                    RayCounters* c) {
+  const LightSet& lights = scene.lights;
+  Rgb ld;
+  LightSample ls;
+  Rgb li = lights.sample_li(light, it, u_light, &ls);
+  const bool delta = lights.is_delta(light);
+  if (ls.pdf > 0 && !li.is_black()) {
+    float scattering_pdf = 0;
+    Rgb f = sc.template f<kMedia>(ls.wi, &scattering_pdf);
+    if (!f.is_black()) {
+      ++c->shadow_rays;
+      if constexpr (kMedia)
+        li *= transmittance(scene, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
+      else if (scene.geometry.occluded(it.spawn_ray_to(ls.p_light), ls.own_shape))
+        li = Rgb();
+      if (!li.is_black()) {
+        if (delta)
+          ld += f * li / ls.pdf;
+        else
+          ld += f * li * (power_heuristic(1, ls.pdf, 1, scattering_pdf) / ls.pdf);
+      }
+    }
+  }
+  if (delta) return ld;
+  Vec3 wi;
+  float scattering_pdf = 0;
+  bool sampled_specular = false;
+  Rgb f = sc.template sample<kMedia>(u_scattering, &wi, &scattering_pdf, &sampled_specular);
+  if (f.is_black() || scattering_pdf <= 0) return ld;
+  Ray ray = it.spawn_ray(wi);
+  SurfaceInteraction hit;
+  Rgb tr(1.f);
+  bool found;
+  if constexpr (kMedia) {
+    found = intersect_tr(scene, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
+  } else {
+    ++c->rays;
+    found = scene.geometry.intersect(ray, &hit);
+  }
+  Rgb le;
+  float light_pdf = 0;
+  if (found) {
+    if constexpr (kAreaLights) {
+      if (lights.area_light_at(hit) == light) {
+        le = lights.area_le(hit, -wi);
+        if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, &hit);
+      }
+    }
+  } else if constexpr (kInfinite) {
+    if (lights.kind(light) == LightKind::kInfinite) {
+      RayDifferential rd(ray);
+      le = lights.infinite_le_one(light, rd);
+      if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, nullptr);
+    }
+  }
+  if (le.is_black()) return ld;
+  float weight = 1;
+  if (!sampled_specular) {
+    if (light_pdf == 0) return ld;
+    weight = power_heuristic(1, scattering_pdf, 1, light_pdf);
+  }
+  return ld + f * le * tr * (weight / scattering_pdf);
+}
+
+template <bool kAreaLights, bool kInfinite, bool kMedia>
+Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
+                     Sampler& sampler, const LightDistribution* distribution, RayCounters* c) {
+  uint32_t n = scene.lights.count();
+  if (n == 0) return Rgb();
+  uint32_t light;
+  float light_pmf;
+  if (distribution) {
+    light = uint32_t(distribution->sample(it.p, sampler.get_1d(), &light_pmf));
+    if (light_pmf == 0) return Rgb();
+  } else {
+    light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
+    light_pmf = 1.f / n;
+  }
+  Vec2 u_light = sampler.get_2d();
+  Vec2 u_scattering = sampler.get_2d();
+  return estimate_direct<kAreaLights, kInfinite, kMedia>(scene, it, sc, u_scattering, light,
+                                                         u_light, sampler, c) /
+         light_pmf;
+}
+
+}  // namespace rt

@@ -1,0 +1,50 @@
+// runtime/render/progress_bar.cpp — see progress_bar.h.
+#include "runtime/render/progress_bar.h"
+
+#include <cstdio>
+
+#include "runtime/core/clock.h"
+
+namespace rt {
+
+ProgressBar::ProgressBar(int64_t total, bool quiet) : total_(total) {
+  if (!quiet) thread_ = std::thread([this] { loop(); });
+}
+
+void ProgressBar::finish() {
+  if (!thread_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  thread_.join();
+  print(true);
+  std::fputc('\n', stderr);
+}
+
+void ProgressBar::loop() {
+  std::unique_lock<std::mutex> lock(m_);
+  while (!cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stop_; }))
+    print(false);
+}
+
+void ProgressBar::print(bool final) {
+  double elapsed = seconds_since(t0_);
+  double f = total_ > 0 ? double(done_.load()) / double(total_) : 1;
+  const int width = 40;
+  int bars = int(f * width);
+  char bar[width + 1];
+  for (int i = 0; i < width; ++i) bar[i] = i < bars ? '+' : ' ';
+  bar[width] = 0;
+  if (final || f >= 1)
+    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
+  else if (f > 0)
+    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs|%.1fs ETA)  ", bar, 100 * f, elapsed,
+                 elapsed / f - elapsed);
+  else
+    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
+  std::fflush(stderr);
+}
+
+}  // namespace rt
