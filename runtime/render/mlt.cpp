@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <vector>
@@ -29,6 +30,7 @@ struct Paths {
   const LightDistribution& lights;
   float world_radius;
   int64_t mutations_per_pixel;
+  std::atomic<uint64_t>* nonfinite;  // paths whose value was NaN or infinite (counted as 0)
 
   // The value of the sampler's current point as a path of `depth` bounces, and its film point.
   Rgb l(MltSampler& sampler, int depth, Vec2* p_raster, RayCounters* counters) const {
@@ -64,11 +66,28 @@ struct Paths {
     sampler.start_stream(kLightStream);
     if (paths.light_subpath(s, cam[0].si.time, lig) != s) return Rgb();
     sampler.start_stream(kConnectionStream);
-    return paths.connect(lig, cam, s, t, p_raster) * float(strategies);
+    Rgb l = paths.connect(lig, cam, s, t, p_raster) * float(strategies);
+    if (!l.is_finite()) {
+      ++*nonfinite;
+      return Rgb();
+    }
+    return l;
   }
 };
 
 }  // namespace
+
+MltSettings mlt_settings(const IntegratorSettings& settings, int spp_override, uint64_t seed) {
+  MltSettings ms;
+  ms.max_depth = settings.max_depth;
+  ms.bootstrap_samples = settings.mlt_bootstrap;
+  ms.chains = settings.mlt_chains;
+  ms.mutations_per_pixel = spp_override > 0 ? spp_override : settings.mlt_mutations_per_pixel;
+  ms.large_step_probability = settings.mlt_large_step_probability;
+  ms.sigma = settings.mlt_sigma;
+  ms.seed = seed;
+  return ms;
+}
 
 bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
                 const MltSettings& settings, const RenderOptions& options, RenderStats* stats,
@@ -87,7 +106,8 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
   float radius;
   scene.geometry.world_bounds().bounding_sphere(&center, &radius);
   const int depths = settings.max_depth + 1;
-  const Paths paths{scene, camera, *film, lights, radius, settings.mutations_per_pixel};
+  std::atomic<uint64_t> nonfinite{0};
+  const Paths paths{scene, camera, *film, lights, radius, settings.mutations_per_pixel, &nonfinite};
   tbb::enumerable_thread_specific<RayCounters> counters;
 
   // Bootstrap: the luminance of independent paths of every depth.
@@ -150,6 +170,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
     stats->shadow_rays += c.shadow_rays;
   }
   stats->samples = uint64_t(total);
+  stats->nonfinite_samples = nonfinite.load();
   stats->seconds = seconds_since(t0);
   return true;
 }

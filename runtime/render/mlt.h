@@ -18,6 +18,7 @@
 
 #include "runtime/film/film.h"
 #include "runtime/render/camera.h"
+#include "runtime/render/integrator.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/renderer.h"
 
@@ -32,6 +33,10 @@ struct MltSettings {
   float sigma = 0.01f;
   uint64_t seed = 0;  // pbrtrun --seed: offsets every generator
 };
+
+// The scene's mlt settings; spp_override > 0 (pbrtrun --spp) sets the mutations per pixel,
+// as the pbrt-v3 in ../shared/peers does.
+MltSettings mlt_settings(const IntegratorSettings& settings, int spp_override, uint64_t seed);
 
 // False with *error for input it cannot render (a camera without importance, media).
 [[nodiscard]] bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,

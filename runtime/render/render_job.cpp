@@ -119,15 +119,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.differential_spp = options.differential_spp;
   long long spp = (long long)sampler->samples_per_pixel();
   if (settings.type == IntegratorType::kMlt) {
-    // pbrt-v3's --spp sets mlt's mutations per pixel.
-    MltSettings ms;
-    ms.max_depth = settings.max_depth;
-    ms.bootstrap_samples = settings.mlt_bootstrap;
-    ms.chains = settings.mlt_chains;
-    ms.mutations_per_pixel = options.spp > 0 ? options.spp : settings.mlt_mutations_per_pixel;
-    ms.large_step_probability = settings.mlt_large_step_probability;
-    ms.sigma = settings.mlt_sigma;
-    ms.seed = options.seed;
+    const MltSettings ms = mlt_settings(settings, options.spp, options.seed);
     spp = ms.mutations_per_pixel;
     if (!render_mlt(scene, camera, &film, ms, ro, &result->render, error)) return false;
   } else if (settings.type == IntegratorType::kSppm) {

@@ -18,6 +18,7 @@
 #include "runtime/film/film.h"
 #include "runtime/render/camera.h"
 #include "runtime/render/integrator.h"
+#include "runtime/render/mlt.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/renderer.h"
 #include "runtime/render/sppm.h"
@@ -66,7 +67,13 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
   ro.quiet = true;
   if (settings.type == IntegratorType::kSppm)  // renders the whole image itself, as in render_job
     out.stats = render_sppm(*scene, camera, &film, sppm_settings(settings, spp, seed), ro);
-  else
+  else if (settings.type == IntegratorType::kMlt) {
+    if (!render_mlt(*scene, camera, &film, mlt_settings(settings, spp, seed), ro, &out.stats,
+                    &out.error)) {
+      ADD_FAILURE() << name << ": " << out.error;
+      return out;
+    }
+  } else
     out.stats = render(camera, *sampler, integrator, &film, ro);
   Bounds2i b = film.cropped_pixel_bounds();
   out.width = b.width();

@@ -103,8 +103,7 @@ namespace {
 // Noise correlated between pixels, as mlt's chains and sppm's photons make it: each render has
 // blotches (constant over 4x4 pixel patches) and a brightness factor of its own (mlt's
 // bootstrap estimate).
-rt::ImageRgb blotchy(int w, int h, float sigma, float brightness_sigma, float bias,
-                     uint32_t seed) {
+rt::ImageRgb blotchy(int w, int h, float sigma, float brightness_sigma, float bias, uint32_t seed) {
   rt::ImageRgb img = image(w, h);
   std::mt19937 gen(seed);
   std::normal_distribution<float> n(0, 1);
@@ -146,8 +145,8 @@ TEST(ConvergenceRule, SpreadRuleJudgesCorrelatedNoise) {
   }
   EXPECT_FALSE(compare::check_convergence(renders[0], renders[1], ref).ok);
   compare::ConvergenceResult r = compare::check_convergence_spread(renders, ref);
-  EXPECT_TRUE(r.ok) << r.blocks_passed << "/" << r.blocks << ", means "
-                    << r.mean_rel_error[0] << " " << r.mean_rel_error[1];
+  EXPECT_TRUE(r.ok) << r.blocks_passed << "/" << r.blocks << ", means " << r.mean_rel_error[0]
+                    << " " << r.mean_rel_error[1];
   compare::ConvergenceResult rb = compare::check_convergence_spread(biased, ref);
   EXPECT_FALSE(rb.ok) << rb.blocks_passed << "/" << rb.blocks;
   EXPECT_FALSE(compare::check_convergence_spread({renders[0], renders[1], renders[2]}, ref).ok);

@@ -102,38 +102,11 @@ struct MltImage {
 };
 
 MltImage render_mlt_text(const std::string& name, int64_t mutations, int threads, uint64_t seed) {
-  MltImage out;
-  pbrta::SceneArchive a;
-  std::string error;
-  if (!testing_support::compile_text(testing_support::scratch_dir(name), box("mlt"), &a))
-    return out;
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
-  Film film;
-  Camera camera;
-  IntegratorSettings settings;
-  auto scene = std::make_unique<RenderScene>();
-  EXPECT_TRUE(film.build(a, FilmOptions{}, &error)) << error;
-  camera.set_sample_bounds(film.sample_bounds());
-  EXPECT_TRUE(camera.build(a, film.full_resolution(), &error)) << error;
-  EXPECT_TRUE(read_integrator(a, &settings, &error)) << error;
-  EXPECT_TRUE(load_render_scene(a, scene.get(), &error)) << error;
-  MltSettings ms;
-  ms.max_depth = settings.max_depth;
-  ms.bootstrap_samples = settings.mlt_bootstrap;
-  ms.chains = settings.mlt_chains;
-  ms.mutations_per_pixel = mutations;
-  ms.seed = seed;
-  RenderOptions ro;
-  ro.quiet = true;
-  RenderStats stats;
-  if (!render_mlt(*scene, camera, &film, ms, ro, &stats, &error)) {
-    ADD_FAILURE() << error;
-    return out;
-  }
-  Bounds2i b = film.cropped_pixel_bounds();
-  for (int y = b.min.y; y < b.max.y; ++y)
-    for (int x = b.min.x; x < b.max.x; ++x) out.pixels.push_back(film.pixel({x, y}));
-  out.ok = true;
+  Rendered r = render_text(name, box("mlt"), seed, int(mutations));
+  MltImage out;
+  out.ok = r.ok;
+  out.pixels = r.pixels;
   return out;
 }
 
