@@ -226,8 +226,8 @@ void quadric_bounds(const RTCBoundsFunctionArguments* args) {
 // the shape's own, as pbrt-v3 flips by the shape's transform and then maps
 // the normal through the instance transform as a normal. Outside instances
 // the shape's prepared form is used as it is.
-bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float* t,
-                       SurfaceInteraction* si) {
+bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, const Ray& r,
+                       float* t, SurfaceInteraction* si) {
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (s.motion) {
@@ -247,42 +247,6 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, const Ray& r, float*
       (inst->motion ? inst->motion->at(r.time) : inst->to_world) * s.object_to_world;
   return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
                            si);
-}
-
-void quadric_intersect(const RTCIntersectFunctionNArguments* args) {
-  if (!args->valid[0]) return;
-  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
-  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
-  RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
-  unsigned inst_id = args->context->instID[0];
-  // Embree does not rescale instanced rays, so t is the same in every space.
-  Ray r = *ctx->ray;
-  r.tmax = rh->ray.tfar;
-  SurfaceInteraction si;
-  float t;
-  if (!world_quadric_hit(*g, inst_id, r, &t, &si) || !(t < rh->ray.tfar)) return;
-  rh->ray.tfar = t;
-  rh->hit.u = rh->hit.v = 0;
-  rh->hit.Ng_x = si.n.x;
-  rh->hit.Ng_y = si.n.y;
-  rh->hit.Ng_z = si.n.z;
-  rh->hit.primID = args->primID;
-  rh->hit.geomID = args->geomID;
-  rh->hit.instID[0] = inst_id;
-  if (ctx->quadric_si) *ctx->quadric_si = si;
-}
-
-void quadric_occluded(const RTCOccludedFunctionNArguments* args) {
-  if (!args->valid[0]) return;
-  const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
-  const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
-  RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
-  const unsigned inst_id = args->context->instID[0];
-  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID) return;
-  Ray r = *ctx->ray;
-  r.tmax = ray->tfar;
-  float t;
-  if (world_quadric_hit(*g, inst_id, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
 }
 
 void curve_bounds(const RTCBoundsFunctionArguments* args) {
@@ -308,7 +272,16 @@ bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, 
   return world_curve_hit(s, m, m.inverse(), piece, r, t, si);
 }
 
-void curve_intersect(const RTCIntersectFunctionNArguments* args) {
+// A quadric's or a curve piece's hit by the world ray (t may be left unset for an any-hit
+// query, si null).
+using UserHit = bool (*)(const GeomData&, unsigned, uint32_t, const Ray&, float*,
+                         SurfaceInteraction*);
+
+// Embree's callbacks for user geometries: the closest hit, its interaction left in the query
+// context for intersect(), and any hit. Embree does not rescale instanced rays, so t is the
+// same in every space.
+template <UserHit kHit>
+void user_intersect(const RTCIntersectFunctionNArguments* args) {
   if (!args->valid[0]) return;
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
@@ -318,7 +291,7 @@ void curve_intersect(const RTCIntersectFunctionNArguments* args) {
   r.tmax = rh->ray.tfar;
   SurfaceInteraction si;
   float t;
-  if (!world_curve_piece_hit(*g, inst_id, args->primID, r, &t, &si) || !(t < rh->ray.tfar)) return;
+  if (!kHit(*g, inst_id, args->primID, r, &t, &si) || !(t < rh->ray.tfar)) return;
   rh->ray.tfar = t;
   rh->hit.u = rh->hit.v = 0;
   rh->hit.Ng_x = si.n.x;
@@ -330,16 +303,18 @@ void curve_intersect(const RTCIntersectFunctionNArguments* args) {
   if (ctx->quadric_si) *ctx->quadric_si = si;
 }
 
-void curve_occluded(const RTCOccludedFunctionNArguments* args) {
+template <UserHit kHit>
+void user_occluded(const RTCOccludedFunctionNArguments* args) {
   if (!args->valid[0]) return;
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
+  const unsigned inst_id = args->context->instID[0];
+  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID) return;
   Ray r = *ctx->ray;
   r.tmax = ray->tfar;
-  float t;
-  if (world_curve_piece_hit(*g, args->context->instID[0], args->primID, r, &t, nullptr))
-    ray->tfar = -kInfinity;
+  float t = 0;
+  if (kHit(*g, inst_id, args->primID, r, &t, nullptr) && t < ray->tfar) ray->tfar = -kInfinity;
 }
 
 // Embree accepts t <= tfar; pbrt-v3's interval is open at tmax.
@@ -562,8 +537,8 @@ unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds
   rtcSetGeometryUserPrimitiveCount(geom, 1);
   rtcSetGeometryUserData(geom, &g);
   rtcSetGeometryBoundsFunction(geom, quadric_bounds, nullptr);
-  rtcSetGeometryIntersectFunction(geom, quadric_intersect);
-  rtcSetGeometryOccludedFunction(geom, quadric_occluded);
+  rtcSetGeometryIntersectFunction(geom, user_intersect<world_quadric_hit>);
+  rtcSetGeometryOccludedFunction(geom, user_occluded<world_quadric_hit>);
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
@@ -589,8 +564,8 @@ unsigned Builder::attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds) 
   rtcSetGeometryUserPrimitiveCount(geom, c.num_pieces());
   rtcSetGeometryUserData(geom, &g);
   rtcSetGeometryBoundsFunction(geom, curve_bounds, nullptr);
-  rtcSetGeometryIntersectFunction(geom, curve_intersect);
-  rtcSetGeometryOccludedFunction(geom, curve_occluded);
+  rtcSetGeometryIntersectFunction(geom, user_intersect<world_curve_piece_hit>);
+  rtcSetGeometryOccludedFunction(geom, user_occluded<world_curve_piece_hit>);
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);

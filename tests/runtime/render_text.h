@@ -37,51 +37,68 @@ struct Rendered {
   const Rgb& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-// Compiles `text` under a fresh scratch directory named `name` and renders it;
-// spp > 0 overrides the scene's sample count. Fails the calling test on any error.
-inline Rendered render_text(const std::string& name, const std::string& text, uint64_t seed = 0,
-                            int spp = 0) {
-  Rendered out;
-  pbrta::SceneArchive a;
-  if (!testing_support::compile_text(testing_support::scratch_dir(name), text, &a)) return out;
+// Everything a render used, kept for inspection (bdpt's strategy images); not movable: the
+// integrator points into the scene, camera and film.
+struct KeptRender {
+  Rendered result;
+  pbrta::SceneArchive archive;
   Film film;
   Camera camera;
   IntegratorSettings settings;
-  auto scene = std::make_unique<RenderScene>();
-  bool film_ok = film.build(a, FilmOptions{}, &out.error);
-  if (film_ok) camera.set_sample_bounds(film.sample_bounds());
-  if (!film_ok || !camera.build(a, film.full_resolution(), &out.error) ||
-      !read_integrator(a, &settings, &out.error) ||
-      !load_render_scene(a, scene.get(), &out.error)) {
-    ADD_FAILURE() << name << ": " << out.error;
-    return out;
-  }
-  std::unique_ptr<Sampler> sampler = make_sampler(a, spp, seed, film.sample_bounds(), &out.error);
+  RenderScene scene;
   Integrator integrator;
-  if (!sampler || !integrator.init(*scene, settings, &out.error, &camera, &film)) {
+};
+
+// Compiles `text` under a fresh scratch directory named `name` and renders it;
+// spp > 0 overrides the scene's sample count. Fails the calling test on any error.
+inline std::unique_ptr<KeptRender> render_kept(const std::string& name, const std::string& text,
+                                               uint64_t seed = 0, int spp = 0) {
+  auto k = std::make_unique<KeptRender>();
+  Rendered& out = k->result;
+  if (!testing_support::compile_text(testing_support::scratch_dir(name), text, &k->archive))
+    return k;
+  const pbrta::SceneArchive& a = k->archive;
+  bool film_ok = k->film.build(a, FilmOptions{}, &out.error);
+  if (film_ok) k->camera.set_sample_bounds(k->film.sample_bounds());
+  if (!film_ok || !k->camera.build(a, k->film.full_resolution(), &out.error) ||
+      !read_integrator(a, &k->settings, &out.error) ||
+      !load_render_scene(a, &k->scene, &out.error)) {
     ADD_FAILURE() << name << ": " << out.error;
-    return out;
+    return k;
   }
-  integrator.preprocess(sampler.get());
+  std::unique_ptr<Sampler> sampler =
+      make_sampler(a, spp, seed, k->film.sample_bounds(), &out.error);
+  if (!sampler || !k->integrator.init(k->scene, k->settings, &out.error, &k->camera, &k->film)) {
+    ADD_FAILURE() << name << ": " << out.error;
+    return k;
+  }
+  k->integrator.preprocess(sampler.get());
   RenderOptions ro;
   ro.quiet = true;
-  if (settings.type == IntegratorType::kSppm)  // renders the whole image itself, as in render_job
-    out.stats = render_sppm(*scene, camera, &film, sppm_settings(settings, spp, seed), ro);
-  else if (settings.type == IntegratorType::kMlt) {
-    if (!render_mlt(*scene, camera, &film, mlt_settings(settings, spp, seed), ro, &out.stats,
-                    &out.error)) {
+  if (k->settings.type == IntegratorType::kSppm) {  // renders the whole image, as in render_job
+    out.stats =
+        render_sppm(k->scene, k->camera, &k->film, sppm_settings(k->settings, spp, seed), ro);
+  } else if (k->settings.type == IntegratorType::kMlt) {
+    if (!render_mlt(k->scene, k->camera, &k->film, mlt_settings(k->settings, spp, seed), ro,
+                    &out.stats, &out.error)) {
       ADD_FAILURE() << name << ": " << out.error;
-      return out;
+      return k;
     }
-  } else
-    out.stats = render(camera, *sampler, integrator, &film, ro);
-  Bounds2i b = film.cropped_pixel_bounds();
+  } else {
+    out.stats = render(k->camera, *sampler, k->integrator, &k->film, ro);
+  }
+  Bounds2i b = k->film.cropped_pixel_bounds();
   out.width = b.width();
   out.height = b.height();
   for (int y = b.min.y; y < b.max.y; ++y)
-    for (int x = b.min.x; x < b.max.x; ++x) out.pixels.push_back(film.pixel({x, y}));
+    for (int x = b.min.x; x < b.max.x; ++x) out.pixels.push_back(k->film.pixel({x, y}));
   out.ok = true;
-  return out;
+  return k;
+}
+
+inline Rendered render_text(const std::string& name, const std::string& text, uint64_t seed = 0,
+                            int spp = 0) {
+  return render_kept(name, text, seed, spp)->result;
 }
 
 // `material_line` on `shape_line` (radius 1 at the origin fills most of the

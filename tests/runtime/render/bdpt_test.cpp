@@ -7,44 +7,17 @@
 #include <memory>
 #include <string>
 
+#include "box_scene.h"
 #include "runtime/render/bdpt.h"
 #include "runtime/render_text.h"
 
 namespace rt {
 namespace {
 
-// A closed box lit by a one-sided quad and a point light, with diffuse, glossy and mirror-free
-// materials (no delta chains that only one of the integrators could sample).
-std::string box_scene(const char* integrator) {
-  return std::string(R"(
-LookAt 0 1 -3.5  0 1 0  0 1 0
-Camera "perspective" "float fov" [45]
-Film "image" "integer xresolution" [24] "integer yresolution" [24]
-Sampler "02sequence" "integer pixelsamples" [256]
-Integrator ")") +
-         integrator + R"(" "integer maxdepth" [5]
-WorldBegin
-LightSource "point" "point from" [0.5 1.6 0] "rgb I" [1 1 1]
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [4 4 4]
-  Shape "trianglemesh" "point P" [-0.4 1.99 -0.4  0.4 1.99 -0.4  0.4 1.99 0.4  -0.4 1.99 0.4]
-    "integer indices" [0 1 2 0 2 3]
-AttributeEnd
-Material "matte" "rgb Kd" [0.6 0.6 0.6]
-Shape "trianglemesh" "point P" [-1 0 -4  1 0 -4  1 0 1  -1 0 1] "integer indices" [0 2 1 0 3 2]
-Shape "trianglemesh" "point P" [-1 2 -4  1 2 -4  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
-Shape "trianglemesh" "point P" [-1 0 1  1 0 1  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
-Material "matte" "rgb Kd" [0.7 0.2 0.2]
-Shape "trianglemesh" "point P" [-1 0 -4  -1 0 1  -1 2 1  -1 2 -4] "integer indices" [0 1 2 0 2 3]
-Material "plastic" "rgb Kd" [0.2 0.6 0.2] "rgb Ks" [0.4 0.4 0.4] "float roughness" [0.1]
-Shape "trianglemesh" "point P" [1 0 -4  1 0 1  1 2 1  1 2 -4] "integer indices" [0 2 1 0 3 2]
-AttributeBegin
-  Translate -0.3 0.35 0.2
-  Material "plastic" "rgb Kd" [0.3 0.3 0.6] "rgb Ks" [0.3 0.3 0.3] "float roughness" [0.3]
-  Shape "sphere" "float radius" [0.35]
-AttributeEnd
-WorldEnd
-)";
+// The box with a point light and glossy surfaces (no delta chains that only one of the
+// integrators could sample).
+std::string box(const char* integrator, const std::string& params = " \"integer maxdepth\" [5]") {
+  return box_scene(std::string("Integrator \"") + integrator + "\"" + params, true, true);
 }
 
 double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
@@ -55,8 +28,8 @@ double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
 }
 
 TEST(Bdpt, AgreesWithThePathTracer) {
-  Rendered path = render_text("bdpt_box_path", box_scene("path"));
-  Rendered bdpt = render_text("bdpt_box_bdpt", box_scene("bdpt"));
+  Rendered path = render_text("bdpt_box_path", box("path"));
+  Rendered bdpt = render_text("bdpt_box_bdpt", box("bdpt"));
   ASSERT_TRUE(path.ok && bdpt.ok);
   // The whole image and each quadrant (walls, floor, ceiling light, sphere).
   for (int q = 0; q < 5; ++q) {
@@ -95,31 +68,13 @@ WorldEnd
 // visualizeweights: each strategy's MIS-weighted contributions in an image of its own; with
 // the box filter they add up to the render itself, pixel by pixel.
 TEST(Bdpt, WeightedStrategyImagesAddUpToTheRender) {
-  std::string text = box_scene("bdpt");
-  text.replace(text.find("\"integer maxdepth\" [5]"), 22,
-               "\"integer maxdepth\" [3] \"bool visualizeweights\" \"true\"");
-  pbrta::SceneArchive a;
-  ASSERT_TRUE(
-      testing_support::compile_text(testing_support::scratch_dir("bdpt_weights"), text, &a));
-  Film film;
-  Camera camera;
-  IntegratorSettings settings;
-  auto scene = std::make_unique<RenderScene>();
-  std::string error;
-  ASSERT_TRUE(film.build(a, FilmOptions{}, &error)) << error;
-  camera.set_sample_bounds(film.sample_bounds());
-  ASSERT_TRUE(camera.build(a, film.full_resolution(), &error)) << error;
-  ASSERT_TRUE(read_integrator(a, &settings, &error)) << error;
-  ASSERT_TRUE(settings.bdpt_visualize_weights);
-  ASSERT_TRUE(load_render_scene(a, scene.get(), &error)) << error;
-  std::unique_ptr<Sampler> sampler = make_sampler(a, 16, 0, film.sample_bounds(), &error);
-  ASSERT_TRUE(sampler) << error;
-  Integrator integrator;
-  ASSERT_TRUE(integrator.init(*scene, settings, &error, &camera, &film)) << error;
-  integrator.preprocess(sampler.get());
-  RenderOptions ro;
-  ro.quiet = true;
-  render(camera, *sampler, integrator, &film, ro);
+  const std::string text =
+      box("bdpt", " \"integer maxdepth\" [3] \"bool visualizeweights\" \"true\"");
+  std::unique_ptr<KeptRender> k = render_kept("bdpt_weights", text, 0, 16);
+  ASSERT_TRUE(k->result.ok);
+  ASSERT_TRUE(k->settings.bdpt_visualize_weights);
+  const Integrator& integrator = k->integrator;
+  const Film& film = k->film;
   int images = 0;
   for (int depth = 0; depth <= 3; ++depth)
     for (int s = 0; s <= depth + 2; ++s)

@@ -96,26 +96,9 @@ Material "matte" "rgb Kd" [0.5 0.5 0.5]
 Shape "trianglemesh" "point P" [-9 0 -9  9 0 -9  9 0 9  -9 0 9] "integer indices" [0 2 1 0 3 2]
 WorldEnd
 )";
-  pbrta::SceneArchive a;
-  ASSERT_TRUE(
-      testing_support::compile_text(testing_support::scratch_dir("edge_lighttracing"), text, &a));
-  Film film;
-  Camera camera;
-  IntegratorSettings settings;
-  auto scene = std::make_unique<RenderScene>();
-  std::string error;
-  ASSERT_TRUE(film.build(a, FilmOptions{}, &error)) << error;
-  camera.set_sample_bounds(film.sample_bounds());
-  ASSERT_TRUE(camera.build(a, film.full_resolution(), &error)) << error;
-  ASSERT_TRUE(read_integrator(a, &settings, &error)) << error;
-  ASSERT_TRUE(load_render_scene(a, scene.get(), &error)) << error;
-  std::unique_ptr<Sampler> sampler = make_sampler(a, 0, 0, film.sample_bounds(), &error);
-  Integrator integrator;
-  ASSERT_TRUE(integrator.init(*scene, settings, &error, &camera, &film)) << error;
-  integrator.preprocess(sampler.get());
-  RenderOptions ro;
-  ro.quiet = true;
-  render(camera, *sampler, integrator, &film, ro);
+  std::unique_ptr<KeptRender> k = render_kept("edge_lighttracing", text);
+  ASSERT_TRUE(k->result.ok);
+  const Integrator& integrator = k->integrator;
   const Film* tracing = integrator.bdpt()->strategy_film(2, 1);
   ASSERT_NE(tracing, nullptr);
   // Each pixel's centre ray meets the plane at (x, 0, z); tan(20 deg) * 4 spans half the image.

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "box_scene.h"
 #include "runtime/render/sppm.h"
 #include "runtime/render/sppm_grid.h"
 #include "runtime/render_text.h"
@@ -57,38 +58,11 @@ TEST(SppmGrid, NoSpheresFindNothing) {
   EXPECT_EQ(calls, 0);
 }
 
-// A closed-ish diffuse box lit by a one-sided quad: no caustics, so the path tracer and
-// sppm estimate the same image (sppm's direct light and photons meet at the first diffuse
-// vertex; maxdepth counts the same scattering events in both).
+// The diffuse box lit by its one-sided quad: no caustics, so the path tracer and sppm
+// estimate the same image (sppm's direct light and photons meet at the first diffuse vertex;
+// maxdepth counts the same scattering events in both).
 std::string diffuse_box(const std::string& integrator) {
-  return R"(
-LookAt 0 1 -3.5  0 1 0  0 1 0
-Camera "perspective" "float fov" [45]
-Film "image" "integer xresolution" [24] "integer yresolution" [24]
-Sampler "02sequence" "integer pixelsamples" [256]
-)" + integrator +
-         R"(
-WorldBegin
-AttributeBegin
-  AreaLightSource "diffuse" "rgb L" [4 4 4]
-  Shape "trianglemesh" "point P" [-0.4 1.99 -0.4  0.4 1.99 -0.4  0.4 1.99 0.4  -0.4 1.99 0.4]
-    "integer indices" [0 1 2 0 2 3]
-AttributeEnd
-Material "matte" "rgb Kd" [0.6 0.6 0.6]
-Shape "trianglemesh" "point P" [-1 0 -4  1 0 -4  1 0 1  -1 0 1] "integer indices" [0 2 1 0 3 2]
-Shape "trianglemesh" "point P" [-1 2 -4  1 2 -4  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
-Shape "trianglemesh" "point P" [-1 0 1  1 0 1  1 2 1  -1 2 1] "integer indices" [0 1 2 0 2 3]
-Material "matte" "rgb Kd" [0.7 0.2 0.2]
-Shape "trianglemesh" "point P" [-1 0 -4  -1 0 1  -1 2 1  -1 2 -4] "integer indices" [0 1 2 0 2 3]
-Material "matte" "rgb Kd" [0.2 0.6 0.2]
-Shape "trianglemesh" "point P" [1 0 -4  1 0 1  1 2 1  1 2 -4] "integer indices" [0 2 1 0 3 2]
-AttributeBegin
-  Translate -0.3 0.35 0.2
-  Material "matte" "rgb Kd" [0.3 0.3 0.6]
-  Shape "sphere" "float radius" [0.35]
-AttributeEnd
-WorldEnd
-)";
+  return box_scene(integrator, false, false);
 }
 
 TEST(Sppm, AgreesWithThePathTracerOnADiffuseScene) {
