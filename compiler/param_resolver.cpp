@@ -380,6 +380,12 @@ void ParamResolver::assign_all(Entity* e, const ParamList& params, const Texture
   for (const ParsedParam& p : params.params) {
     int slot = pbrta::find_param(ts, p.name);
     if (slot < 0 || (ts.params[slot].flags & pbrta::kParamDerived)) continue;
+    // pbrt-v3 reads a parameter's own name first and its alias only in its absence: an alias
+    // given beside its parameter is ignored, whatever their order.
+    if (p.name != ts.params[slot].name && params.find(ts.params[slot].name)) {
+      p.looked_up = true;
+      continue;
+    }
     if (skip_bulk && (ts.params[slot].flags & pbrta::kParamBulk)) {
       p.looked_up = true;
       if (!type_fits(ts.params[slot], p.type)) {

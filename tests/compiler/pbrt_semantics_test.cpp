@@ -565,6 +565,19 @@ TEST(PbrtSemantics, AreaLightOnAnAnimatedShapeIsIgnoredWithAWarning) {
   EXPECT_EQ(b.shape(0).area_light, kNone);
 }
 
+// pbrt-v3 reads "iterations" and falls back to "numiterations" (sppm), "levels" and falls
+// back to "nlevels" (loopsubdiv): the alias never overrides its parameter, in either order.
+TEST(PbrtSemantics, AnAliasBesideItsParameterIsIgnored) {
+  for (const char* order : {"\"integer numiterations\" 5 \"integer iterations\" 9",
+                            "\"integer iterations\" 9 \"integer numiterations\" 5"}) {
+    Build b(std::string("Integrator \"sppm\" ") + order + "\nWorldBegin\nWorldEnd\n");
+    EXPECT_TRUE(b.ok);
+    EXPECT_EQ(b.scene.integrator.get_int("iterations"), 9) << order;
+  }
+  Build alone("Integrator \"sppm\" \"integer numiterations\" 5\nWorldBegin\nWorldEnd\n");
+  EXPECT_EQ(alone.scene.integrator.get_int("iterations"), 5);
+}
+
 TEST(PbrtSemantics, AnimatedLightUsesItsStartTransformWithAWarning) {
   Build b(
       in_world("Translate 0 2 0\n"
