@@ -221,6 +221,11 @@ void quadric_bounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
 }
 
+// An instance's transform at a ray's time.
+Transform instance_at(const InstanceData& inst, float time) {
+  return inst.motion ? inst.motion->at(time) : inst.to_world;
+}
+
 // The quadric in world space: inside an instance, the instance's transform
 // composed onto the shape's (object-from-shape) one; orientation flags stay
 // the shape's own, as pbrt-v3 flips by the shape's transform and then maps
@@ -231,10 +236,12 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, c
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (s.motion) {
-    // Where the shape is at the ray's time; pbrt-v3 builds a moving shape with the identity
-    // transform, so the motion's handedness does not flip it.
+    // Where the shape is at the ray's time (inside an instance, where the instance puts that);
+    // pbrt-v3 builds a moving shape with the identity transform, so the motion's handedness
+    // does not flip it.
     ShapeInfo scratch = s;
-    scratch.object_to_world = s.motion->at(r.time);
+    scratch.object_to_world =
+        inst ? instance_at(*inst, r.time) * s.motion->at(r.time) : s.motion->at(r.time);
     scratch.swaps_handedness = false;
     return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
                              si);
@@ -243,8 +250,7 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, c
   // The normalised parameters do not depend on the transform: only the
   // composed transform is made per ray.
   ShapeInfo scratch = s;
-  scratch.object_to_world =
-      (inst->motion ? inst->motion->at(r.time) : inst->to_world) * s.object_to_world;
+  scratch.object_to_world = instance_at(*inst, r.time) * s.object_to_world;
   return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
                            si);
 }
@@ -266,9 +272,8 @@ bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, 
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (!s.motion && !inst)
     return world_curve_hit(s, s.object_to_world, g.prepared.world_to_object, piece, r, t, si);
-  const Transform m = s.motion       ? s.motion->at(r.time)
-                      : inst->motion ? inst->motion->at(r.time) * s.object_to_world
-                                     : inst->to_world * s.object_to_world;
+  const Transform shape = s.motion ? s.motion->at(r.time) : s.object_to_world;
+  const Transform m = inst ? instance_at(*inst, r.time) * shape : shape;
   return world_curve_hit(s, m, m.inverse(), piece, r, t, si);
 }
 
@@ -406,17 +411,20 @@ bool Builder::check_shapes() {
                 a_.where(s.entity) + ")";
       return false;
     }
-    // Moving quadrics are intersected where they are at each ray's time; moving meshes, moving
-    // shapes in object definitions and moving emitters are not yet.
+    // Moving quadrics and curves are intersected where they are at each ray's time (inside
+    // instances too); moving meshes sit under a moving Embree instance, which Embree cannot
+    // nest in an object's instance; moving emitters are not yet.
     float tt[3], tq[4], ts[3];
     const bool rigid = s.motion && s.motion->diagonal_keyframe(0, tt, tq, ts) &&
                        s.motion->diagonal_keyframe(1, tt, tq, ts);
-    if (s.animated && ((s.kind == ShapeKind::kTriangles && !rigid) || s.object != kNone ||
-                       s.area_light != kNone)) {
+    // Meshes in objects are copied into their object's scene (one instance level): a moving
+    // one would need a second.
+    const bool mesh = s.kind == ShapeKind::kTriangles;
+    if (s.animated && ((mesh && !rigid) || (mesh && s.object != kNone) || s.area_light != kNone)) {
       *error_ = "not supported yet: animated transform (motion blur) on a" +
-                std::string(s.kind == ShapeKind::kTriangles ? " mesh with shear"
-                            : s.object != kNone             ? " shape in an object"
-                                                            : "n area light") +
+                std::string(mesh && !rigid ? " mesh with shear"
+                            : mesh         ? " mesh in an object"
+                                           : "n area light") +
                 " (" + a_.where(s.entity) + ")";
       return false;
     }

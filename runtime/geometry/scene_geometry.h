@@ -20,7 +20,7 @@
 // an Embree instance with quaternion motion blur (keyframes without shear),
 // its hits rebuilt at the ray's time; a moving object instance likewise. Unsupported
 // input (moving meshes or instances with shear or with different TransformTimes,
-// moving shapes inside objects) fails build() with "not supported yet: <what> (file:line)".
+// moving meshes inside objects) fails build() with "not supported yet: <what> (file:line)".
 #pragma once
 
 #include <cstdint>

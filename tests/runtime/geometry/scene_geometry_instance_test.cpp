@@ -296,6 +296,63 @@ ObjectInstance "o"
       << sheared_instance->error;
 }
 
+// Moving shapes inside object definitions: a sphere and a curve that move within their
+// object, instanced twice (one instance itself moving): each is where its motion, composed
+// with its instance's transform at the ray's time, puts it.
+TEST(SceneGeometryInstance, MovingShapesInsideObjects) {
+  auto s = load_world("sg_moving_in_objects", R"(
+ObjectBegin "o"
+  AttributeBegin
+    ActiveTransform EndTime
+    Translate 2 0 0
+    ActiveTransform All
+    Shape "sphere" "float radius" 0.5
+  AttributeEnd
+  AttributeBegin
+    Translate 0 3 0
+    ActiveTransform EndTime
+    Translate 2 0 0
+    ActiveTransform All
+    Shape "curve" "point P" [0 -1 0  0 -0.3 0  0 0.3 0  0 1 0] "float width" 0.2
+  AttributeEnd
+ObjectEnd
+AttributeBegin
+  Translate 0 0 5
+  ObjectInstance "o"
+AttributeEnd
+AttributeBegin
+  Translate 0 0 10
+  ActiveTransform EndTime
+  Translate 0 10 10
+  ActiveTransform All
+  ObjectInstance "o"
+AttributeEnd
+)");
+  ASSERT_TRUE(s->built) << s->error;
+  for (float time : {0.f, 0.5f, 1.f}) {
+    SCOPED_TRACE(time);
+    const float x = 2 * time;  // the shapes' own motion
+    SurfaceInteraction si;
+    Ray sphere = make_ray({x, 0, -5}, {0, 0, 1});
+    sphere.time = time;
+    ASSERT_TRUE(s->geometry.intersect(sphere, &si));
+    EXPECT_NEAR(si.p.z, 4.5f, 1e-3f);
+    Ray curve = make_ray({x, 3, -5}, {0, 0, 1});
+    curve.time = time;
+    ASSERT_TRUE(s->geometry.intersect(curve, &si));
+    EXPECT_NEAR(si.p.z, 5, 1e-3f);
+    // The moving instance: its own motion (10 up, 10 back at the end) on top of the shapes'.
+    Ray moved = make_ray({x, 10 * time, 0}, {0, 0, 1});
+    moved.time = time;
+    moved.o.z = 6;  // past the first instance
+    ASSERT_TRUE(s->geometry.intersect(moved, &si));
+    EXPECT_NEAR(si.p.z, 10 + 10 * time - 0.5f, 1e-3f);
+    Ray stale = make_ray({x + 1.5f, 0, -5}, {0, 0, 1});
+    stale.time = time;
+    EXPECT_FALSE(s->geometry.occluded(stale));
+  }
+}
+
 // A moving object instance (a triangle, a sphere and a curve inside): everything in it is
 // where the instance's interpolated transform puts it at the ray's time, and the world bound
 // holds the whole motion.

@@ -209,12 +209,12 @@ ObjectBegin "m"
   ActiveTransform EndTime
   Translate 1 0 0
   ActiveTransform All
-  Shape "sphere"
+  Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 1 1 0] "integer indices" [0 1 2]
 ObjectEnd
 ObjectInstance "m"
 )");
   EXPECT_FALSE(moving->built);
-  EXPECT_NE(moving->error.find("not supported yet: animated transform (motion blur) on a shape in "
+  EXPECT_NE(moving->error.find("not supported yet: animated transform (motion blur) on a mesh in "
                                "an object ("),
             std::string::npos)
       << moving->error;
