@@ -71,6 +71,8 @@ Rgb Bdpt::li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* c
       Vec2 p_raster = p_film;
       float mis = 0;
       Rgb lp = c.connect(lig, cam, s, t, &p_raster, &mis);
+      ++counters->paths;
+      counters->zero_radiance_paths += lp.is_black();
       if (!strategy_films_.empty()) {
         Rgb value = visualize_.weights ? lp : mis == 0 ? Rgb() : lp / mis;
         strategy_films_[size_t(buffer_index(s, t))]->add_splat(p_raster, value);

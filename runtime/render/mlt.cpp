@@ -67,6 +67,8 @@ struct Paths {
     if (paths.light_subpath(s, cam[0].si.time, lig) != s) return Rgb();
     sampler.start_stream(kConnectionStream);
     Rgb l = paths.connect(lig, cam, s, t, p_raster) * float(strategies);
+    ++counters->paths;
+    counters->zero_radiance_paths += l.is_black();
     if (!l.is_finite()) {
       ++*nonfinite;
       return Rgb();
@@ -106,7 +108,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
   float radius;
   scene.geometry.world_bounds().bounding_sphere(&center, &radius);
   const int depths = settings.max_depth + 1;
-  std::atomic<uint64_t> nonfinite{0};
+  std::atomic<uint64_t> nonfinite{0}, accepted{0};
   const Paths paths{scene, camera, *film, lights, radius, settings.mutations_per_pixel, &nonfinite};
   tbb::enumerable_thread_specific<RayCounters> counters;
 
@@ -154,6 +156,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
         film->add_splat(p_proposed, l_proposed * (accept / y_proposed));
       if (y_current > 0) film->add_splat(p_current, l_current * ((1 - accept) / y_current));
       if (rng.next_float() < accept) {
+        ++accepted;
         p_current = p_proposed;
         l_current = l_proposed;
         sampler.accept();
@@ -165,12 +168,16 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
   });
   progress.finish();
   for (const RayCounters& c : counters) {
+    stats->paths += c.paths;
+    stats->zero_radiance_paths += c.zero_radiance_paths;
     stats->camera_rays += c.camera_rays;
     stats->rays += c.rays;
     stats->shadow_rays += c.shadow_rays;
   }
   stats->samples = uint64_t(total);
   stats->nonfinite_samples = nonfinite.load();
+  stats->mutations = uint64_t(total);
+  stats->accepted = accepted.load();
   stats->seconds = seconds_since(t0);
   return true;
 }

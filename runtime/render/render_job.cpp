@@ -187,6 +187,22 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
       (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
   std::string out = buf;
+  if (rs.paths > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "  strategies joined      %llu (s, t) paths, %.1f%% with no radiance\n",
+                  (unsigned long long)rs.paths, 100.0 * double(rs.zero_radiance_paths) / rs.paths);
+    out += buf;
+  }
+  if (rs.mutations > 0) {
+    std::snprintf(buf, sizeof buf, "  mutations              %llu, %.1f%% accepted\n",
+                  (unsigned long long)rs.mutations, 100.0 * double(rs.accepted) / rs.mutations);
+    out += buf;
+  }
+  if (rs.iterations > 0) {
+    std::snprintf(buf, sizeof buf, "  photons                %llu in %llu iterations\n",
+                  (unsigned long long)rs.photons, (unsigned long long)rs.iterations);
+    out += buf;
+  }
   if (r.media.homogeneous + r.media.grids > 0) {
     std::snprintf(buf, sizeof buf,
                   "  media                  %u homogeneous, %u density grids (%llu majorant "

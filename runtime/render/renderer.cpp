@@ -99,6 +99,8 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
     stats.camera_rays += tc.rays.camera_rays;
     stats.rays += tc.rays.rays;
     stats.shadow_rays += tc.rays.shadow_rays;
+    stats.paths += tc.rays.paths;
+    stats.zero_radiance_paths += tc.rays.zero_radiance_paths;
   }
   stats.first_tile_seconds = first_tile;
   stats.seconds = seconds_since(t0);

@@ -30,6 +30,11 @@ struct RenderStats {
   double first_tile_seconds = 0;  // time to the first finished tile (first pixels)
   uint64_t samples = 0, camera_rays = 0, rays = 0, shadow_rays = 0;
   uint64_t nonfinite_samples = 0;
+  // bdpt and mlt: strategies joined, and those that carried no radiance (pbrt-v3's "zero
+  // radiance paths"); mlt: mutations proposed and accepted; sppm: iterations and photons.
+  uint64_t paths = 0, zero_radiance_paths = 0;
+  uint64_t mutations = 0, accepted = 0;
+  uint64_t iterations = 0, photons = 0;
 };
 
 RenderStats render(const Camera& camera, const Sampler& sampler, const Integrator& integrator,

@@ -421,6 +421,9 @@ RenderStats render_sppm(const RenderScene& scene, const Camera& camera, Film* fi
   }
   r.write_image(settings.iterations);
   r.add_stats(&stats);
+  stats.iterations = uint64_t(settings.iterations);
+  stats.photons =
+      uint64_t(settings.iterations) * uint64_t(sppm_photons_per_iteration(settings, *film));
   stats.seconds = seconds_since(t0);
   return stats;
 }

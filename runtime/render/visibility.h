@@ -19,6 +19,8 @@ namespace rt {
 
 struct RayCounters {
   uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
+  // bdpt and mlt: strategies (s, t) joined, and how many of them carried no radiance.
+  uint64_t paths = 0, zero_radiance_paths = 0;
 };
 
 // A surface that scatters light; false for the interface material.

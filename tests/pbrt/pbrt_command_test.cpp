@@ -432,12 +432,16 @@ TEST(PbrtCommand, ErrorsNameTheLineAndExitNonZero) {
   EXPECT_NE(bad.err.find("bad.pbrt:3:1: error: unknown shape type \"spere\""), std::string::npos)
       << bad.err;
   EXPECT_FALSE(fs::exists(dir + "/x.exr"));
+  // bdpt traces from lights to the camera: like pbrt-v3, only with a perspective camera.
   std::string text = kScene;
   text.replace(text.find("\"directlighting\""), 16, "\"bdpt\"");
+  text.replace(text.find("\"perspective\" \"float fov\" 45"), 28, "\"orthographic\"");
   write_file(dir + "/bdpt.pbrt", text);
   Outcome unsupported = run_in(dir, pbrt() + " bdpt.pbrt --outfile y.exr", "unsupported");
   EXPECT_EQ(unsupported.status, 1);
-  EXPECT_NE(unsupported.err.find("not supported yet"), std::string::npos) << unsupported.err;
+  EXPECT_NE(unsupported.err.find("bdpt needs a perspective camera"), std::string::npos)
+      << unsupported.err;
+  EXPECT_FALSE(fs::exists(dir + "/y.exr"));
   Outcome usage = run_in(dir, pbrt() + " --frobnicate scene.pbrt", "usage");
   EXPECT_EQ(usage.status, 2);
   EXPECT_NE(usage.err.find("usage: pbrt"), std::string::npos);
