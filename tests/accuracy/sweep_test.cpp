@@ -162,11 +162,11 @@ TEST_F(TinySweep, OverridesReachTheRenderer) {
   }
   EXPECT_LT(direct_sum, path_sum * 0.97);
   EXPECT_NE(sobol_image.rgb, path_image.rgb);  // another sampler, other samples
-  // A light strategy is the path integrator's; anything else says so.
+  // A light strategy belongs to path, volpath and bdpt; anything else says so.
   accuracy::SweepConfig bad = direct;
   bad.strategy = "power";
   EXPECT_FALSE(accuracy::render_image(*archive_, bad, 1, 1, 7, &direct_image, &s, &rs, &error));
-  EXPECT_NE(error.find("path integrator"), std::string::npos) << error;
+  EXPECT_NE(error.find("only the path, volpath and bdpt integrators"), std::string::npos) << error;
   accuracy::SweepConfig unknown;
   unknown.sampler = "pmj02bn";
   EXPECT_FALSE(accuracy::render_image(*archive_, unknown, 1, 1, 7, &direct_image, &s, &rs, &error));
