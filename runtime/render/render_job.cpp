@@ -1,5 +1,6 @@
 #include "runtime/render/render_job.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -105,7 +106,8 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
               << "\" integrator doesn't support volume scattering. Consider using \"volpath\", "
                  "\"bdpt\", or \"mlt\".\n";
 
-  std::unique_ptr<Sampler> sampler = make_sampler(archive, options.spp, options.seed,
+  const int sampler_spp = options.spp > 0 ? options.spp : options.quick ? 1 : 0;
+  std::unique_ptr<Sampler> sampler = make_sampler(archive, sampler_spp, options.seed,
                                                   film.sample_bounds(), error, options.sampler);
   if (!sampler) return false;
   Integrator integrator;
@@ -119,12 +121,17 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.differential_spp = options.differential_spp;
   long long spp = (long long)sampler->samples_per_pixel();
   if (settings.type == IntegratorType::kMlt) {
-    const MltSettings ms = mlt_settings(settings, options.spp, options.seed);
+    MltSettings ms = mlt_settings(settings, options.spp, options.seed);
+    if (options.quick && options.spp <= 0) {
+      ms.mutations_per_pixel = std::max<int64_t>(1, ms.mutations_per_pixel / 16);
+      ms.bootstrap_samples = std::max<int64_t>(1, ms.bootstrap_samples / 16);
+    }
     spp = ms.mutations_per_pixel;
     if (!render_mlt(scene, camera, &film, ms, ro, &result->render, error)) return false;
   } else if (settings.type == IntegratorType::kSppm) {
     // pbrt-v3's --spp sets sppm's iteration count (one camera sample per pixel each).
-    const SppmSettings ss = sppm_settings(settings, options.spp, options.seed);
+    SppmSettings ss = sppm_settings(settings, options.spp, options.seed);
+    if (options.quick && options.spp <= 0) ss.iterations = std::max(1, ss.iterations / 16);
     spp = ss.iterations;
     result->render = render_sppm(scene, camera, &film, ss, ro);
   } else {

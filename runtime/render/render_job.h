@@ -32,6 +32,9 @@ struct RenderJobOptions {
   bool has_crop = false;
   float crop[4] = {0, 1, 0, 1};    // x0 x1 y0 y1, checked by the caller
   int light_nsamples_divisor = 1;  // pbrt --quick divides light "nsamples" by 4
+  // pbrt --quick, as pbrt-v3 applies it where spp does not: 1 sample per pixel, sppm's
+  // iterations and mlt's mutations per pixel and bootstrap samples divided by 16 (at least 1).
+  bool quick = false;
   uint64_t seed = 0;
   bool quiet = false;
   bool watertight = false;  // SceneGeometry::set_watertight: close Embree's vertex cracks

@@ -368,6 +368,25 @@ TEST(PbrtCommand, QuickRendersAQuarterResolutionAtOneSample) {
   EXPECT_NE(r.err.find("samples per pixel      1\n"), std::string::npos) << r.err;
 }
 
+// pbrt-v3's --quick divides sppm's iterations (and mlt's mutations) by 16 instead of setting
+// one sample per pixel.
+TEST(PbrtCommand, QuickDividesSppmIterationsBySixteen) {
+  std::string dir = scratch_dir("pbrt_quick_sppm");
+  write_file(dir + "/sppm.pbrt", R"(Camera "perspective"
+Film "image" "integer xresolution" 16 "integer yresolution" 16
+Integrator "sppm" "integer iterations" 64 "integer photonsperiteration" 100
+WorldBegin
+LightSource "point" "point from" [0 0 -2] "rgb I" [1 1 1]
+Material "matte"
+Shape "sphere"
+WorldEnd
+)");
+  Outcome r = run_in(dir, pbrt() + " --quiet --stats --quick sppm.pbrt --outfile q.exr");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("samples per pixel      4\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("photons                400 in 4 iterations"), std::string::npos) << r.err;
+}
+
 // The "rays ... N shadow" count of a --stats report.
 long long shadow_rays(const std::string& stats) {
   size_t at = stats.find(" intersection, ");

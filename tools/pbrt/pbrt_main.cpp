@@ -76,7 +76,8 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
   job.program = "pbrt";
   job.outfile = o.outfile;
   job.preview = o.preview;
-  job.spp = o.spp > 0 ? o.spp : o.quick ? 1 : 0;
+  job.spp = o.spp;
+  job.quick = o.quick;
   job.resdiv = o.quick ? 4 : 1;
   job.light_nsamples_divisor = o.quick ? 4 : 1;
   job.has_crop = o.has_crop;
