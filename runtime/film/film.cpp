@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "runtime/core/atomic_add.h"
+
 namespace rt {
 namespace {
 
@@ -11,12 +13,6 @@ std::string crop_text(const float c[4]) {
   char buf[128];
   std::snprintf(buf, sizeof(buf), "[%g %g %g %g]", c[0], c[1], c[2], c[3]);
   return buf;
-}
-
-void atomic_add(std::atomic<double>& a, double v) {
-  double old = a.load(std::memory_order_relaxed);
-  while (!a.compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {
-  }
 }
 
 }  // namespace
@@ -154,7 +150,7 @@ void Film::add_splat(Vec2 p_film, Rgb v) {
     return;
   if (lum > max_luminance_) v *= max_luminance_ / lum;
   size_t i = 3 * index({int(fx), int(fy)});
-  for (int c = 0; c < 3; ++c) atomic_add(splats_[i + c], v[c]);
+  for (int c = 0; c < 3; ++c) atomic_add(&splats_[i + c], v[c]);
 }
 
 void Film::set_pixel(Point2i p, Rgb v) {

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "runtime/core/atomic_add.h"
 #include "runtime/core/clock.h"
 #include "runtime/light/light_distribution.h"
 #include "runtime/material/bsdf.h"
@@ -90,12 +91,6 @@ struct PhotonSums {
   std::atomic<double> phi[3];
   std::atomic<int64_t> m;
 };
-
-void atomic_add(std::atomic<double>* a, double v) {
-  double old = a->load(std::memory_order_relaxed);
-  while (!a->compare_exchange_weak(old, old + v, std::memory_order_relaxed)) {
-  }
-}
 
 struct ThreadCounters {
   RayCounters rays;
