@@ -120,15 +120,6 @@ struct Kernels {
     return Rgb();
   }
 
-  // Material at a hit; false for the interface material (no BSDF).
-  static bool bsdf_at(const Self& I, SurfaceInteraction* si, const RayDifferential& ray,
-                      bool multiple_lobes, Bsdf* bsdf) {
-    si->compute_differentials(ray);
-    uint32_t m = I.scene_->shapes[si->shape].material;
-    if (m == kNone) return false;
-    return I.scene_->materials.compute_bsdf(m, si, TransportMode::kRadiance, multiple_lobes, bsdf);
-  }
-
   // What scatters at a vertex, and direct lighting there: direct_lighting.h,
   // shared with sppm.
   using Scatter = VertexScatter;
@@ -230,7 +221,7 @@ struct Kernels {
     if (!intersect(I, ray, &si, c)) return escaped(I, ray);
     Rgb l = emitted(I, si, si.wo);
     Bsdf bsdf;
-    if (!bsdf_at(I, &si, ray, false, &bsdf))
+    if (!scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, false, &bsdf))
       return l + li_recursive(I, RayDifferential(si.spawn_ray(ray.d)), sampler, depth, c);
     const LightSet& lights = I.scene_->lights;
     if (I.settings_.type == IntegratorType::kWhitted) {
@@ -314,7 +305,7 @@ struct Kernels {
       }
       if (!found || bounces >= max_depth) break;
       Bsdf bsdf;
-      if (!bsdf_at(I, &si, ray, true, &bsdf)) {
+      if (!scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) {
         if constexpr (kMedia) medium = medium_after(I, si, ray.d, medium);
         ray = RayDifferential(si.spawn_ray(ray.d));
         --bounces;
@@ -423,7 +414,7 @@ struct Kernels {
     Bsdf bsdf;
     for (;;) {
       if (!intersect(I, ray, &si, c)) return Rgb();
-      if (bsdf_at(I, &si, ray, true, &bsdf)) break;
+      if (scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) break;
       ray = RayDifferential(si.spawn_ray(ray.d));  // interface material: not a surface
     }
     Vec3 n = face_forward(si.n, -ray.d);

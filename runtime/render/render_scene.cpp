@@ -17,4 +17,11 @@ bool load_render_scene(const pbrta::SceneArchive& a, RenderScene* s, std::string
   return s->media.build(a, error);
 }
 
+bool scattering_at(const RenderScene& scene, SurfaceInteraction* si, const RayDifferential& ray,
+                   TransportMode mode, bool multiple_lobes, Bsdf* bsdf) {
+  si->compute_differentials(ray);
+  const uint32_t m = scene.shapes[si->shape].material;
+  return m != kNone && scene.materials.compute_bsdf(m, si, mode, multiple_lobes, bsdf);
+}
+
 }  // namespace rt

@@ -38,4 +38,11 @@ struct RenderScene {
 [[nodiscard]] bool load_render_scene(const pbrta::SceneArchive& archive, RenderScene* scene,
                                      std::string* error);
 
+// pbrt-v3's ComputeScatteringFunctions at a hit reached along `ray`: the screen-space
+// differentials (zero for a ray without them), then the shape's material's BSDF for `mode`
+// (bump mapping updates si's shading frame). False where the surface has no material or the
+// interface material: it only bounds media, and rays pass through it.
+bool scattering_at(const RenderScene& scene, SurfaceInteraction* si, const RayDifferential& ray,
+                   TransportMode mode, bool multiple_lobes, Bsdf* bsdf);
+
 }  // namespace rt

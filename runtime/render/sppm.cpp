@@ -232,10 +232,7 @@ class SppmRender {
         ld += beta * scene_.lights.infinite_le(ray);
         break;
       }
-      si.compute_differentials(ray);
-      const uint32_t m = scene_.shapes[si.shape].material;
-      if (m == kNone ||
-          !scene_.materials.compute_bsdf(m, &si, TransportMode::kRadiance, true, &bsdf)) {
+      if (!scattering_at(scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) {
         ray = RayDifferential(si.spawn_ray(ray.d));  // a medium boundary: not a vertex
         --depth;
         continue;
@@ -302,10 +299,7 @@ class SppmRender {
       if (!scene_.geometry.intersect(ray, &si)) break;
       // The first hit is direct light, which the camera pass estimated already.
       if (depth > 0) deposit(si.p, -ray.d, beta, tc);
-      si.compute_differentials(ray);
-      const uint32_t m = scene_.shapes[si.shape].material;
-      if (m == kNone ||
-          !scene_.materials.compute_bsdf(m, &si, TransportMode::kImportance, true, &bsdf)) {
+      if (!scattering_at(scene_, &si, ray, TransportMode::kImportance, true, &bsdf)) {
         ray = RayDifferential(si.spawn_ray(ray.d));
         --depth;
         continue;

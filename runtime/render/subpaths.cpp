@@ -210,9 +210,7 @@ int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float 
       }
       break;
     }
-    si.compute_differentials(ray);
-    const uint32_t m = scene.shapes[si.shape].material;
-    if (m == kNone || !scene.materials.compute_bsdf(m, &si, mode, true, &v.bsdf)) {
+    if (!scattering_at(scene, &si, ray, mode, true, &v.bsdf)) {
       medium = medium_after(scene, si, ray.d, medium);  // a medium boundary, not a surface
       ray = RayDifferential(si.spawn_ray(ray.d));
       continue;
