@@ -10,6 +10,7 @@
 #include <deque>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "runtime/core/clock.h"
@@ -115,10 +116,10 @@ struct SceneGeometry::Impl {
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
     space.to_world = inst ? &inst->to_world : nullptr;
-    Transform moving;
+    std::optional<Transform> moving;  // made only for a moving instance: this is per hit
     if (inst && inst->motion) {
       moving = inst->motion->at(ray.time);
-      space.to_world = &moving;
+      space.to_world = &*moving;
     }
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
@@ -226,6 +227,19 @@ Transform instance_at(const InstanceData& inst, float time) {
   return inst.motion ? inst.motion->at(time) : inst.to_world;
 }
 
+// Where a moving or instanced shape is at a ray's time: its motion there (or its own
+// transform) under its instance's transform then.
+Transform world_from_shape_at(const ShapeInfo& s, const InstanceData* inst, float time) {
+  const Transform shape = s.motion ? s.motion->at(time) : s.object_to_world;
+  return inst ? instance_at(*inst, time) * shape : shape;
+}
+
+// A curve piece's box in the space of the scene holding it, over the whole motion.
+Bounds3 curve_piece_bounds(const ShapeInfo& s, uint32_t piece) {
+  const Bounds3 box = s.curve->piece_bounds(piece);
+  return s.motion ? s.motion->motion_bounds(box) : s.object_to_world.bounds(box);
+}
+
 // The quadric in world space: inside an instance, the instance's transform
 // composed onto the shape's (object-from-shape) one; orientation flags stay
 // the shape's own, as pbrt-v3 flips by the shape's transform and then maps
@@ -235,31 +249,19 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, c
                        float* t, SurfaceInteraction* si) {
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
-  if (s.motion) {
-    // Where the shape is at the ray's time (inside an instance, where the instance puts that);
-    // pbrt-v3 builds a moving shape with the identity transform, so the motion's handedness
-    // does not flip it.
-    ShapeInfo scratch = s;
-    scratch.object_to_world =
-        inst ? instance_at(*inst, r.time) * s.motion->at(r.time) : s.motion->at(r.time);
-    scratch.swaps_handedness = false;
-    return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
-                             si);
-  }
-  if (!inst) return intersect_quadric(s, g.prepared, r, t, si);
-  // The normalised parameters do not depend on the transform: only the
-  // composed transform is made per ray.
+  if (!s.motion && !inst) return intersect_quadric(s, g.prepared, r, t, si);
+  // The normalised parameters do not depend on the transform: only the transform is made per
+  // ray. (A moving shape's handedness flag is already off: ShapeTable clears it, as pbrt-v3
+  // builds a moving shape with the identity transform.)
   ShapeInfo scratch = s;
-  scratch.object_to_world = instance_at(*inst, r.time) * s.object_to_world;
+  scratch.object_to_world = world_from_shape_at(s, inst, r.time);
   return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
                            si);
 }
 
 void curve_bounds(const RTCBoundsFunctionArguments* args) {
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
-  const ShapeInfo& s = (*g->impl->shapes)[g->shape];
-  Bounds3 box = s.curve->piece_bounds(args->primID);
-  Bounds3 b = s.motion ? s.motion->motion_bounds(box) : s.object_to_world.bounds(box);
+  const Bounds3 b = curve_piece_bounds((*g->impl->shapes)[g->shape], args->primID);
   *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
 }
 
@@ -272,8 +274,7 @@ bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, 
   const InstanceData* inst = g.impl->instance_of(inst_id);
   if (!s.motion && !inst)
     return world_curve_hit(s, s.object_to_world, g.prepared.world_to_object, piece, r, t, si);
-  const Transform shape = s.motion ? s.motion->at(r.time) : s.object_to_world;
-  const Transform m = inst ? instance_at(*inst, r.time) * shape : shape;
+  const Transform m = world_from_shape_at(s, inst, r.time);
   return world_curve_hit(s, m, m.inverse(), piece, r, t, si);
 }
 
@@ -559,10 +560,7 @@ unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds
 unsigned Builder::attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds) {
   const ShapeInfo& s = shapes_[shape];
   const CurveShape& c = *s.curve;
-  for (uint32_t i = 0; i < c.num_pieces(); ++i) {
-    Bounds3 box = c.piece_bounds(i);
-    bounds->extend(s.motion ? s.motion->motion_bounds(box) : s.object_to_world.bounds(box));
-  }
+  for (uint32_t i = 0; i < c.num_pieces(); ++i) bounds->extend(curve_piece_bounds(s, i));
   GeomData& g = impl_->geoms.emplace_back();
   g.impl = impl_;
   g.shape = shape;
