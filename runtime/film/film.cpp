@@ -104,11 +104,24 @@ bool Film::build(Point2i resolution, const float crop[4], const Filter& filter, 
     for (int x = 0; x < kTableSize; ++x)
       table_[y * kTableSize + x] = filter_.evaluate(
           {(x + 0.5f) * filter_.radius.x / kTableSize, (y + 0.5f) * filter_.radius.y / kTableSize});
-  size_t n = size_t(cropped_.area());
-  pixels_.assign(n, FilmPixelSum());
-  splats_.reset(new std::atomic<double>[3 * n]);
-  for (size_t i = 0; i < 3 * n; ++i) splats_[i].store(0, std::memory_order_relaxed);
+  clear_sums();
   return true;
+}
+
+void Film::build_for_sums(Point2i full_resolution, const Bounds2i& cropped, float scale) {
+  full_resolution_ = full_resolution;
+  cropped_ = cropped;
+  scale_ = scale;
+  splat_scale_ = 1;
+  clear_sums();
+}
+
+void Film::clear_sums() {
+  for (auto& h : pixels_) h.assign(size_t(cropped_.area()), FilmPixelSum());
+  for (auto& h : splats_) h.clear();
+  splats_enabled_ = false;
+  pending_.reset();
+  half_counts_[0] = half_counts_[1] = 0;
 }
 
 Bounds2i Film::sample_bounds() const {
@@ -131,16 +144,29 @@ std::unique_ptr<FilmTile> Film::make_tile(const Bounds2i& b) const {
 
 void Film::merge_tile(const FilmTile& tile) {
   Bounds2i b = intersect(tile.pixel_bounds(), cropped_);
-  for (int y = b.min.y; y < b.max.y; ++y)
-    for (int x = b.min.x; x < b.max.x; ++x) {
-      const FilmPixelSum& s = tile.sum({x, y});
-      FilmPixelSum& d = pixels_[index({x, y})];
-      for (int c = 0; c < 3; ++c) d.rgb[c] += s.rgb[c];
-      d.weight += s.weight;
-    }
+  const Bounds2i& tb = tile.pixel_bounds();
+  for (int h = 0; h < 2; ++h)
+    for (int y = b.min.y; y < b.max.y; ++y)
+      for (int x = b.min.x; x < b.max.x; ++x) {
+        const FilmPixelSum& s =
+            tile.pixels_[h][size_t(y - tb.min.y) * size_t(tb.width()) + size_t(x - tb.min.x)];
+        FilmPixelSum& d = pixels_[h][index({x, y})];
+        for (int c = 0; c < 3; ++c) d.rgb[c] += s.rgb[c];
+        d.weight += s.weight;
+      }
 }
 
-void Film::add_splat(Vec2 p_film, Rgb v) {
+void Film::enable_splats() {
+  if (splats_enabled_) return;
+  const size_t n = 3 * size_t(cropped_.area());
+  for (auto& h : splats_) h.assign(n, 0.0);
+  pending_.reset(new std::atomic<double>[2 * n]);
+  for (size_t i = 0; i < 2 * n; ++i) pending_[i].store(0, std::memory_order_relaxed);
+  splats_enabled_ = true;
+}
+
+void Film::add_splat(Vec2 p_film, Rgb v, int half) {
+  if (!splats_enabled_) return;
   if (!v.is_finite() || !std::isfinite(p_film.x) || !std::isfinite(p_film.y)) return;
   float lum = v.luminance();
   if (lum < 0) return;  // as pbrt-v3: a negative-luminance splat is dropped
@@ -149,27 +175,66 @@ void Film::add_splat(Vec2 p_film, Rgb v) {
         fy < float(cropped_.max.y)))
     return;
   if (lum > max_luminance_) v *= max_luminance_ / lum;
-  size_t i = 3 * index({int(fx), int(fy)});
-  for (int c = 0; c < 3; ++c) atomic_add(&splats_[i + c], v[c]);
+  size_t i = size_t(half & 1) * 3 * size_t(cropped_.area()) + 3 * index({int(fx), int(fy)});
+  for (int c = 0; c < 3; ++c) atomic_add(&pending_[i + c], v[c]);
+}
+
+void Film::commit_splats() {
+  if (!splats_enabled_) return;
+  const size_t n = splats_[0].size();
+  for (int h = 0; h < 2; ++h)
+    for (size_t i = 0; i < n; ++i) {
+      std::atomic<double>& p = pending_[size_t(h) * n + i];
+      splats_[h][i] += p.load(std::memory_order_relaxed);
+      p.store(0, std::memory_order_relaxed);
+    }
+}
+
+void Film::discard_splats() {
+  if (!splats_enabled_) return;
+  for (size_t i = 0; i < 2 * splats_[0].size(); ++i)
+    pending_[i].store(0, std::memory_order_relaxed);
 }
 
 void Film::set_pixel(Point2i p, Rgb v) {
   if (!cropped_.inside(p)) return;
-  FilmPixelSum& d = pixels_[index(p)];
-  for (int c = 0; c < 3; ++c) d.rgb[c] = v[c];
-  d.weight = 1;
-  size_t i = 3 * index(p);
-  for (int c = 0; c < 3; ++c) splats_[i + c].store(0, std::memory_order_relaxed);
+  const size_t i = index(p);
+  for (int h = 0; h < 2; ++h) {
+    FilmPixelSum& d = pixels_[h][i];
+    for (int c = 0; c < 3; ++c) d.rgb[c] = h == 0 ? v[c] : 0;
+    d.weight = h == 0 ? 1 : 0;
+    if (splats_enabled_)
+      for (int c = 0; c < 3; ++c) splats_[h][3 * i + c] = 0;
+  }
 }
 
 Rgb Film::pixel(Point2i p) const {
   if (!cropped_.inside(p)) return Rgb(0);
-  const FilmPixelSum& s = pixels_[index(p)];
-  size_t i = 3 * index(p);
+  const size_t i = index(p);
+  const FilmPixelSum &e = pixels_[0][i], &o = pixels_[1][i];
+  const double weight = e.weight + o.weight;
+  Rgb out;
+  for (int c = 0; c < 3; ++c) {
+    double v = weight != 0 ? std::max(0.0, (e.rgb[c] + o.rgb[c]) / weight) : 0.0;
+    if (splats_enabled_)
+      v += double(splat_scale_) * (splats_[0][3 * i + c] + splats_[1][3 * i + c]);
+    out[c] = float(v * double(scale_));
+  }
+  return out;
+}
+
+Rgb Film::half_pixel(Point2i p, int half) const {
+  if (!cropped_.inside(p)) return Rgb(0);
+  const size_t i = index(p);
+  const FilmPixelSum& s = pixels_[half & 1][i];
+  // The half's splats over its own sample count: splat_scale is for all of them.
+  const int64_t n_half = half_counts_[half & 1];
+  const double splat_scale =
+      n_half > 0 ? double(splat_scale_) * double(sample_count()) / double(n_half) : 0.0;
   Rgb out;
   for (int c = 0; c < 3; ++c) {
     double v = s.weight != 0 ? std::max(0.0, s.rgb[c] / s.weight) : 0.0;
-    v += double(splat_scale_) * splats_[i + c].load(std::memory_order_relaxed);
+    if (splats_enabled_) v += splat_scale * splats_[half & 1][3 * i + c];
     out[c] = float(v * double(scale_));
   }
   return out;

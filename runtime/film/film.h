@@ -14,6 +14,16 @@
 // samples a pixel got or how tiles split them (a constant radiance comes back
 // exactly). add_splat() (light tracing, bdpt) is thread-safe.
 //
+// Two halves: every sum is kept twice, once for each half of a pixel's samples
+// (each sample goes to one, at no extra cost), so the render's own error can be
+// estimated from two independent images (error_estimate.h) and the image is their
+// sum. sample_half() splits each pair of samples (2i, 2i + 1) between the halves, at
+// random per pixel and pair: by parity alone, low-discrepancy samplers would put the
+// even samples in one part of the pixel and the odd in another, and the halves would
+// differ at every edge however many samples they had. Splats (enable_splats() first)
+// go to a pending buffer that commit_splats() adds to the image at the end of a
+// pass, or discard_splats() drops when a pass is abandoned.
+//
 // pixel(): weighted sum / weight sum (0 where the weight is 0) clamped at 0
 // (negative filter lobes), plus splats times the splat scale, times the film
 // "scale" — pbrt-v3's Film::WriteImage order. write() writes the cropped
@@ -22,6 +32,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +54,17 @@ struct FilmOptions {
   float crop[4] = {0, 1, 0, 1};
 };
 
+// The half (0 or 1) that sample `index` of `pixel` goes to; the two samples of a pair
+// (2i, 2i + 1) go to different halves.
+inline int sample_half(Point2i pixel, int64_t index) {
+  uint64_t h = (uint64_t(uint32_t(pixel.x)) << 32 | uint32_t(pixel.y)) ^
+               (uint64_t(index >> 1) * 0x9e3779b97f4a7c15ull);
+  h ^= h >> 31;
+  h *= 0xbf58476d1ce4e5b9ull;
+  h ^= h >> 29;
+  return int((h ^ uint64_t(index)) & 1);
+}
+
 // Per-pixel accumulators (double: see the header comment).
 struct FilmPixelSum {
   double rgb[3] = {0, 0, 0};
@@ -58,8 +80,9 @@ class FilmTile {
   // tile the filter radius covers; L is scaled down first when its luminance
   // exceeds maxsampleluminance. Never touches memory outside the tile, for any
   // input (non-finite positions are ignored).
-  void add_sample(Vec2 p_film, Rgb L, float sample_weight = 1);
-  const FilmPixelSum& sum(Point2i p) const;  // p inside pixel_bounds()
+  // half: sample_half() of the sample.
+  void add_sample(Vec2 p_film, Rgb L, float sample_weight = 1, int half = 0);
+  FilmPixelSum sum(Point2i p) const;  // both halves; p inside pixel_bounds()
 
  private:
   friend class Film;
@@ -69,7 +92,7 @@ class FilmTile {
   Vec2 radius_, inv_radius_;
   const float* table_;  // the film's, kTableSize^2 (the film outlives its tiles)
   float max_luminance_;
-  std::vector<FilmPixelSum> pixels_;
+  std::vector<FilmPixelSum> pixels_[2];  // even and odd samples
 };
 
 class Film {
@@ -81,6 +104,9 @@ class Film {
   bool build(Point2i resolution, const float crop[4], const Filter& filter, float scale,
              float max_sample_luminance, float diagonal_mm, const std::string& filename,
              std::string* error);
+
+  // Only the windows and scale, to hold sums made elsewhere (render_state.h); no filter.
+  void build_for_sums(Point2i full_resolution, const Bounds2i& cropped, float scale);
 
   Point2i full_resolution() const { return full_resolution_; }
   Bounds2i cropped_pixel_bounds() const { return cropped_; }
@@ -96,17 +122,41 @@ class Film {
   std::unique_ptr<FilmTile> make_tile(const Bounds2i& tile_sample_bounds) const;
   void merge_tile(const FilmTile& tile);  // not thread-safe
 
-  // Light-tracing contributions at p_film (pbrt-v3's AddSplat; thread-safe).
-  void add_splat(Vec2 p_film, Rgb v);
+  // Light-tracing contributions at p_film (pbrt-v3's AddSplat; thread-safe), after
+  // enable_splats() (a no-op before). They count once committed.
+  void enable_splats();
+  bool has_splats() const { return splats_enabled_; }
+  void add_splat(Vec2 p_film, Rgb v, int half = 0);
+  void commit_splats();   // pending splats join the image (not thread-safe)
+  void discard_splats();  // pending splats are dropped (an abandoned pass)
   void set_splat_scale(float s) { splat_scale_ = s; }
+  // Samples per pixel rendered so far, for the half images' splat scales: half 0
+  // holds about ceil(n / 2) of them, half 1 floor(n / 2) (exactly, for even n).
+  void set_sample_count(int64_t n) { set_half_counts((n + 1) / 2, n / 2); }
+  // The same for a merge of several renders: each half's own count.
+  void set_half_counts(int64_t even, int64_t odd) {
+    half_counts_[0] = even;
+    half_counts_[1] = odd;
+  }
+  int64_t sample_count() const { return half_counts_[0] + half_counts_[1]; }
+  int64_t half_count(int half) const { return half_counts_[half & 1]; }
   // Replaces a pixel's value outright (sppm writes its own estimate).
   void set_pixel(Point2i p, Rgb v);
 
   Rgb pixel(Point2i p) const;  // final value, see the header comment; 0 outside the crop
-  ImageRgb image() const;      // the cropped pixels with their windows
+  // The image of one half's samples alone, as pixel() computes it.
+  Rgb half_pixel(Point2i p, int half) const;
+  // The raw sums of one half (render states, merging): pixel sums and committed splats
+  // (3 per pixel, all zero without splats), in cropped-pixel row order.
+  std::vector<FilmPixelSum>& half_sums(int half) { return pixels_[half]; }
+  const std::vector<FilmPixelSum>& half_sums(int half) const { return pixels_[half]; }
+  std::vector<double>& half_splats(int half) { return splats_[half]; }
+  const std::vector<double>& half_splats(int half) const { return splats_[half]; }
+  ImageRgb image() const;  // the cropped pixels with their windows
   bool write(const std::string& path, std::string* error) const;  // by extension
 
  private:
+  void clear_sums();  // for the windows set: zero sums, no splats, no samples
   size_t index(Point2i p) const {
     return size_t(p.y - cropped_.min.y) * size_t(cropped_.width()) + size_t(p.x - cropped_.min.x);
   }
@@ -117,8 +167,11 @@ class Film {
   float table_[kTableSize * kTableSize] = {};
   float scale_ = 1, max_luminance_ = kInfinity, diagonal_ = 0.035f, splat_scale_ = 1;
   std::string filename_;
-  std::vector<FilmPixelSum> pixels_;
-  std::unique_ptr<std::atomic<double>[]> splats_;  // 3 per pixel
+  int64_t half_counts_[2] = {0, 0};
+  std::vector<FilmPixelSum> pixels_[2];  // even and odd samples
+  std::vector<double> splats_[2];        // committed, 3 per pixel (empty without splats)
+  bool splats_enabled_ = false;
+  std::unique_ptr<std::atomic<double>[]> pending_;  // 2 halves x 3 per pixel
 };
 
 }  // namespace rt

@@ -24,15 +24,21 @@ FilmTile::FilmTile(const Bounds2i& pixel_bounds, Vec2 radius, const float* table
       table_(table),
       max_luminance_(max_luminance) {
   if (pixel_bounds_.empty()) pixel_bounds_.max = pixel_bounds_.min;  // no pixels, no negative sizes
-  pixels_.resize(size_t(pixel_bounds_.area()));
+  for (auto& h : pixels_) h.resize(size_t(pixel_bounds_.area()));
 }
 
-const FilmPixelSum& FilmTile::sum(Point2i p) const {
-  return pixels_[size_t(p.y - pixel_bounds_.min.y) * size_t(pixel_bounds_.width()) +
-                 size_t(p.x - pixel_bounds_.min.x)];
+FilmPixelSum FilmTile::sum(Point2i p) const {
+  const size_t i = size_t(p.y - pixel_bounds_.min.y) * size_t(pixel_bounds_.width()) +
+                   size_t(p.x - pixel_bounds_.min.x);
+  FilmPixelSum s;
+  for (const auto& h : pixels_) {
+    for (int c = 0; c < 3; ++c) s.rgb[c] += h[i].rgb[c];
+    s.weight += h[i].weight;
+  }
+  return s;
 }
 
-void FilmTile::add_sample(Vec2 p_film, Rgb L, float sample_weight) {
+void FilmTile::add_sample(Vec2 p_film, Rgb L, float sample_weight, int half) {
   float lum = L.luminance();
   if (lum > max_luminance_) L *= max_luminance_ / lum;
   // Pixel (x, y) has its centre at (x + 0.5, y + 0.5): work in discrete
@@ -70,7 +76,7 @@ void FilmTile::add_sample(Vec2 p_film, Rgb L, float sample_weight) {
   size_t stride = size_t(pixel_bounds_.width());
   for (int y = y0; y < y1; ++y) {
     int ty = cached ? ify[y - y0] : row(y);
-    FilmPixelSum* line = &pixels_[size_t(y - pixel_bounds_.min.y) * stride];
+    FilmPixelSum* line = &pixels_[half & 1][size_t(y - pixel_bounds_.min.y) * stride];
     for (int x = x0; x < x1; ++x) {
       int tx = cached ? ifx[x - x0] : column(x);
       float fw = table_[ty * kTableSize + tx];

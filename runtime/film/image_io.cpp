@@ -1,6 +1,8 @@
 // runtime/film/image_io.cpp — OpenEXR (via the OpenEXR library) and PNG (via libpng).
 #include "runtime/film/image_io.h"
 
+#include "runtime/film/atomic_file.h"
+
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -51,25 +53,6 @@ bool check_image(const std::string& path, const ImageRgb& image, std::string* er
   if (image.rgb.size() != size_t(image.data_window.area()) * 3) {
     *error = path + ": image holds " + std::to_string(image.rgb.size()) +
              " floats, its data window needs " + std::to_string(image.data_window.area() * 3);
-    return false;
-  }
-  return true;
-}
-
-// A name beside `path` that no other writer in this or another process uses.
-std::string temporary_name(const std::string& path) {
-  static std::atomic<unsigned> counter{0};
-  fs::path p(path);
-  std::string name = "." + p.filename().string() + ".tmp" + std::to_string(getpid()) + "-" +
-                     std::to_string(counter.fetch_add(1));
-  return (p.parent_path() / name).string();
-}
-
-// Moves the finished temporary file over the target, or removes it.
-bool commit(const std::string& tmp, const std::string& path, std::string* error) {
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    *error = path + ": cannot rename the finished image into place: " + std::strerror(errno);
-    std::remove(tmp.c_str());
     return false;
   }
   return true;
@@ -132,12 +115,19 @@ bool write_exr(const std::string& path, const ImageRgb& image, std::string* erro
     Imath::Box2i dw = to_box(image.data_window);
     Imf::Header header(to_box(image.display_window), dw);
     header.compression() = Imf::ZIP_COMPRESSION;
-    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     Imf::FrameBuffer fb;
-    const char* names[3] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c)
-      fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, dw, 3 * sizeof(float),
-                                           3 * sizeof(float) * size_t(image.width())));
+    const bool layer = !image.layer.empty() && image.layer_rgb.size() == image.rgb.size();
+    for (int l = 0; l < (layer ? 2 : 1); ++l)
+      for (const char* c : {"R", "G", "B"}) {
+        const std::string name = l == 0 ? std::string(c) : image.layer + "." + c;
+        const float* base =
+            (l == 0 ? image.rgb.data() : image.layer_rgb.data()) + (*c == 'R'   ? 0
+                                                                    : *c == 'G' ? 1
+                                                                                : 2);
+        header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        fb.insert(name, Imf::Slice::Make(Imf::FLOAT, base, dw, 3 * sizeof(float),
+                                         3 * sizeof(float) * size_t(image.width())));
+      }
     {
       Imf::OutputFile file(tmp.c_str(), header);
       file.setFrameBuffer(fb);
@@ -148,7 +138,7 @@ bool write_exr(const std::string& path, const ImageRgb& image, std::string* erro
     *error = path + ": cannot write OpenEXR image: " + e.what();
     return false;
   }
-  return commit(tmp, path, error);
+  return commit_file(tmp, path, "image", error);
 }
 
 bool write_png(const std::string& path, const ImageRgb& image, std::string* error) {
@@ -179,7 +169,7 @@ bool write_png(const std::string& path, const ImageRgb& image, std::string* erro
     *error = path + ": cannot write PNG image: " + message;
     return false;
   }
-  return commit(tmp, path, error);
+  return commit_file(tmp, path, "image", error);
 }
 
 bool write_image(const std::string& path, const ImageRgb& image, std::string* error) {

@@ -22,6 +22,9 @@ namespace rt {
 struct ImageRgb {
   Bounds2i data_window, display_window;
   std::vector<float> rgb;  // data-window pixels, row-major, 3 floats each
+  // An optional second RGB layer, written to EXR as <layer>.R/G/B (the error estimate).
+  std::string layer;
+  std::vector<float> layer_rgb;  // empty, or as rgb
   int width() const { return data_window.width(); }
   int height() const { return data_window.height(); }
 };

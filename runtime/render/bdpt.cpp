@@ -22,6 +22,7 @@ bool Bdpt::init(const RenderScene& scene, const Camera& camera, Film* film, int 
   scene_ = &scene;
   camera_ = &camera;
   film_ = film;
+  film_->enable_splats();
   max_depth_ = max_depth;
   visualize_ = visualize;
   strategy_films_.clear();
@@ -38,6 +39,7 @@ bool Bdpt::init(const RenderScene& scene, const Camera& camera, Film* film, int 
         if (!f->build(film->full_resolution(), whole, Filter{}, 1, kInfinity,
                       film->diagonal() * 1000, name, error))
           return false;
+        f->enable_splats();
         strategy_films_[size_t(buffer_index(s, t))] = std::move(f);
       }
   }
@@ -62,6 +64,7 @@ Rgb Bdpt::li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* c
   const int n_light = c.light_subpath(max_depth_ + 1, cam[0].si.time, lig);
   // The camera sample's film point, for strategy images of t >= 2 (the renderer keeps it).
   Vec2 p_film;
+  const int half = sample_half(sampler.current_pixel(), sampler.current_sample_number());
   if (!strategy_films_.empty()) camera_->we(camera_ray, &p_film);
   Rgb l;
   for (int t = 1; t <= n_camera; ++t)
@@ -75,14 +78,26 @@ Rgb Bdpt::li(const RayDifferential& camera_ray, Sampler& sampler, RayCounters* c
       counters->zero_radiance_paths += lp.is_black();
       if (!strategy_films_.empty()) {
         Rgb value = visualize_.weights ? lp : mis == 0 ? Rgb() : lp / mis;
-        strategy_films_[size_t(buffer_index(s, t))]->add_splat(p_raster, value);
+        strategy_films_[size_t(buffer_index(s, t))]->add_splat(p_raster, value, half);
       }
       if (t != 1)
         l += lp;
       else if (!lp.is_black())
-        film_->add_splat(p_raster, lp);
+        film_->add_splat(p_raster, lp, half);
     }
   return l;
+}
+
+void Bdpt::end_pass(bool keep, int64_t samples) {
+  for (auto& f : strategy_films_) {
+    if (!f) continue;
+    if (keep)
+      f->commit_splats();
+    else
+      f->discard_splats();
+    f->set_splat_scale(1.f / float(std::max<int64_t>(samples, 1)));
+    f->set_sample_count(samples);
+  }
 }
 
 const Film* Bdpt::strategy_film(int s, int t) const {

@@ -12,8 +12,8 @@
 // the power heuristic (exponent 2) over all the strategies that could have
 // made the same path, from the area densities recorded forwards and
 // backwards along both walks, as pbrt-v3's MISWeight. Radiance at the
-// camera sample is returned; t = 1 contributions go to Film::add_splat, which
-// the film scales by 1 / spp (set_splat_scale).
+// camera sample is returned; t = 1 contributions go to Film::add_splat (the
+// sample's half), which the renderer scales by 1 / spp rendered (set_splat_scale).
 //
 // Importance transport uses TransportMode::kImportance BSDFs and pbrt-v3's
 // shading-normal correction; participating media scatter at medium vertices
@@ -48,12 +48,10 @@ class Bdpt {
   [[nodiscard]] bool init(const RenderScene& scene, const Camera& camera, Film* film, int max_depth,
                           std::string_view light_strategy, std::string* error,
                           BdptVisualize visualize = {});
-  // Light-tracing splats sum over all of a pixel's samples: the film gets pbrt-v3's 1 / spp.
-  void preprocess(const Sampler& sampler) {
-    film_->set_splat_scale(1.f / float(sampler.samples_per_pixel()));
-    for (auto& f : strategy_films_)
-      if (f) f->set_splat_scale(1.f / float(sampler.samples_per_pixel()));
-  }
+  // The end of a render pass (renderer.h) for the strategy images: their pending splats
+  // committed (keep) or dropped, scaled for the samples per pixel rendered so far (the
+  // renderer does the same for the image's film).
+  void end_pass(bool keep, int64_t samples);
   // The strategy images, when asked for, into `directory` ("" = the current one).
   [[nodiscard]] bool write_strategy_images(const std::string& directory, std::string* error) const;
   // The strategy image of (s, t), or null (tests).

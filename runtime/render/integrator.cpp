@@ -508,12 +508,13 @@ bool Integrator::write_extra_images(const std::string& directory, std::string* e
   return !bdpt_ || bdpt_->write_strategy_images(directory, error);
 }
 
+void Integrator::end_pass(bool keep, int64_t samples) const {
+  if (bdpt_) bdpt_->end_pass(keep, samples);
+}
+
 void Integrator::preprocess(Sampler* sampler) {
   light_samples_.clear();
-  if (bdpt_) {
-    bdpt_->preprocess(*sampler);
-    return;
-  }
+  if (bdpt_) return;
   if (settings_.type == IntegratorType::kAmbientOcclusion) {
     ao_samples_ = sampler->round_count(settings_.ao_samples);
     sampler->request_2d_array(ao_samples_);

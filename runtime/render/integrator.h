@@ -85,9 +85,11 @@ class Integrator {
   // bdpt connects to the camera and splats to the film: both must be given and outlive this.
   [[nodiscard]] bool init(const RenderScene& scene, const IntegratorSettings& settings,
                           std::string* error, const Camera* camera = nullptr, Film* film = nullptr);
-  // Requests the sampler arrays the integrator will use (before cloning it); bdpt sets the
-  // film's splat scale for the sampler's count.
+  // Requests the sampler arrays the integrator will use (before cloning it).
   void preprocess(Sampler* sampler);
+  // The end of a render pass: bdpt's strategy images keep or drop the pass's splats
+  // (Bdpt::end_pass); nothing for the others.
+  void end_pass(bool keep, int64_t samples) const;
   Rgb li(const RayDifferential& ray, Sampler& sampler, RayCounters* counters) const {
     return kernel_(*this, ray, sampler, counters);
   }

@@ -127,6 +127,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
   });
   Distribution1D bootstrap(weights.data(), int(n_bootstrap));
   const float b = bootstrap.integral() * float(depths);
+  film->enable_splats();
   film->set_splat_scale(b / float(settings.mutations_per_pixel));
   if (!(b > 0)) return true;  // nothing reaches the camera: a black image
 
@@ -167,6 +168,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
     progress.add(mutations & 1023);
   });
   progress.finish();
+  film->commit_splats();
   for (const RayCounters& c : counters) {
     stats->paths += c.paths;
     stats->zero_radiance_paths += c.zero_radiance_paths;

@@ -23,6 +23,12 @@ void ProgressBar::finish() {
   std::fputc('\n', stderr);
 }
 
+void ProgressBar::set_note(const std::string& note, bool replaces_eta) {
+  std::lock_guard<std::mutex> lock(m_);
+  note_ = note;
+  note_replaces_eta_ = replaces_eta;
+}
+
 void ProgressBar::loop() {
   std::unique_lock<std::mutex> lock(m_);
   while (!cv_.wait_for(lock, std::chrono::milliseconds(250), [this] { return stop_; }))
@@ -37,13 +43,15 @@ void ProgressBar::print(bool final) {
   char bar[width + 1];
   for (int i = 0; i < width; ++i) bar[i] = i < bars ? '+' : ' ';
   bar[width] = 0;
-  if (final || f >= 1)
-    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
-  else if (f > 0)
-    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs|%.1fs ETA)  ", bar, 100 * f, elapsed,
-                 elapsed / f - elapsed);
+  // m_ is held: loop() calls this under it, and finish() after the thread has ended.
+  const std::string& note = note_;
+  const bool own_eta = note_replaces_eta_;
+  if (final || f >= 1 || f <= 0 || own_eta)
+    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs) %s        ", bar, 100 * f, elapsed,
+                 note.c_str());
   else
-    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs)        ", bar, 100 * f, elapsed);
+    std::fprintf(stderr, "\rRendering: [%s] %5.1f%% (%.1fs|%.1fs ETA) %s  ", bar, 100 * f, elapsed,
+                 elapsed / f - elapsed, note.c_str());
   std::fflush(stderr);
 }
 

@@ -4,7 +4,8 @@
 // cheap (one relaxed atomic add), so workers call it as they finish. A
 // background thread redraws the line every 250 ms; finish() (or the
 // destructor) draws it once more at its final value and ends the line. Quiet:
-// no thread, no output.
+// no thread, no output. set_note() appends text to the line (the render's error
+// estimate); with replaces_eta the note carries its own ETA and the bar's is not shown.
 #pragma once
 
 #include <atomic>
@@ -12,6 +13,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <thread>
 
 namespace rt {
@@ -25,12 +27,15 @@ class ProgressBar {
 
   void add(int64_t n) { done_.fetch_add(n, std::memory_order_relaxed); }
   void finish();
+  void set_note(const std::string& note, bool replaces_eta);
 
  private:
   void loop();
   void print(bool final);
 
   std::atomic<int64_t> done_{0};
+  std::string note_;  // under m_
+  bool note_replaces_eta_ = false;
   int64_t total_;
   bool stop_ = false;
   std::mutex m_;

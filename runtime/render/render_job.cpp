@@ -7,8 +7,11 @@
 #include <memory>
 
 #include "runtime/core/clock.h"
+#include "runtime/film/atomic_file.h"
+#include "runtime/film/error_estimate.h"
 #include "runtime/film/film.h"
 #include "runtime/film/image_io.h"
+#include "runtime/film/render_state.h"
 #include "runtime/render/camera.h"
 #include "runtime/render/effects.h"
 #include "runtime/render/integrator.h"
@@ -65,6 +68,55 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
 
 }  // namespace
 
+bool render_integrator(const RenderScene& scene, const Camera& camera, const Sampler& sampler,
+                       const Integrator& integrator, Film* film, int spp_override, uint64_t seed,
+                       bool quick, const RenderOptions& options, RenderStats* stats, long long* spp,
+                       std::string* error) {
+  const IntegratorSettings& settings = integrator.settings();
+  if (settings.type == IntegratorType::kMlt) {
+    MltSettings ms = mlt_settings(settings, spp_override, seed);
+    if (quick && spp_override <= 0) {
+      ms.mutations_per_pixel = std::max<int64_t>(1, ms.mutations_per_pixel / 16);
+      ms.bootstrap_samples = std::max<int64_t>(1, ms.bootstrap_samples / 16);
+    }
+    *spp = ms.mutations_per_pixel;
+    return render_mlt(scene, camera, film, ms, options, stats, error);
+  }
+  if (settings.type == IntegratorType::kSppm) {
+    // pbrt-v3's --spp sets sppm's iteration count (one camera sample per pixel each).
+    SppmSettings ss = sppm_settings(settings, spp_override, seed);
+    if (quick && spp_override <= 0) ss.iterations = std::max(1, ss.iterations / 16);
+    *spp = ss.iterations;
+    *stats = render_sppm(scene, camera, film, ss, options);
+    return true;
+  }
+  *stats = render(camera, sampler, integrator, film, options);
+  *spp = stats->samples_per_pixel;
+  return true;
+}
+
+std::string error_percent(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g%%", 100 * fraction);
+  return buf;
+}
+
+const char* stop_text(StopReason r) {
+  switch (r) {
+    case StopReason::kSamples:
+      return "all samples rendered";
+    case StopReason::kTargetError:
+      return "target error reached";
+    case StopReason::kTimeLimit:
+      return "time limit";
+    case StopReason::kInterrupted:
+      return "interrupted";
+    case StopReason::kError:
+      return "failed";
+  }
+  return "";
+}
+
 bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& options,
                     RenderJobResult* result, std::string* error) {
   auto t_start = std::chrono::steady_clock::now();
@@ -81,6 +133,12 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   result->outfile = out;
   for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
     if (!options.write_files || path->empty() || check_output_path(*path, error)) continue;
+    *error = "error: " + *error;
+    result->bad_output = true;
+    return false;
+  }
+  if (options.write_files && !options.save_state.empty() &&
+      !check_writable(options.save_state, "render state", error)) {
     *error = "error: " + *error;
     result->bad_output = true;
     return false;
@@ -120,27 +178,99 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.quiet = options.quiet;
   ro.differential_spp = options.differential_spp;
   long long spp = (long long)sampler->samples_per_pixel();
-  if (settings.type == IntegratorType::kMlt) {
-    MltSettings ms = mlt_settings(settings, options.spp, options.seed);
-    if (options.quick && options.spp <= 0) {
-      ms.mutations_per_pixel = std::max<int64_t>(1, ms.mutations_per_pixel / 16);
-      ms.bootstrap_samples = std::max<int64_t>(1, ms.bootstrap_samples / 16);
+  const bool passes_asked = options.first_sample > 0 || options.target_error > 0 ||
+                            options.time_limit > 0 || options.checkpoint_every > 0 ||
+                            !options.save_state.empty() || !options.resume.empty() ||
+                            options.error_layer;
+  if (passes_asked &&
+      (settings.type == IntegratorType::kMlt || settings.type == IntegratorType::kSppm)) {
+    *error =
+        "not supported yet: --target-error, --time-limit, --checkpoint-every, --save-state, "
+        "--resume and --error-layer with the " +
+        result->integrator + " integrator (it does not render in passes of samples)";
+    return false;
+  }
+
+  // The image (and state) of what the film holds now: the checkpoints and the end.
+  RenderState state_base;
+  state_base.archive_id = archive.header().table_checksum;
+  state_base.seed = options.seed;
+  state_base.planned = spp;
+  state_base.config = "integrator=" + result->integrator + " override=" + options.integrator +
+                      " sampler=" + (options.sampler.empty() ? "scene" : options.sampler) +
+                      " lightstrategy=" + settings.light_strategy + " spp=" + std::to_string(spp) +
+                      " differentialspp=" + std::to_string(options.differential_spp) +
+                      " watertight=" + std::to_string(options.watertight) +
+                      " lightnsamplesdivisor=" + std::to_string(options.light_nsamples_divisor);
+  if (!options.resume.empty()) {
+    RenderState st;
+    if (!read_render_state(options.resume, &st, error)) {
+      *error = "error: " + *error;
+      return false;
     }
-    spp = ms.mutations_per_pixel;
-    if (!render_mlt(scene, camera, &film, ms, ro, &result->render, error)) return false;
-  } else if (settings.type == IntegratorType::kSppm) {
-    // pbrt-v3's --spp sets sppm's iteration count (one camera sample per pixel each).
-    SppmSettings ss = sppm_settings(settings, options.spp, options.seed);
-    if (options.quick && options.spp <= 0) ss.iterations = std::max(1, ss.iterations / 16);
-    spp = ss.iterations;
-    result->render = render_sppm(scene, camera, &film, ss, ro);
+    std::string why;
+    if (st.archive_id != state_base.archive_id)
+      why = "it was rendered from another archive";
+    else if (st.config != state_base.config)
+      why = "it was rendered with other settings (\"" + st.config + "\", this render \"" +
+            state_base.config + "\")";
+    else if (!st.resumable())
+      why = "it is a merge of several renders, not one render to continue";
+    else if (st.seed != options.seed)
+      why = "it was rendered with --seed " + std::to_string(st.seed);
+    else if (!restore_state(st, &film, &why)) {
+    }
+    if (!why.empty()) {
+      *error = "error: " + options.resume + ": cannot resume: " + why;
+      return false;
+    }
+    ro.first_sample = st.end;
   } else {
-    result->render = render(camera, *sampler, integrator, &film, ro);
+    ro.first_sample = std::min<int64_t>(options.first_sample, spp);
+  }
+  const int64_t range_first = options.resume.empty() ? ro.first_sample : 0;
+  const bool pass_render =
+      settings.type != IntegratorType::kMlt && settings.type != IntegratorType::kSppm;
+  auto write_outputs = [&](std::string* err) {
+    // Interrupted before the first pass: nothing to write.
+    if (!options.write_files || (pass_render && film.sample_count() == 0)) return true;
+    ImageRgb image = film.image();
+    if (options.error_layer) {
+      image.layer = "error";
+      estimate_error(film, &image.layer_rgb);
+    }
+    for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview})
+      if (!path->empty() && !write_image(*path, image, err)) return false;
+    if (!options.save_state.empty()) {
+      RenderState st = capture_state(film);
+      st.archive_id = state_base.archive_id;
+      st.seed = state_base.seed;
+      st.planned = state_base.planned;
+      st.config = state_base.config;
+      st.first = range_first;
+      st.end = range_first + film.sample_count();
+      if (!write_render_state(options.save_state, st, err)) return false;
+    }
+    return true;
+  };
+
+  ro.target_error = options.target_error;
+  ro.time_limit = options.time_limit;
+  ro.time_spent = seconds_since(options.time_origin);
+  ro.checkpoint_every = options.checkpoint_every;
+  ro.checkpoint = write_outputs;
+  ro.interrupt = options.interrupt;
+  ro.on_pass = options.on_pass;
+  if (!render_integrator(scene, camera, *sampler, integrator, &film, options.spp, options.seed,
+                         options.quick, ro, &result->render, &spp, error))
+    return false;
+  if (result->render.stop == StopReason::kError) {
+    *error = "error: " + result->render.error;
+    return false;
   }
 
   if (options.keep_image) result->image = film.image();
-  for (const std::string* path : {static_cast<const std::string*>(&out), &options.preview}) {
-    if (!options.write_files || path->empty() || film.write(*path, error)) continue;
+  if (!write_outputs(error)) {
     *error = "error: " + *error;
     return false;
   }
@@ -152,6 +282,21 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
       *error = "error: " + *error;
       return false;
     }
+  }
+  const RenderStats& rs = result->render;
+  if (!options.quiet && rs.has_error_estimate)
+    std::cerr << options.program << ": estimated error " << error_percent(rs.error_estimate)
+              << " after " << rs.samples_per_pixel << " samples per pixel (" << stop_text(rs.stop)
+              << ")\n";
+  if (rs.stop == StopReason::kInterrupted) {
+    result->interrupted = true;
+    *error = rs.samples_per_pixel == 0
+                 ? "interrupted before the first pass ended: no image written (stratified, "
+                   "02sequence and maxmindist render in one pass unless --checkpoint-every, "
+                   "--target-error or --time-limit is given)"
+                 : "interrupted: wrote the image of the " + std::to_string(rs.samples_per_pixel) +
+                       " samples per pixel done to " + out;
+    return false;
   }
   if (result->render.nonfinite_samples > 0)
     std::cerr << options.program << ": " << result->render.nonfinite_samples
@@ -194,6 +339,17 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
       (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
   std::string out = buf;
+  if (rs.passes > 0) {
+    std::snprintf(buf, sizeof buf, "  passes                 %d (%s)%s\n", rs.passes,
+                  stop_text(rs.stop), rs.checkpoints ? ", with checkpoints" : "");
+    out += buf;
+  }
+  if (rs.has_error_estimate) {
+    std::snprintf(buf, sizeof buf,
+                  "  estimated error        %s (relative RMS, from the half images)\n",
+                  error_percent(rs.error_estimate).c_str());
+    out += buf;
+  }
   if (rs.paths > 0) {
     std::snprintf(buf, sizeof buf,
                   "  strategies joined      %llu (s, t) paths, %.1f%% with no radiance\n",

@@ -10,16 +10,23 @@
 //
 // Failure: false with *error, and result->bad_output set when the cause is the
 // output path (pbrtrun's exit code 2) rather than the scene ("not supported
-// yet: ..." and the like, exit code 1).
+// yet: ..." and the like, exit code 1). An interrupted render writes the image
+// (and state) of the passes done, then returns false with result->interrupted.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "format/scene_archive.h"
 #include "runtime/film/image_io.h"
 #include "runtime/geometry/scene_geometry.h"
 #include "runtime/medium/media.h"
+#include "runtime/render/camera.h"
+#include "runtime/render/integrator.h"
+#include "runtime/render/render_scene.h"
 #include "runtime/render/renderer.h"
 
 namespace rt {
@@ -49,6 +56,21 @@ struct RenderJobOptions {
   std::string sampler, integrator, light_strategy;
   bool write_files = true;  // false: no EXR/PNG (outfile and preview unused)
   bool keep_image = false;  // result->image receives the film's pixels
+  // Passes and stopping (renderer.h): target_error a fraction, time_limit and
+  // checkpoint_every seconds (from time_origin), 0 for none. Checkpoints write the image
+  // (and the state, with save_state) so far. error_layer adds the per-pixel error
+  // estimate to the EXR as layer "error". save_state: the raw sums at the end (and at
+  // checkpoints) to this file (render_state.h); resume: continue the render a state holds.
+  // These need a sample-based integrator (not mlt or sppm).
+  double target_error = 0, time_limit = 0, checkpoint_every = 0;
+  std::chrono::steady_clock::time_point time_origin = std::chrono::steady_clock::now();
+  bool error_layer = false;
+  std::string save_state, resume;
+  const std::atomic<bool>* interrupt = nullptr;  // set (SIGINT): stop, write what is done
+  // > 0: render only the samples from this index on (a later part of the sequence, for a
+  // state to merge with the earlier part's); not with resume.
+  int64_t first_sample = 0;
+  std::function<void(const Film&, int64_t, double)> on_pass;  // RenderOptions::on_pass
 };
 
 struct RenderJobResult {
@@ -63,12 +85,28 @@ struct RenderJobResult {
   double build_seconds = 0;  // render scene, sampler and integrator
   double setup_seconds = 0;  // everything before the render loop (film through preprocess)
   bool bad_output = false;
-  ImageRgb image;  // with options.keep_image
+  bool interrupted = false;  // stopped by options.interrupt; the files were written
+  ImageRgb image;            // with options.keep_image
 };
 
 [[nodiscard]] bool render_archive(const pbrta::SceneArchive& archive,
                                   const RenderJobOptions& options, RenderJobResult* result,
                                   std::string* error);
+
+// The render loop the integrator calls for, once film, camera, scene, sampler and integrator
+// are built (and preprocess() ran): mlt and sppm render the whole image their own way (spp
+// override: mutations per pixel, iterations), the others through render() in passes. quick:
+// pbrt's --quick where the sample count does not reach (sppm iterations, mlt mutations and
+// bootstrap / 16). *spp: the samples per pixel (or iterations, mutations) rendered.
+[[nodiscard]] bool render_integrator(const RenderScene& scene, const Camera& camera,
+                                     const Sampler& sampler, const Integrator& integrator,
+                                     Film* film, int spp_override, uint64_t seed, bool quick,
+                                     const RenderOptions& options, RenderStats* stats,
+                                     long long* spp, std::string* error);
+
+// "2.31%": an error estimate (a fraction) as the progress line and --stats print it.
+std::string error_percent(double fraction);
+const char* stop_text(StopReason r);  // "target error reached" and the like
 
 // pbrtrun's --stats block for one render: `input` names the scene, archive_seconds is the
 // time taken to load it, threads the thread count used.

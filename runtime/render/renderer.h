@@ -1,15 +1,41 @@
-// runtime/render/renderer.h — the tile-parallel render loop.
+// runtime/render/renderer.h — the tile-parallel render loop, in passes.
 //
-// The sample bounds are cut into 16x16-pixel tiles rendered in parallel with
-// oneTBB; each tile has its own sampler clone and film tile, and the tiles
-// are merged into the film in tile order once all are done, so the image is
-// bit-identical whatever the thread count (samplers depend only on pixel,
-// sample index and seed). Non-finite radiance never reaches the film: such
-// samples are counted and added as black, as pbrt-v3 does. Progress with an
-// ETA goes to stderr unless quiet.
+// The render visits every pixel in passes, each adding the next samples of the
+// pixel's sequence (Sampler::set_sample_range): passes of 1, 1, 2, 4 and 8
+// samples, then 8 at a time (kMaxPassSamples); samplers whose patterns span the
+// whole count (Sampler::whole_count_patterns: stratified, 02sequence, maxmindist)
+// keep doubling (1, 1, 2, 4, 8, 16, ...), since each pass rebuilds their pixel
+// patterns, and render in one pass when nothing may stop the render early or look
+// at it between passes (no target error, time limit, checkpoints or on_pass). The pass sizes depend
+// only on the sample index, so a render stopped after N passes holds exactly the samples of a
+// render whose count ends there, added in the same order: the same image, bit for bit, with any
+// sampler whose values do not depend on the total count (halton, sobol, random); the pixel samplers
+// stratify over the count they were built for, so theirs is only statistically the same. (Ray
+// differentials, and so texture filtering, follow the planned count:
+// RenderOptions::differential_spp.)
+//
+// Within a pass the sample bounds are cut into 16x16-pixel tiles rendered in
+// parallel with oneTBB, each with a per-thread sampler and its own film tile;
+// the tiles are merged into the film in tile order once the pass is done, so the
+// image is bit-identical whatever the thread count. Non-finite radiance never
+// reaches the film: such samples are counted and added as black, as pbrt-v3
+// does. After each pass the film's sample count (Film::set_sample_count: what it
+// held before plus the samples rendered) and splat scale (1 / that) are updated.
+//
+// Stopping: at the planned count (the sampler's), or at the end of a pass once
+// the estimated error (error_estimate.h) is at most target_error, or before a
+// pass that the last pass's speed says would end past time_limit (so a render
+// overruns its limit by at most one pass, when a pass is slower than the last),
+// or when *interrupt becomes true: the pass under way is abandoned (its tiles and
+// splats dropped) and the film holds the passes done. checkpoint() runs at the
+// end of a pass at most every checkpoint_every seconds. Progress (samples, time,
+// ETA, and the error estimate with its target) goes to stderr unless quiet.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
+#include <string>
 
 #include "runtime/film/film.h"
 #include "runtime/render/camera.h"
@@ -18,12 +44,31 @@
 
 namespace rt {
 
+constexpr int64_t kMaxPassSamples = 8;
+
+// The sample that ends the pass starting at `first` (see above).
+int64_t pass_end(int64_t first, int64_t total, bool whole_count_patterns);
+
 struct RenderOptions {
   bool quiet = false;
   // > 0: camera differentials scaled as for this many samples per pixel
   // (pbrt-v3 uses the sampler's count; see RenderJobOptions::differential_spp).
   int differential_spp = 0;
+  // The first sample index to render: resuming (the film holds samples [0, first_sample)
+  // already) or rendering a later range of the sequence alone.
+  int64_t first_sample = 0;
+  double target_error = 0;  // > 0: stop once the estimate is at most this (a fraction)
+  double time_limit = 0;    // > 0: seconds, counted from time_origin
+  double time_spent = 0;    // seconds already spent (loading, building) towards time_limit
+  double checkpoint_every = 0;
+  std::function<bool(std::string* error)> checkpoint;  // writes the image so far
+  const std::atomic<bool>* interrupt = nullptr;
+  // After every pass: the film, the sample index reached and the seconds since the loop
+  // began (pbrt-converge measures its error ladder here; tests watch the estimate).
+  std::function<void(const Film& film, int64_t samples, double seconds)> on_pass;
 };
+
+enum class StopReason : uint8_t { kSamples, kTargetError, kTimeLimit, kInterrupted, kError };
 
 struct RenderStats {
   double seconds = 0;
@@ -35,6 +80,13 @@ struct RenderStats {
   uint64_t paths = 0, zero_radiance_paths = 0;
   uint64_t mutations = 0, accepted = 0;
   uint64_t iterations = 0, photons = 0;
+  // Passes (the pass renderer only).
+  int passes = 0, checkpoints = 0;
+  int64_t samples_per_pixel = 0;  // the film holds (resumed ones included)
+  StopReason stop = StopReason::kSamples;
+  bool has_error_estimate = false;
+  double error_estimate = 0;  // a fraction
+  std::string error;          // kError: what failed (a checkpoint)
 };
 
 RenderStats render(const Camera& camera, const Sampler& sampler, const Integrator& integrator,

@@ -6,17 +6,17 @@ namespace rt {
 void GlobalSampler::start_pixel(Point2i p) {
   Sampler::start_pixel(p);
   dimension_ = 0;
-  interval_index_ = index_for_sample(0);
+  interval_index_ = index_for_sample(first_);
   array_end_dim_ = kArrayStartDim + int(sizes_1d_.size()) + 2 * int(sizes_2d_.size());
   for (size_t i = 0; i < sizes_1d_.size(); ++i) {
-    int64_t count = int64_t(sizes_1d_[i]) * spp_;
-    for (int64_t j = 0; j < count; ++j)
+    const int64_t n = sizes_1d_[i];
+    for (int64_t j = first_ * n; j < end_ * n; ++j)
       arrays_1d_[i][size_t(j)] = sample_dimension(index_for_sample(j), kArrayStartDim + int(i));
   }
   int dim = kArrayStartDim + int(sizes_1d_.size());
   for (size_t i = 0; i < sizes_2d_.size(); ++i, dim += 2) {
-    int64_t count = int64_t(sizes_2d_[i]) * spp_;
-    for (int64_t j = 0; j < count; ++j) {
+    const int64_t n = sizes_2d_[i];
+    for (int64_t j = first_ * n; j < end_ * n; ++j) {
       int64_t index = index_for_sample(j);
       arrays_2d_[i][size_t(j)] = {sample_dimension(index, dim), sample_dimension(index, dim + 1)};
     }

@@ -13,7 +13,7 @@ PixelSampler::PixelSampler(int64_t spp, int dimensions, uint64_t seed) : Sampler
 void PixelSampler::start_pixel(Point2i p) {
   Sampler::start_pixel(p);
   next_dim_1d_ = next_dim_2d_ = 0;
-  sample_rng_ = sample_rng(seed_, p, 0);
+  sample_rng_ = sample_rng(seed_, p, first_);
 }
 
 bool PixelSampler::set_sample_number(int64_t n) {

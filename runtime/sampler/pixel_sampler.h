@@ -21,6 +21,7 @@ class PixelSampler : public Sampler {
   bool set_sample_number(int64_t n) override;
   float get_1d() override;
   Vec2 get_2d() override;
+  bool whole_count_patterns() const override { return true; }
 
  protected:
   PixelSampler(int64_t spp, int dimensions, uint64_t seed);

@@ -19,6 +19,7 @@ enum class SeedPurpose : uint64_t {
   kPerSample = 2,     // values past the precomputed dimensions
   kGlobalTable = 3,   // sampler-wide scrambles and permutations
   kHashedDim = 4,     // global samplers past their tables
+  kSampleArrays = 5,  // the random sampler's arrays, one stream per sample
 };
 
 inline uint64_t pixel_key(Point2i p) {

@@ -16,17 +16,25 @@ class RandomSampler final : public Sampler {
 
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<RandomSampler>(*this); }
 
+  // Each sample's arrays come from its own generator, so a pass fills only its samples.
   void start_pixel(Point2i p) override {
-    Rng rng = pixel_rng(seed_, p);
-    for (auto& a : arrays_1d_)
-      for (float& v : a) v = rng.next_float();
-    for (auto& a : arrays_2d_)
-      for (Vec2& v : a) {
-        v.x = rng.next_float();
-        v.y = rng.next_float();
+    for (int64_t s = first_; s < end_; ++s) {
+      Rng rng(mix_seed(seed_, SeedPurpose::kSampleArrays, pixel_key(p), uint64_t(s)));
+      for (size_t i = 0; i < sizes_1d_.size(); ++i) {
+        const size_t n = size_t(sizes_1d_[i]);
+        for (size_t j = 0; j < n; ++j) arrays_1d_[i][size_t(s) * n + j] = rng.next_float();
       }
+      for (size_t i = 0; i < sizes_2d_.size(); ++i) {
+        const size_t n = size_t(sizes_2d_[i]);
+        for (size_t j = 0; j < n; ++j) {
+          Vec2& v = arrays_2d_[i][size_t(s) * n + j];
+          v.x = rng.next_float();
+          v.y = rng.next_float();
+        }
+      }
+    }
     Sampler::start_pixel(p);
-    rng_ = sample_rng(seed_, p, 0);
+    rng_ = sample_rng(seed_, p, first_);
   }
 
   bool set_sample_number(int64_t n) override {

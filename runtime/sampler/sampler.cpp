@@ -2,16 +2,23 @@
 // requested sample arrays handed out in request order (pbrt-v3's Sampler).
 #include "runtime/sampler/sampler.h"
 
+#include <algorithm>
+
 namespace rt {
 
 void Sampler::start_pixel(Point2i p) {
   pixel_ = p;
-  sample_index_ = 0;
+  sample_index_ = first_;
   next_1d_array_ = next_2d_array_ = 0;
 }
 
 bool Sampler::start_next_sample() {
-  return set_sample_number(sample_index_ + 1);
+  return set_sample_number(sample_index_ + 1) && sample_index_ < end_;
+}
+
+void Sampler::set_sample_range(int64_t first, int64_t end) {
+  first_ = std::clamp<int64_t>(first, 0, spp_);
+  end_ = std::clamp<int64_t>(end, first_, spp_);
 }
 
 bool Sampler::set_sample_number(int64_t n) {

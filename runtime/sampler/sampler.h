@@ -12,6 +12,14 @@
 // get_*_array() until start_next_sample() returns false. Every value lies in
 // [0, 1).
 //
+// Passes: set_sample_range(first, end) makes start_pixel() begin at sample `first` and
+// start_next_sample() stop before `end`, so a render can visit every pixel's samples in
+// several passes and get the very values one pass would. Samplers whose values depend
+// only on (pixel, sample index) compute arrays for that range alone; the pixel samplers
+// (stratified, 02sequence, maxmindist) stratify over the whole count and rebuild the
+// pixel's whole pattern at every start_pixel(): whole_count_patterns() says so, and the
+// renderer gives them fewer, doubling passes.
+//
 // make_sampler() builds the scene's sampler entity: "halton", "sobol",
 // "02sequence" (alias "lowdiscrepancy"), "maxmindist", "stratified",
 // "random". spp_override > 0 replaces the scene's sample count as
@@ -41,7 +49,9 @@ class Sampler {
   virtual ~Sampler() = default;
   virtual std::unique_ptr<Sampler> clone() const = 0;  // same settings, independent state
   virtual void start_pixel(Point2i p);                 // sample 0 of that pixel, dimension 0
-  bool start_next_sample();  // next sample of the pixel; false once spp are done
+  bool start_next_sample();  // next sample of the pixel; false at the range's end
+  void set_sample_range(int64_t first, int64_t end);  // within [0, spp]; default all
+  virtual bool whole_count_patterns() const { return false; }
   virtual bool set_sample_number(int64_t n);
   virtual float get_1d() = 0;  // next dimension, in [0,1)
   virtual Vec2 get_2d() = 0;
@@ -52,15 +62,17 @@ class Sampler {
   const Vec2* get_2d_array(int n);
   int64_t samples_per_pixel() const { return spp_; }
   int64_t current_sample_number() const { return sample_index_; }
+  Point2i current_pixel() const { return pixel_; }
 
  protected:
-  explicit Sampler(int64_t spp) : spp_(spp) {}
+  explicit Sampler(int64_t spp) : spp_(spp), end_(spp) {}
   Sampler(const Sampler&) = default;
   Sampler& operator=(const Sampler&) = delete;
 
   int64_t spp_;
   Point2i pixel_;
   int64_t sample_index_ = 0;
+  int64_t first_ = 0, end_;  // set_sample_range()
   // Requested array sizes, and per request n * spp values (sample s's array
   // starts at s * n), filled by the subclass in start_pixel().
   std::vector<int> sizes_1d_, sizes_2d_;

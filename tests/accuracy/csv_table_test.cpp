@@ -32,9 +32,9 @@ TEST(SweepCsv, HeaderAndOneLinePerRowWithEveryColumn) {
   std::string csv = accuracy::sweep_csv({row("halton", 4, 0.125, 0.0004), row("sobol", 8, 2, 1)});
   std::vector<std::string> lines = split(csv, '\n');
   ASSERT_EQ(lines.size(), 3u);
-  EXPECT_EQ(lines[0], "scene,config,spp,seconds,relmse,rmse,mare,render_seconds");
+  EXPECT_EQ(lines[0], "scene,config,spp,seconds,relmse,rmse,mare,render_seconds,estimated_error");
   std::vector<std::string> f = split(lines[1], ',');
-  ASSERT_EQ(f.size(), 8u) << lines[1];
+  ASSERT_EQ(f.size(), 9u) << lines[1];
   EXPECT_EQ(f[0], "tiny");
   EXPECT_EQ(f[1], "halton");
   EXPECT_EQ(f[2], "4");
@@ -43,13 +43,14 @@ TEST(SweepCsv, HeaderAndOneLinePerRowWithEveryColumn) {
   EXPECT_DOUBLE_EQ(std::stod(f[5]), 0.5);
   EXPECT_DOUBLE_EQ(std::stod(f[6]), 0.25);
   EXPECT_DOUBLE_EQ(std::stod(f[7]), 0.0625);
+  EXPECT_DOUBLE_EQ(std::stod(f[8]), -1);  // no estimate
   EXPECT_EQ(split(lines[2], ',')[1], "sobol");
 }
 
 TEST(SweepCsv, CommasInNamesCannotBreakColumns) {
   accuracy::SweepRow r = row("a", 1, 1, 1);
   r.scene = "x,y";
-  EXPECT_EQ(split(split(accuracy::sweep_csv({r}), '\n')[1], ',').size(), 8u);
+  EXPECT_EQ(split(split(accuracy::sweep_csv({r}), '\n')[1], ',').size(), 9u);
 }
 
 TEST(TimeToError, FirstRungAtOrBelowEachTarget) {

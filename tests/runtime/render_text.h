@@ -18,10 +18,9 @@
 #include "runtime/film/film.h"
 #include "runtime/render/camera.h"
 #include "runtime/render/integrator.h"
-#include "runtime/render/mlt.h"
+#include "runtime/render/render_job.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/renderer.h"
-#include "runtime/render/sppm.h"
 #include "runtime/runtime_test_support.h"
 #include "runtime/sampler/sampler.h"
 #include "test_support.h"
@@ -75,17 +74,11 @@ inline std::unique_ptr<KeptRender> render_kept(const std::string& name, const st
   k->integrator.preprocess(sampler.get());
   RenderOptions ro;
   ro.quiet = true;
-  if (k->settings.type == IntegratorType::kSppm) {  // renders the whole image, as in render_job
-    out.stats =
-        render_sppm(k->scene, k->camera, &k->film, sppm_settings(k->settings, spp, seed), ro);
-  } else if (k->settings.type == IntegratorType::kMlt) {
-    if (!render_mlt(k->scene, k->camera, &k->film, mlt_settings(k->settings, spp, seed), ro,
-                    &out.stats, &out.error)) {
-      ADD_FAILURE() << name << ": " << out.error;
-      return k;
-    }
-  } else {
-    out.stats = render(k->camera, *sampler, k->integrator, &k->film, ro);
+  long long rendered_spp = 0;
+  if (!render_integrator(k->scene, k->camera, *sampler, k->integrator, &k->film, spp, seed, false,
+                         ro, &out.stats, &rendered_spp, &out.error)) {
+    ADD_FAILURE() << name << ": " << out.error;
+    return k;
   }
   Bounds2i b = k->film.cropped_pixel_bounds();
   out.width = b.width();

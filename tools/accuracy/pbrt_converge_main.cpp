@@ -102,6 +102,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--name", name, "Scene name in the CSV and plot (default: the archive's stem)");
   app.add_flag("-q,--quiet", quiet, "No per-render progress lines");
+  bool plot_estimate = false;
+  app.add_flag("--plot-estimate", plot_estimate,
+               "Also plot each configuration's own error estimate (\"<config> estimated\")");
   CLI11_PARSE(app, argc, argv);
 
   if (sweep.budget.min_spp > sweep.budget.max_spp)
@@ -148,9 +151,10 @@ int main(int argc, char** argv) {
   std::vector<accuracy::SweepRow> rows;
   auto progress = [&](const accuracy::SweepRow& r) {
     if (quiet) return;
-    std::printf("  %-28s %6d spp %9.3f s  sqrt(relmse) %.4f  rmse %.4g  mare %.4f\n",
-                r.config.c_str(), r.spp, r.seconds, std::sqrt(r.errors.relmse), r.errors.rmse,
-                r.errors.mare);
+    std::printf(
+        "  %-28s %6d spp %9.3f s  sqrt(relmse) %.4f  rmse %.4g  mare %.4f  estimated %.4f\n",
+        r.config.c_str(), r.spp, r.seconds, std::sqrt(r.errors.relmse), r.errors.rmse,
+        r.errors.mare, r.estimated_error);
     std::fflush(stdout);
   };
   if (!accuracy::run_sweep(archive, name, reference, configs, sweep, &rows, &error, progress))
@@ -158,8 +162,17 @@ int main(int argc, char** argv) {
 
   if (!csv_path.empty() && !accuracy::write_sweep_csv(csv_path, rows, &error))
     return fail("error: " + error);
+  std::vector<accuracy::SweepRow> plotted = rows;
+  if (plot_estimate)
+    for (const accuracy::SweepRow& r : rows)
+      if (r.estimated_error > 0) {
+        accuracy::SweepRow e = r;
+        e.config += " estimated";
+        e.errors.relmse = r.estimated_error * r.estimated_error;
+        plotted.push_back(e);
+      }
   if (!plot_path.empty() &&
-      !rt::write_png(plot_path, accuracy::plot_error_curves(rows, name + ": error against time"),
+      !rt::write_png(plot_path, accuracy::plot_error_curves(plotted, name + ": error against time"),
                      &error))
     return fail("error: " + error);
   if (!table_path.empty()) {

@@ -2,11 +2,16 @@
 // sample counts per configuration and measure each image against a reference.
 //
 // Every render goes through rt::render_archive (so it is what pbrtrun would
-// give for the same overrides), writing no file. `seconds` is the wall time
-// of that whole call — scene build, sampler and integrator setup and the
-// render loop — as a user waits for it after the archive is loaded;
-// `render_seconds` is the render loop alone. Rungs of one configuration use
-// the same seed, so a configuration's curve is one sequence of renders.
+// give for the same overrides), writing no file. A configuration's rungs are
+// the passes of one render at the top rung (renderer.h: a pass that ends at a
+// rung holds exactly that rung's samples), measured as the render goes, and the
+// ladder's time budget is that render's --time-limit. Samplers that stratify over
+// the whole count (stratified, 02sequence, maxmindist) render each rung on its
+// own instead, since a pass of a longer render is not their render of that
+// count. `seconds` is what a user waits for a render to that count after the
+// archive is loaded (scene build, sampler and integrator setup, the render loop
+// to that pass); `render_seconds` is the render loop alone. Rungs of one
+// configuration use the same seed.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +38,7 @@ struct SweepRow {
   int spp = 0;
   double seconds = 0, render_seconds = 0;
   ImageErrors errors;
+  double estimated_error = -1;  // the render's own estimate (error_estimate.h); -1: none
 };
 
 // One render to memory with a configuration's overrides.

@@ -6,7 +6,8 @@
 
 namespace accuracy {
 
-const char kCsvHeader[] = "scene,config,spp,seconds,relmse,rmse,mare,render_seconds";
+const char kCsvHeader[] =
+    "scene,config,spp,seconds,relmse,rmse,mare,render_seconds,estimated_error";
 
 namespace {
 
@@ -21,8 +22,9 @@ std::string sweep_csv(const std::vector<SweepRow>& rows) {
   std::string out = std::string(kCsvHeader) + "\n";
   char buf[256];
   for (const SweepRow& r : rows) {
-    std::snprintf(buf, sizeof buf, ",%d,%.6g,%.6e,%.6e,%.6e,%.6g\n", r.spp, r.seconds,
-                  r.errors.relmse, r.errors.rmse, r.errors.mare, r.render_seconds);
+    std::snprintf(buf, sizeof buf, ",%d,%.6g,%.6e,%.6e,%.6e,%.6g,%.6g\n", r.spp, r.seconds,
+                  r.errors.relmse, r.errors.rmse, r.errors.mare, r.render_seconds,
+                  r.estimated_error);
     out += no_commas(r.scene) + "," + no_commas(r.config) + buf;
   }
   return out;

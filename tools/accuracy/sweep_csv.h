@@ -1,6 +1,7 @@
 // tools/accuracy/sweep_csv.h — a sweep's rows as CSV.
 //
-// Header "scene,config,spp,seconds,relmse,rmse,mare,render_seconds", then one
+// Header "scene,config,spp,seconds,relmse,rmse,mare,render_seconds,estimated_error"
+// (the render's own estimate of sqrt(relmse), -1 where it has none), then one
 // line per row in order; numbers in %.6g (seconds) and %.6e (errors), so a
 // spreadsheet or a script reads them without loss that matters. Names never
 // hold commas (configuration names are "/"-joined words; scene names come

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "runtime/render/stop_flags.h"
+
 namespace pbrt_tool {
 
 namespace {
@@ -171,6 +173,24 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
     } else if (name == "preview") {
       if (!take(&v)) return false;
       o->preview = v;
+    } else if (name == "target-error") {
+      if (!take(&v)) return false;
+      if (!rt::parse_percent(v, &o->target_error)) {
+        *error = "--target-error needs a percentage above 0, such as 1 or 0.5%, not \"" + v + "\"";
+        return false;
+      }
+    } else if (name == "time-limit" || name == "checkpoint-every") {
+      if (!take(&v)) return false;
+      if (!rt::parse_duration(v, name == "time-limit" ? &o->time_limit : &o->checkpoint_every)) {
+        *error = "--" + name + " needs a duration such as 90, 90s, 10m or 1h, not \"" + v + "\"";
+        return false;
+      }
+    } else if (name == "error-layer") {
+      if (!flag()) return false;
+      o->error_layer = true;
+    } else if (name == "save-state" || name == "resume") {
+      if (!take(&v)) return false;
+      (name == "resume" ? o->resume : o->save_state) = v;
     } else if (name == "logtostderr") {
       // pbrt-v3's logging options: accepted so existing scripts run; this pbrt logs nothing.
     } else if (name == "logdir" || name == "minloglevel" || name == "v") {
@@ -217,6 +237,18 @@ Options of this pbrt (scenes are compiled once, then rendered from the cache):
                        with a unit (K, M, G, T). Default: 4G. The cache is in
                        $XDG_CACHE_HOME/pbrtc (default ~/.cache/pbrtc).
   --no-cache           Compile to a temporary file and remove it afterwards.
+  --target-error <pct> Stop once the render's own error estimate (relative
+                       RMS) is at most this many percent, e.g. 1 or 0.5%.
+  --time-limit <t>     Stop before a pass that would end after t (90, 90s,
+                       10m, 1h) from the start. The first of --spp,
+                       --target-error and --time-limit wins.
+  --checkpoint-every <t> Write the image so far (and the state) this often.
+                       Ctrl-C writes the image so far and exits non-zero.
+  --error-layer        Add the per-pixel error estimate to the EXR (layer
+                       "error").
+  --save-state <file>  Write the render's raw sums here (pbrt-merge joins
+                       several; --resume continues one).
+  --resume <file>      Continue the render a --save-state file holds.
 
 pbrt-v3's logging options (--logdir <dir>, --logtostderr, --minloglevel <num>,
 --v <verbosity>) are accepted and ignored. With no file, the scene is read

@@ -30,6 +30,10 @@ struct Options {
   uint64_t cache_bytes = uint64_t(4) << 30;
   bool no_cache = false;
   std::string preview;
+  // Passes and stopping (runtime/render/render_job.h): fractions and seconds, 0 for none.
+  double target_error = 0, time_limit = 0, checkpoint_every = 0;
+  bool error_layer = false;
+  std::string save_state, resume;
 };
 
 // False with *error on a bad command line.

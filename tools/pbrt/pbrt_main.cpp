@@ -2,7 +2,9 @@
 //
 //   pbrt [--nthreads num] [--outfile filename] [--quick] [--quiet]
 //        [--cropwindow x0 x1 y0 y1] [--cat | --toply] [--spp N] [--seed N] [--stats]
-//        [--preview file.png] [--cache-size size] [--no-cache] [scene.pbrt...]
+//        [--preview file.png] [--cache-size size] [--no-cache]
+//        [--target-error P] [--time-limit T] [--checkpoint-every T] [--error-layer]
+//        [--save-state FILE] [--resume FILE] [scene.pbrt...]
 //
 // Each scene in turn (standard input when none is named) is compiled to an archive, or
 // found in the cache of compiled archives (tools/pbrt/cache.h), then rendered by the same
@@ -27,6 +29,7 @@
 #include "compiler/archive_dump.h"
 #include "format/huge_page_heap.h"
 #include "runtime/render/render_job.h"
+#include "runtime/render/stop_flags.h"
 #include "tools/pbrt/cache.h"
 #include "tools/pbrt/cached_compile.h"
 #include "tools/pbrt/options.h"
@@ -62,6 +65,7 @@ bool print_scene(const pbrta::SceneArchive& archive, const Options& o) {
 // 0, 1 or 2 as the exit codes above.
 int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* cache,
               int threads) {
+  const auto start = std::chrono::steady_clock::now();  // --time-limit counts compiling too
   pbrt_tool::SceneSource source;
   source.path = file;
   if (source.is_stdin())
@@ -84,9 +88,21 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
   for (int i = 0; i < 4; ++i) job.crop[i] = o.crop[i];
   job.seed = o.seed;
   job.quiet = o.quiet;
+  job.target_error = o.target_error;
+  job.time_limit = o.time_limit;
+  job.checkpoint_every = o.checkpoint_every;
+  job.time_origin = start;
+  job.error_layer = o.error_layer;
+  job.save_state = o.save_state;
+  job.resume = o.resume;
+  job.interrupt = rt::install_interrupt_handlers();
   rt::RenderJobResult result;
   std::string error;
   if (!rt::render_archive(*archive, job, &result, &error)) {
+    if (result.interrupted) {
+      if (!o.quiet) std::cerr << "pbrt: " << error << "\n";
+      return 128 + rt::interrupt_signal();
+    }
     std::cerr << "pbrt: " << error << "\n";
     return result.bad_output ? 2 : 1;
   }

@@ -268,22 +268,55 @@ TEST(Film, SplatsAddAcrossThreadsTimesTheSplatScale) {
   Film film;
   std::string error;
   ASSERT_TRUE(film.build({8, 8}, kFull, box(), 2, 10, 35, "x.exr", &error)) << error;
+  film.add_splat({3.5f, 4.25f}, Rgb(7));  // before enable_splats(): nothing
+  film.enable_splats();
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t)
-    threads.emplace_back([&] {
-      for (int i = 0; i < 1000; ++i) film.add_splat({3.5f, 4.25f}, Rgb(0.5f, 0.25f, 1));
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 1000; ++i) film.add_splat({3.5f, 4.25f}, Rgb(0.5f, 0.25f, 1), t & 1);
     });
   for (auto& t : threads) t.join();
   film.add_splat({3.5f, 4.25f}, Rgb(100, 100, 100));  // luminance 100 > 10: scaled to 10
   film.add_splat({-0.5f, 2}, Rgb(1));                 // outside: dropped
   film.add_splat({2, 2}, Rgb(-1, -1, -1));            // negative luminance: dropped
   film.set_splat_scale(0.001f);
+  EXPECT_EQ(film.pixel({3, 4}), Rgb(0));  // pending until the pass commits them
+  film.commit_splats();
   Rgb p = film.pixel({3, 4});
   EXPECT_NEAR(p.r, 2 * 0.001 * (2000 + 10), 1e-4);
   EXPECT_NEAR(p.b, 2 * 0.001 * (4000 + 10), 1e-4);
   EXPECT_EQ(film.pixel({2, 2}), Rgb(0));
   film.set_pixel({1, 1}, Rgb(3, 2, 1));
   EXPECT_EQ(film.pixel({1, 1}), Rgb(6, 4, 2));
+  // An abandoned pass's splats never count.
+  film.add_splat({5.5f, 5.5f}, Rgb(1));
+  film.discard_splats();
+  film.commit_splats();
+  EXPECT_EQ(film.pixel({5, 5}), Rgb(0));
+}
+
+// The two halves hold disjoint samples and add up to the image; each pair of samples
+// (2i, 2i + 1) of a pixel is split between them.
+TEST(Film, HalvesSplitEachPairAndAddUpToTheImage) {
+  int balance[2] = {0, 0};
+  for (int64_t i = 0; i < 64; i += 2) {
+    const int a = sample_half({3, 7}, i), b = sample_half({3, 7}, i + 1);
+    EXPECT_NE(a, b) << i;
+    ++balance[a];
+  }
+  EXPECT_GT(balance[0], 4);  // random per pair, not always the same way
+  EXPECT_GT(balance[1], 4);
+  Film film;
+  std::string error;
+  ASSERT_TRUE(film.build({4, 4}, kFull, box(), 1, kInfinity, 35, "x.exr", &error)) << error;
+  std::unique_ptr<FilmTile> tile = film.make_tile({{0, 0}, {4, 4}});
+  tile->add_sample({1.5f, 1.5f}, Rgb(1, 2, 3), 1, 0);
+  tile->add_sample({1.5f, 1.5f}, Rgb(3, 2, 1), 1, 1);
+  film.merge_tile(*tile);
+  film.set_sample_count(2);
+  EXPECT_EQ(film.half_pixel({1, 1}, 0), Rgb(1, 2, 3));
+  EXPECT_EQ(film.half_pixel({1, 1}, 1), Rgb(3, 2, 1));
+  EXPECT_EQ(film.pixel({1, 1}), Rgb(2, 2, 2));
 }
 
 TEST(Film, WritesTheCropInsideTheFullFrame) {
