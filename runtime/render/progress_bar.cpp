@@ -1,6 +1,7 @@
 // runtime/render/progress_bar.cpp — see progress_bar.h.
 #include "runtime/render/progress_bar.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "runtime/core/clock.h"
@@ -23,10 +24,11 @@ void ProgressBar::finish() {
   std::fputc('\n', stderr);
 }
 
-void ProgressBar::set_note(const std::string& note, bool replaces_eta) {
+void ProgressBar::set_note(const std::string& note, bool replaces_eta, double fraction) {
   std::lock_guard<std::mutex> lock(m_);
   note_ = note;
   note_replaces_eta_ = replaces_eta;
+  fraction_floor_ = std::min(1.0, fraction);
 }
 
 void ProgressBar::loop() {
@@ -37,13 +39,13 @@ void ProgressBar::loop() {
 
 void ProgressBar::print(bool final) {
   double elapsed = seconds_since(t0_);
-  double f = total_ > 0 ? double(done_.load()) / double(total_) : 1;
+  // m_ is held: loop() calls this under it, and finish() after the thread has ended.
+  double f = std::max(fraction_floor_, total_ > 0 ? double(done_.load()) / double(total_) : 1);
   const int width = 40;
   int bars = int(f * width);
   char bar[width + 1];
   for (int i = 0; i < width; ++i) bar[i] = i < bars ? '+' : ' ';
   bar[width] = 0;
-  // m_ is held: loop() calls this under it, and finish() after the thread has ended.
   const std::string& note = note_;
   const bool own_eta = note_replaces_eta_;
   if (final || f >= 1 || f <= 0 || own_eta)

@@ -5,7 +5,8 @@
 // background thread redraws the line every 250 ms; finish() (or the
 // destructor) draws it once more at its final value and ends the line. Quiet:
 // no thread, no output. set_note() appends text to the line (the render's error
-// estimate); with replaces_eta the note carries its own ETA and the bar's is not shown.
+// estimate); with replaces_eta the note carries its own ETA and the bar's is not shown;
+// the bar then shows at least `fraction` done (the way to a target error).
 #pragma once
 
 #include <atomic>
@@ -27,7 +28,7 @@ class ProgressBar {
 
   void add(int64_t n) { done_.fetch_add(n, std::memory_order_relaxed); }
   void finish();
-  void set_note(const std::string& note, bool replaces_eta);
+  void set_note(const std::string& note, bool replaces_eta, double fraction = 0);
 
  private:
   void loop();
@@ -36,6 +37,7 @@ class ProgressBar {
   std::atomic<int64_t> done_{0};
   std::string note_;  // under m_
   bool note_replaces_eta_ = false;
+  double fraction_floor_ = 0;
   int64_t total_;
   bool stop_ = false;
   std::mutex m_;

@@ -169,7 +169,12 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
       last_estimate = now;
       const ErrorEstimate e = estimate_error(*film);
       bool has_eta = false;
-      progress.set_note(error_note(e, options.target_error, now, &has_eta), has_eta);
+      const std::string note = error_note(e, options.target_error, now, &has_eta);
+      // Towards a target, error falls as 1 / sqrt(samples): (target / err)^2 of the way.
+      const double toward = options.target_error > 0 && e.valid && e.rel_error > 0
+                                ? std::pow(options.target_error / e.rel_error, 2)
+                                : 0;
+      progress.set_note(note, has_eta, toward);
       if (options.target_error > 0 && e.valid && e.rel_error <= options.target_error) {
         stats.stop = StopReason::kTargetError;
         break;
@@ -189,7 +194,8 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
   stats.has_error_estimate = e.valid;
   stats.error_estimate = e.rel_error;
   bool has_eta = false;
-  progress.set_note(error_note(e, 0, 0, &has_eta), false);
+  const std::string note = error_note(e, 0, 0, &has_eta);
+  progress.set_note(note, false, stats.stop == StopReason::kTargetError ? 1 : 0);
   progress.finish();
   stats.samples_per_pixel = film_samples + done;
   for (const ThreadState& ts : threads) {
