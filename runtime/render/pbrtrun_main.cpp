@@ -3,7 +3,7 @@
 //   pbrtrun scene.pbrta [--outfile x.exr] [--spp N] [--resdiv K]
 //           [--cropwindow x0 x1 y0 y1] [--nthreads N] [--seed N] [--quiet] [--stats]
 //           [--target-error P] [--time-limit T] [--checkpoint-every T] [--error-layer]
-//           [--save-state FILE] [--resume FILE]
+//           [--save-state FILE] [--resume FILE] [--shard K/N]
 //
 // Loads the archive (validated, no text parsing), builds Embree's scene and
 // the integrator, renders with a progress bar and writes float32 OpenEXR (or
@@ -90,6 +90,10 @@ int main(int argc, char** argv) {
   app.add_option("--save-state", save_state,
                  "Write the render's raw sums to this file (for pbrt-merge and --resume)");
   app.add_option("--resume", resume, "Continue the render a --save-state file holds");
+  std::string shard;
+  app.add_option("--shard", shard,
+                 "Render only the K-th of N equal sample ranges (K/N, 1-based) to the "
+                 "--save-state file; pbrt-merge joins the N states into the whole render");
   app.add_flag("--stats", show_stats,
                "Print the effects simulated, rays traced, load/build/render times and peak memory");
   CLI11_PARSE(app, argc, argv);
@@ -110,6 +114,18 @@ int main(int argc, char** argv) {
     return fail("error: --checkpoint-every needs a duration such as 30s or 5m, not \"" +
                     checkpoint_every + "\"",
                 2);
+  if (!shard.empty()) {
+    int k = 0, n = 0;
+    char tail = 0;
+    if (std::sscanf(shard.c_str(), "%d/%d%c", &k, &n, &tail) != 2 || k < 1 || n < 1 || k > n)
+      return fail("error: --shard needs K/N with 1 <= K <= N, such as 3/8, not \"" + shard + "\"",
+                  2);
+    if (save_state.empty())
+      return fail("error: --shard renders part of the samples: give --save-state for pbrt-merge",
+                  2);
+    job.shard = k - 1;
+    job.shards = n;
+  }
   int threads = nthreads > 0 ? nthreads : int(tbb::info::default_concurrency());
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
   auto t_start = std::chrono::steady_clock::now();

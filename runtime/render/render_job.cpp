@@ -178,10 +178,10 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.quiet = options.quiet;
   ro.differential_spp = options.differential_spp;
   long long spp = (long long)sampler->samples_per_pixel();
-  const bool passes_asked = options.first_sample > 0 || options.target_error > 0 ||
-                            options.time_limit > 0 || options.checkpoint_every > 0 ||
-                            !options.save_state.empty() || !options.resume.empty() ||
-                            options.error_layer;
+  const bool passes_asked = options.first_sample > 0 || options.shards > 0 ||
+                            options.target_error > 0 || options.time_limit > 0 ||
+                            options.checkpoint_every > 0 || !options.save_state.empty() ||
+                            !options.resume.empty() || options.error_layer;
   if (passes_asked &&
       (settings.type == IntegratorType::kMlt || settings.type == IntegratorType::kSppm)) {
     *error =
@@ -225,6 +225,15 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
       return false;
     }
     ro.first_sample = st.end;
+  } else if (options.shards > 0) {
+    if (options.shard < 0 || options.shard >= options.shards || options.shards > spp) {
+      *error = "error: shard " + std::to_string(options.shard + 1) + "/" +
+               std::to_string(options.shards) + " of " + std::to_string(spp) +
+               " samples per pixel: give 1 <= K <= N <= the sample count";
+      return false;
+    }
+    ro.first_sample = spp * options.shard / options.shards;
+    ro.end_sample = spp * (options.shard + 1) / options.shards;
   } else {
     ro.first_sample = std::min<int64_t>(options.first_sample, spp);
   }

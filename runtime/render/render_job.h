@@ -70,6 +70,9 @@ struct RenderJobOptions {
   // > 0: render only the samples from this index on (a later part of the sequence, for a
   // state to merge with the earlier part's); not with resume.
   int64_t first_sample = 0;
+  // shards > 0: render only the shard-th (0-based) of `shards` equal sample ranges of the
+  // planned count (--shard K/N), for a state that pbrt-merge joins with the others'.
+  int shard = 0, shards = 0;
   std::function<void(const Film&, int64_t, double)> on_pass;  // RenderOptions::on_pass
 };
 

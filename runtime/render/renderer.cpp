@@ -1,9 +1,6 @@
 // runtime/render/renderer.cpp — see renderer.h.
 #include "runtime/render/renderer.h"
 
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,18 +11,11 @@
 #include "runtime/core/clock.h"
 #include "runtime/film/error_estimate.h"
 #include "runtime/render/progress_bar.h"
+#include "runtime/render/tile_renderer.h"
 
 namespace rt {
 
 namespace {
-
-constexpr int kTileSize = 16;
-
-struct ThreadState {
-  RayCounters rays;
-  uint64_t samples = 0, nonfinite = 0;
-  std::unique_ptr<Sampler> sampler;  // cloned once, reused by every tile and pass
-};
 
 // "err 2.3% -> 1%, ETA 41 s": error falls as 1 / sqrt(samples), samples cost time.
 std::string error_note(const ErrorEstimate& e, double target, double seconds, bool* has_eta) {
@@ -52,28 +42,16 @@ int64_t pass_end(int64_t first, int64_t total, bool whole_count_patterns) {
   return std::min(total, first + size);
 }
 
-RenderStats render(const Camera& camera, const Sampler& prototype, const Integrator& integrator,
-                   Film* film, const RenderOptions& options) {
+RenderStats run_passes(Film* film, const Integrator& integrator, int64_t total, bool whole,
+                       int64_t pixels, const RenderOptions& options, const RenderPass& pass) {
   auto t0 = std::chrono::steady_clock::now();
-  Bounds2i sb = film->sample_bounds();
-  const IntegratorSettings& is = integrator.settings();
-  if (is.has_pixel_bounds) sb = intersect(sb, is.pixel_bounds);
   RenderStats stats;
-  const int64_t total = prototype.samples_per_pixel();
-  int64_t done = std::clamp<int64_t>(options.first_sample, 0, total);
+  const int64_t last = options.end_sample > 0 ? std::min(options.end_sample, total) : total;
+  int64_t done = std::clamp<int64_t>(options.first_sample, 0, last);
   const int64_t film_samples = film->sample_count() - done;  // the film's count is this + done
   stats.samples_per_pixel = film->sample_count();
-  if (sb.empty()) return stats;
-  const int nx = (sb.width() + kTileSize - 1) / kTileSize;
-  const int ny = (sb.height() + kTileSize - 1) / kTileSize;
-  const int ntiles = nx * ny;
-  tbb::enumerable_thread_specific<ThreadState> threads;
-  ProgressBar progress((total - done) * sb.area(), options.quiet);
-  std::atomic<bool> first_done{false};
-  std::mutex first_mutex;
-  const float diff_scale =
-      1 / std::sqrt(float(options.differential_spp > 0 ? options.differential_spp : total));
-  const bool whole = prototype.whole_count_patterns();
+  if (pixels <= 0) return stats;
+  ProgressBar progress((last - done) * pixels, options.quiet);
   // Those samplers rebuild every pixel's whole pattern at each pass (a fifth of a render's
   // time, measured on rs-procedural-textures/windy): one pass unless something may stop
   // the render or look at it between passes.
@@ -84,8 +62,8 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
   };
   double last_pass_seconds_per_sample = 0, last_checkpoint = 0, last_estimate = -1;
 
-  while (done < total) {
-    const int64_t end = one_pass ? total : pass_end(done, total, whole);
+  while (done < last) {
+    const int64_t end = one_pass ? last : std::min(last, pass_end(done, total, whole));
     const double elapsed = seconds_since(t0);
     if (options.time_limit > 0 && stats.passes > 0 &&
         options.time_spent + elapsed + last_pass_seconds_per_sample * double(end - done) >
@@ -93,66 +71,12 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
       stats.stop = StopReason::kTimeLimit;
       break;
     }
-    if (interrupted()) {
-      stats.stop = StopReason::kInterrupted;
-      break;
-    }
-    std::vector<std::unique_ptr<FilmTile>> tiles{size_t(ntiles)};
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, ntiles, 1),
-        [&](const tbb::blocked_range<int>& range) {
-          ThreadState& ts = threads.local();
-          if (!ts.sampler) ts.sampler = prototype.clone();
-          Sampler& sampler = *ts.sampler;
-          sampler.set_sample_range(done, end);
-          for (int t = range.begin(); t != range.end(); ++t) {
-            if (interrupted()) return;
-            int tx = t % nx, ty = t / nx;
-            Bounds2i tb{{sb.min.x + tx * kTileSize, sb.min.y + ty * kTileSize},
-                        {std::min(sb.min.x + (tx + 1) * kTileSize, sb.max.x),
-                         std::min(sb.min.y + (ty + 1) * kTileSize, sb.max.y)}};
-            std::unique_ptr<FilmTile> tile = film->make_tile(tb);
-            for (int y = tb.min.y; y < tb.max.y; ++y)
-              for (int x = tb.min.x; x < tb.max.x; ++x) {
-                Point2i pixel{x, y};
-                sampler.start_pixel(pixel);
-                do {
-                  CameraSample cs;
-                  Vec2 u = sampler.get_2d();
-                  cs.p_film = {float(x) + u.x, float(y) + u.y};
-                  cs.time = sampler.get_1d();
-                  cs.p_lens = sampler.get_2d();
-                  RayDifferential ray;
-                  float w = camera.generate_ray_differential(cs, &ray);
-                  ray.scale_differentials(diff_scale);
-                  ++ts.rays.camera_rays;
-                  Rgb l;
-                  if (w > 0) l = integrator.li(ray, sampler, &ts.rays);
-                  if (!l.is_finite()) {
-                    ++ts.nonfinite;
-                    l = Rgb();
-                  }
-                  tile->add_sample(cs.p_film, l, w,
-                                   sample_half(pixel, sampler.current_sample_number()));
-                  ++ts.samples;
-                } while (sampler.start_next_sample());
-              }
-            tiles[size_t(t)] = std::move(tile);
-            progress.add(tb.area() * (end - done));
-            if (!first_done.exchange(true)) {
-              std::lock_guard<std::mutex> lock(first_mutex);
-              stats.first_tile_seconds = seconds_since(t0);
-            }
-          }
-        },
-        tbb::simple_partitioner());
-    if (interrupted()) {  // the pass is incomplete: the film keeps the passes done
+    if (interrupted() || !pass(done, end, &progress)) {  // the film keeps the passes done
       film->discard_splats();
       integrator.end_pass(false, film_samples + done);
       stats.stop = StopReason::kInterrupted;
       break;
     }
-    for (const auto& tile : tiles) film->merge_tile(*tile);
     film->commit_splats();
     last_pass_seconds_per_sample = (seconds_since(t0) - elapsed) / double(end - done);
     done = end;
@@ -180,7 +104,7 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
         break;
       }
     }
-    if (options.checkpoint && options.checkpoint_every > 0 && done < total &&
+    if (options.checkpoint && options.checkpoint_every > 0 && done < last &&
         now - last_checkpoint >= options.checkpoint_every) {
       last_checkpoint = now;
       ++stats.checkpoints;
@@ -198,16 +122,23 @@ RenderStats render(const Camera& camera, const Sampler& prototype, const Integra
   progress.set_note(note, false, stats.stop == StopReason::kTargetError ? 1 : 0);
   progress.finish();
   stats.samples_per_pixel = film_samples + done;
-  for (const ThreadState& ts : threads) {
-    stats.samples += ts.samples;
-    stats.nonfinite_samples += ts.nonfinite;
-    stats.camera_rays += ts.rays.camera_rays;
-    stats.rays += ts.rays.rays;
-    stats.shadow_rays += ts.rays.shadow_rays;
-    stats.paths += ts.rays.paths;
-    stats.zero_radiance_paths += ts.rays.zero_radiance_paths;
-  }
   stats.seconds = seconds_since(t0);
+  return stats;
+}
+
+RenderStats render(const Camera& camera, const Sampler& sampler, const Integrator& integrator,
+                   Film* film, const RenderOptions& options) {
+  TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
+  std::vector<std::unique_ptr<FilmTile>> done;
+  RenderStats stats = run_passes(
+      film, integrator, sampler.samples_per_pixel(), sampler.whole_count_patterns(),
+      tiles.pixel_count(), options, [&](int64_t first, int64_t last, ProgressBar* progress) {
+        if (!tiles.render(first, last, 0, tiles.tile_count(), &done, options.interrupt, progress))
+          return false;
+        for (const auto& tile : done) film->merge_tile(*tile);
+        return true;
+      });
+  tiles.add_counters(&stats);
   return stats;
 }
 

@@ -14,13 +14,11 @@
 // differentials, and so texture filtering, follow the planned count:
 // RenderOptions::differential_spp.)
 //
-// Within a pass the sample bounds are cut into 16x16-pixel tiles rendered in
-// parallel with oneTBB, each with a per-thread sampler and its own film tile;
-// the tiles are merged into the film in tile order once the pass is done, so the
-// image is bit-identical whatever the thread count. Non-finite radiance never
-// reaches the film: such samples are counted and added as black, as pbrt-v3
-// does. After each pass the film's sample count (Film::set_sample_count: what it
-// held before plus the samples rendered) and splat scale (1 / that) are updated.
+// Within a pass the tiles (tile_renderer.h) are rendered in parallel and merged
+// into the film in tile order once the pass is done, so the image is bit-identical
+// whatever the thread count (or the process count, tools/mpi). After each pass the film's sample
+// count (Film::set_sample_count: what it held before plus the samples rendered) and splat scale (1
+// / that) are updated.
 //
 // Stopping: at the planned count (the sampler's), or at the end of a pass once
 // the estimated error (error_estimate.h) is at most target_error, or before a
@@ -40,6 +38,7 @@
 #include "runtime/film/film.h"
 #include "runtime/render/camera.h"
 #include "runtime/render/integrator.h"
+#include "runtime/render/progress_bar.h"
 #include "runtime/sampler/sampler.h"
 
 namespace rt {
@@ -57,6 +56,7 @@ struct RenderOptions {
   // The first sample index to render: resuming (the film holds samples [0, first_sample)
   // already) or rendering a later range of the sequence alone.
   int64_t first_sample = 0;
+  int64_t end_sample = 0;   // > 0: stop before this sample index (a shard's range)
   double target_error = 0;  // > 0: stop once the estimate is at most this (a fraction)
   double time_limit = 0;    // > 0: seconds, counted from time_origin
   double time_spent = 0;    // seconds already spent (loading, building) towards time_limit
@@ -91,5 +91,15 @@ struct RenderStats {
 
 RenderStats render(const Camera& camera, const Sampler& sampler, const Integrator& integrator,
                    Film* film, const RenderOptions& options);
+
+// The pass loop alone, for renders whose passes are rendered elsewhere (MPI): pass(first,
+// last, progress) renders samples [first, last) of every pixel and merges its tiles into
+// the film in tile order, leaving splats pending; false when it was interrupted (the film's
+// sums untouched). total: the planned samples per pixel; whole: the sampler's
+// whole_count_patterns(); pixels: pixels a pass renders (progress). Stats without ray
+// counters (the caller's).
+using RenderPass = std::function<bool(int64_t first, int64_t last, ProgressBar* progress)>;
+RenderStats run_passes(Film* film, const Integrator& integrator, int64_t total, bool whole,
+                       int64_t pixels, const RenderOptions& options, const RenderPass& pass);
 
 }  // namespace rt

@@ -166,6 +166,41 @@ TEST(Passes, MergedRangesAreTheRenderOfAllTheirSamples) {
   EXPECT_NE(error.find("same seed"), std::string::npos) << error;
 }
 
+// --shard K/N: N disjoint sample ranges whose states merge into the whole render, for
+// every sampler (the whole-count ones build their pattern for the whole count in every shard).
+TEST(Passes, ShardsMergeIntoTheWholeRender) {
+  for (const char* sampler : {"halton", "stratified"}) {
+    auto s = compile(std::string("shards_") + sampler, kSamplers + sampler + ".pbrt");
+    RenderState merged;
+    std::string error;
+    for (int k = 0; k < 3; ++k) {
+      RenderJobOptions o = options(32, 9);
+      o.write_files = true;
+      o.outfile = s->dir + "/shard.exr";
+      o.save_state = s->dir + "/shard" + std::to_string(k) + ".state";
+      o.shard = k;
+      o.shards = 3;
+      const RenderJobResult r = run(*s, o);
+      EXPECT_EQ(r.render.samples_per_pixel, 32 * (k + 1) / 3 - 32 * k / 3);
+      RenderState part;
+      ASSERT_TRUE(read_render_state(o.save_state, k == 0 ? &merged : &part, &error)) << error;
+      if (k > 0) {
+        ASSERT_TRUE(merge_state(&merged, part, o.save_state, &error)) << error;
+      }
+    }
+    EXPECT_TRUE(merged.resumable());
+    EXPECT_EQ(merged.samples(), 32);
+    Film film;
+    ASSERT_TRUE(film_of_state(merged, &film, &error)) << error;
+    const ImageRgb m = film.image();
+    const RenderJobResult all = run(*s, options(32, 9));
+    ASSERT_EQ(m.rgb.size(), all.image.rgb.size());
+    for (size_t i = 0; i < m.rgb.size(); ++i)
+      ASSERT_NEAR(m.rgb[i], all.image.rgb[i], 1e-5f * std::max(1.f, all.image.rgb[i]))
+          << sampler << " " << i;
+  }
+}
+
 TEST(Passes, StatesOfAnotherSceneOrFilmAreRefused) {
   auto s = compile("refuse", kSamplers + "halton.pbrt");
   auto t = compile("refuse_other", kSamplers + "sobol.pbrt");

@@ -1,0 +1,72 @@
+// runtime/render/tile_renderer.h — the samples of one pass over some tiles.
+//
+// The film's sample bounds (within the integrator's pixel bounds) are cut into
+// 16x16-pixel tiles numbered in raster order. render() renders tiles [begin, end)
+// for samples [first, last) of every pixel in parallel with oneTBB, each with a
+// per-thread clone of the sampler and its own FilmTile, and returns them in tile
+// order, so what a tile holds depends only on (tile, samples, seed), never on the
+// thread or the process that rendered it: the renderer (renderer.h) merges tiles
+// in order, and so do the processes of an MPI render. Non-finite radiance is
+// counted and added as black, as pbrt-v3 does. Splats (bdpt) go to the film's
+// pending buffer. Counters (rays, samples) accumulate per thread; counters() sums
+// them.
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "runtime/film/film.h"
+#include "runtime/render/camera.h"
+#include "runtime/render/integrator.h"
+#include "runtime/render/progress_bar.h"
+#include "runtime/sampler/sampler.h"
+
+namespace rt {
+
+struct RenderStats;
+
+class TileRenderer {
+ public:
+  static constexpr int kTileSize = 16;
+
+  // differential_spp > 0: ray differentials scaled as for that count, else the sampler's.
+  TileRenderer(const Camera& camera, const Sampler& sampler, const Integrator& integrator,
+               Film* film, int differential_spp);
+  ~TileRenderer();
+
+  int tile_count() const { return nx_ * ny_; }
+  Bounds2i tile_bounds(int t) const;
+  int64_t pixel_count() const { return bounds_.empty() ? 0 : bounds_.area(); }
+
+  // Tiles [begin, end) of the pass over samples [first, last): (*out)[t - begin]. False
+  // when *interrupt became true (some tiles then missing). progress (optional) counts
+  // pixel samples.
+  bool render(int64_t first, int64_t last, int begin, int end,
+              std::vector<std::unique_ptr<FilmTile>>* out, const std::atomic<bool>* interrupt,
+              ProgressBar* progress);
+
+  // Rays, samples and the like so far, added to *stats; seconds from construction to the
+  // first tile finished.
+  void add_counters(RenderStats* stats) const;
+  double first_tile_seconds() const { return first_tile_seconds_.load(); }
+
+ private:
+  struct ThreadState;
+  const Camera& camera_;
+  const Sampler& prototype_;
+  const Integrator& integrator_;
+  Film* film_;
+  Bounds2i bounds_;
+  int nx_ = 0, ny_ = 0;
+  float diff_scale_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  std::atomic<double> first_tile_seconds_{-1};
+  std::unique_ptr<tbb::enumerable_thread_specific<ThreadState>> threads_;
+};
+
+}  // namespace rt
