@@ -21,6 +21,8 @@ packages=(
   libopenimageio-dev
   # the renderer: ray/scene intersection, EXR output, PNG previews
   libembree-dev libopenexr-dev libimath-dev libpng-dev
+  # rendering one image across machines (pbrtrun-mpi) and its tests (mpirun)
+  openmpi-bin libopenmpi-dev
   # tests and benchmarks; python3 runs the archive reader written from the spec alone
   libgtest-dev libgmock-dev libbenchmark-dev python3
   # real files nobody here wrote, for the first-contact tests (OBJ/MTL with JPEG maps, old PLY)

@@ -196,6 +196,20 @@ void Film::discard_splats() {
     pending_[i].store(0, std::memory_order_relaxed);
 }
 
+std::vector<double> Film::pending_splats() const {
+  std::vector<double> out;
+  if (!splats_enabled_) return out;
+  out.resize(2 * splats_[0].size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = pending_[i].load(std::memory_order_relaxed);
+  return out;
+}
+
+void Film::set_pending_splats(const std::vector<double>& values) {
+  if (!splats_enabled_ || values.size() != 2 * splats_[0].size()) return;
+  for (size_t i = 0; i < values.size(); ++i)
+    pending_[i].store(values[i], std::memory_order_relaxed);
+}
+
 void Film::set_pixel(Point2i p, Rgb v) {
   if (!cropped_.inside(p)) return;
   const size_t i = index(p);

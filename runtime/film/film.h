@@ -83,6 +83,9 @@ class FilmTile {
   // half: sample_half() of the sample.
   void add_sample(Vec2 p_film, Rgb L, float sample_weight = 1, int half = 0);
   FilmPixelSum sum(Point2i p) const;  // both halves; p inside pixel_bounds()
+  // One half's sums, pixel_bounds() in row order (to send a tile to another process).
+  std::vector<FilmPixelSum>& half_sums(int half) { return pixels_[half & 1]; }
+  const std::vector<FilmPixelSum>& half_sums(int half) const { return pixels_[half & 1]; }
 
  private:
   friend class Film;
@@ -129,6 +132,10 @@ class Film {
   void add_splat(Vec2 p_film, Rgb v, int half = 0);
   void commit_splats();   // pending splats join the image (not thread-safe)
   void discard_splats();  // pending splats are dropped (an abandoned pass)
+  // The pending splats as plain values (2 halves x 3 per pixel; empty without splats) and
+  // back (not thread-safe): to add up the splats of processes rendering one pass.
+  std::vector<double> pending_splats() const;
+  void set_pending_splats(const std::vector<double>& values);
   void set_splat_scale(float s) { splat_scale_ = s; }
   // Samples per pixel rendered so far, for the half images' splat scales: half 0
   // holds about ceil(n / 2) of them, half 1 floor(n / 2) (exactly, for even n).

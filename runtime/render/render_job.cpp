@@ -71,7 +71,7 @@ bool apply_overrides(const RenderJobOptions& o, IntegratorSettings* s, std::stri
 bool render_integrator(const RenderScene& scene, const Camera& camera, const Sampler& sampler,
                        const Integrator& integrator, Film* film, int spp_override, uint64_t seed,
                        bool quick, const RenderOptions& options, RenderStats* stats, long long* spp,
-                       std::string* error) {
+                       std::string* error, const RenderJobOptions* job) {
   const IntegratorSettings& settings = integrator.settings();
   if (settings.type == IntegratorType::kMlt) {
     MltSettings ms = mlt_settings(settings, spp_override, seed);
@@ -90,7 +90,8 @@ bool render_integrator(const RenderScene& scene, const Camera& camera, const Sam
     *stats = render_sppm(scene, camera, film, ss, options);
     return true;
   }
-  *stats = render(camera, sampler, integrator, film, options);
+  *stats = job && job->render_loop ? job->render_loop(camera, sampler, integrator, film, options)
+                                   : render(camera, sampler, integrator, film, options);
   *spp = stats->samples_per_pixel;
   return true;
 }
@@ -271,7 +272,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.interrupt = options.interrupt;
   ro.on_pass = options.on_pass;
   if (!render_integrator(scene, camera, *sampler, integrator, &film, options.spp, options.seed,
-                         options.quick, ro, &result->render, &spp, error))
+                         options.quick, ro, &result->render, &spp, error, &options))
     return false;
   if (result->render.stop == StopReason::kError) {
     *error = "error: " + result->render.error;

@@ -74,6 +74,11 @@ struct RenderJobOptions {
   // planned count (--shard K/N), for a state that pbrt-merge joins with the others'.
   int shard = 0, shards = 0;
   std::function<void(const Film&, int64_t, double)> on_pass;  // RenderOptions::on_pass
+  // Replaces render() as the loop of the sample-based integrators (an MPI render's
+  // processes: tools/mpi); called with everything built, as render() would be.
+  std::function<RenderStats(const Camera&, const Sampler&, const Integrator&, Film*,
+                            const RenderOptions&)>
+      render_loop;
 };
 
 struct RenderJobResult {
@@ -105,7 +110,8 @@ struct RenderJobResult {
                                      const Sampler& sampler, const Integrator& integrator,
                                      Film* film, int spp_override, uint64_t seed, bool quick,
                                      const RenderOptions& options, RenderStats* stats,
-                                     long long* spp, std::string* error);
+                                     long long* spp, std::string* error,
+                                     const RenderJobOptions* job = nullptr);
 
 // "2.31%": an error estimate (a fraction) as the progress line and --stats print it.
 std::string error_percent(double fraction);

@@ -1,0 +1,213 @@
+// tools/mpi/mpi_render.cpp — see mpi_render.h.
+#include "tools/mpi/mpi_render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "runtime/render/renderer.h"
+#include "runtime/render/tile_renderer.h"
+
+namespace mpi_render {
+namespace {
+
+constexpr int kCounters = 7;
+
+void get_counters(const rt::RenderStats& s, uint64_t out[kCounters]) {
+  const uint64_t v[kCounters] = {
+      s.samples, s.nonfinite_samples,  s.camera_rays, s.rays, s.shadow_rays,
+      s.paths,   s.zero_radiance_paths};
+  std::memcpy(out, v, sizeof v);
+}
+
+void add_counters(const uint64_t in[kCounters], rt::RenderStats* s) {
+  s->samples += in[0];
+  s->nonfinite_samples += in[1];
+  s->camera_rays += in[2];
+  s->rays += in[3];
+  s->shadow_rays += in[4];
+  s->paths += in[5];
+  s->zero_radiance_paths += in[6];
+}
+
+void slow_down(const Slowdown& slow, int rank, int tiles) {
+  if (slow.rank == rank && slow.seconds_per_tile > 0)
+    std::this_thread::sleep_for(std::chrono::duration<double>(slow.seconds_per_tile * tiles));
+}
+
+// Every process's pending splats added into rank 0's (a collective call).
+void reduce_splats(rt::Film* film, int rank, bool keep) {
+  if (!film->has_splats()) return;
+  std::vector<double> v = film->pending_splats();
+  if (rank == 0) {
+    MPI_Reduce(MPI_IN_PLACE, v.data(), int(v.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    if (keep) film->set_pending_splats(v);
+  } else {
+    MPI_Reduce(v.data(), nullptr, int(v.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+    film->discard_splats();
+  }
+}
+
+}  // namespace
+
+rt::RenderStats lead(const rt::Camera& camera, const rt::Sampler& sampler,
+                     const rt::Integrator& integrator, rt::Film* film,
+                     const rt::RenderOptions& options, int size, int threads,
+                     const Slowdown& slow) {
+  rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
+  const int ntiles = tiles.tile_count();
+  std::vector<int> waiting(size_t(size), 0);  // threads of a rank waiting for tiles; 0: busy
+  auto interrupted = [&] {
+    return options.interrupt && options.interrupt->load(std::memory_order_relaxed);
+  };
+  std::vector<char> buffer;
+
+  auto pass = [&](int64_t first, int64_t last, rt::ProgressBar* progress) {
+    std::vector<std::unique_ptr<rt::FilmTile>> done{size_t(ntiles)};
+    std::atomic<int> next{0}, completed{0};
+    std::atomic<bool> local_done{false};
+    int in_flight = 0;  // tiles handed to other ranks, not back yet
+    std::thread local([&] {
+      std::vector<std::unique_ptr<rt::FilmTile>> out;
+      for (;;) {
+        const int b = next.fetch_add(threads);
+        if (b >= ntiles || interrupted()) break;
+        const int e = std::min(ntiles, b + threads);
+        if (!tiles.render(first, last, b, e, &out, options.interrupt, progress)) break;
+        slow_down(slow, 0, e - b);
+        for (int t = b; t < e; ++t) done[size_t(t)] = std::move(out[size_t(t - b)]);
+        completed += e - b;
+      }
+      local_done = true;
+    });
+    auto hand_out = [&] {
+      for (int r = 1; r < size; ++r) {
+        if (waiting[size_t(r)] == 0 || interrupted()) continue;
+        const int b = next.fetch_add(waiting[size_t(r)]);
+        if (b >= ntiles) continue;
+        const int e = std::min(ntiles, b + waiting[size_t(r)]);
+        struct {
+          int64_t first, last;
+          int32_t begin, end;
+        } msg{first, last, b, e};
+        MPI_Send(&msg, int(sizeof msg), MPI_BYTE, r, kTiles, MPI_COMM_WORLD);
+        in_flight += e - b;
+        waiting[size_t(r)] = 0;
+      }
+    };
+    hand_out();
+    while (completed.load() < ntiles || in_flight > 0) {
+      if (local_done && in_flight == 0 && (interrupted() || next.load() >= ntiles) &&
+          completed.load() < ntiles)
+        break;  // abandoned: nothing more will come
+      int flag = 0;
+      MPI_Status st;
+      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+      if (!flag) {
+        std::this_thread::sleep_for(std::chrono::microseconds(50));
+        continue;
+      }
+      int bytes = 0;
+      MPI_Get_count(&st, MPI_BYTE, &bytes);
+      buffer.resize(size_t(std::max(bytes, 1)));
+      MPI_Recv(buffer.data(), bytes, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
+               MPI_STATUS_IGNORE);
+      if (st.MPI_TAG == kAsk) {
+        int32_t n = 1;
+        std::memcpy(&n, buffer.data(), sizeof n);
+        waiting[size_t(st.MPI_SOURCE)] = std::max(1, n);
+      } else if (st.MPI_TAG == kSums) {
+        int32_t range[2];
+        std::memcpy(range, buffer.data(), sizeof range);
+        size_t at = sizeof range;
+        for (int t = range[0]; t < range[1]; ++t) {
+          const rt::Bounds2i tb = tiles.tile_bounds(t);
+          std::unique_ptr<rt::FilmTile> tile = film->make_tile(tb);
+          for (int h = 0; h < 2; ++h) {
+            std::vector<rt::FilmPixelSum>& sums = tile->half_sums(h);
+            std::memcpy(sums.data(), buffer.data() + at, sums.size() * sizeof(rt::FilmPixelSum));
+            at += sums.size() * sizeof(rt::FilmPixelSum);
+          }
+          done[size_t(t)] = std::move(tile);
+          if (progress) progress->add(tb.area() * (last - first));
+        }
+        completed += range[1] - range[0];
+        in_flight -= range[1] - range[0];
+      }
+      hand_out();
+    }
+    local.join();
+    const bool whole = completed.load() == ntiles && !interrupted();
+    const int32_t keep = whole ? 1 : 0;
+    for (int r = 1; r < size; ++r)
+      MPI_Send(&keep, int(sizeof keep), MPI_BYTE, r, kPassEnd, MPI_COMM_WORLD);
+    reduce_splats(film, 0, whole);
+    if (!whole) return false;
+    for (const auto& tile : done) film->merge_tile(*tile);
+    return true;
+  };
+
+  rt::RenderStats stats =
+      rt::run_passes(film, integrator, sampler.samples_per_pixel(), sampler.whole_count_patterns(),
+                     tiles.pixel_count(), options, pass);
+  tiles.add_counters(&stats);
+  uint64_t mine[kCounters] = {}, sum[kCounters] = {};
+  const char nothing = 0;
+  for (int r = 1; r < size; ++r) MPI_Send(&nothing, 1, MPI_BYTE, r, kStop, MPI_COMM_WORLD);
+  MPI_Reduce(mine, sum, kCounters, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+  add_counters(sum, &stats);
+  return stats;
+}
+
+rt::RenderStats follow(const rt::Camera& camera, const rt::Sampler& sampler,
+                       const rt::Integrator& integrator, rt::Film* film,
+                       const rt::RenderOptions& options, int rank, int threads,
+                       const Slowdown& slow) {
+  rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
+  const int32_t ask = threads;
+  MPI_Send(&ask, int(sizeof ask), MPI_BYTE, 0, kAsk, MPI_COMM_WORLD);
+  std::vector<char> buffer(64), out;
+  std::vector<std::unique_ptr<rt::FilmTile>> rendered;
+  for (;;) {
+    MPI_Status st;
+    MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &st);
+    int bytes = 0;
+    MPI_Get_count(&st, MPI_BYTE, &bytes);
+    buffer.resize(size_t(std::max(bytes, 1)));
+    MPI_Recv(buffer.data(), bytes, MPI_BYTE, 0, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (st.MPI_TAG == kStop) break;
+    if (st.MPI_TAG == kPassEnd) {
+      reduce_splats(film, rank, false);
+      continue;
+    }
+    struct {
+      int64_t first, last;
+      int32_t begin, end;
+    } msg;
+    std::memcpy(&msg, buffer.data(), sizeof msg);
+    (void)tiles.render(msg.first, msg.last, msg.begin, msg.end, &rendered, nullptr, nullptr);
+    slow_down(slow, rank, msg.end - msg.begin);
+    const int32_t range[2] = {msg.begin, msg.end};
+    out.assign(reinterpret_cast<const char*>(range), reinterpret_cast<const char*>(range + 2));
+    for (const auto& tile : rendered)
+      for (int h = 0; h < 2; ++h) {
+        const std::vector<rt::FilmPixelSum>& sums = tile->half_sums(h);
+        const char* p = reinterpret_cast<const char*>(sums.data());
+        out.insert(out.end(), p, p + sums.size() * sizeof(rt::FilmPixelSum));
+      }
+    MPI_Send(out.data(), int(out.size()), MPI_BYTE, 0, kSums, MPI_COMM_WORLD);
+    MPI_Send(&ask, int(sizeof ask), MPI_BYTE, 0, kAsk, MPI_COMM_WORLD);
+  }
+  rt::RenderStats stats;
+  tiles.add_counters(&stats);
+  uint64_t mine[kCounters];
+  get_counters(stats, mine);
+  MPI_Reduce(mine, nullptr, kCounters, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+  return stats;
+}
+
+}  // namespace mpi_render
