@@ -2,7 +2,6 @@
 #include "tools/mpi/mpi_render.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <memory>
@@ -60,7 +59,8 @@ rt::RenderStats lead(const rt::Camera& camera, const rt::Sampler& sampler,
                      const Slowdown& slow) {
   rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
   const int ntiles = tiles.tile_count();
-  std::vector<int> waiting(size_t(size), 0);  // threads of a rank waiting for tiles; 0: busy
+  // Per rank: the tiles it asks for at a time, and how many of its asks are unanswered.
+  std::vector<int> chunk(size_t(size), 1), asks(size_t(size), 0);
   auto interrupted = [&] {
     return options.interrupt && options.interrupt->load(std::memory_order_relaxed);
   };
@@ -68,80 +68,85 @@ rt::RenderStats lead(const rt::Camera& camera, const rt::Sampler& sampler,
 
   auto pass = [&](int64_t first, int64_t last, rt::ProgressBar* progress) {
     std::vector<std::unique_ptr<rt::FilmTile>> done{size_t(ntiles)};
-    std::atomic<int> next{0}, completed{0};
-    std::atomic<bool> local_done{false};
-    int in_flight = 0;  // tiles handed to other ranks, not back yet
-    std::thread local([&] {
-      std::vector<std::unique_ptr<rt::FilmTile>> out;
+    std::vector<std::unique_ptr<rt::FilmTile>> out;
+    int next = 0, completed = 0, in_flight = 0;  // in_flight: tiles other ranks have
+    // A rank gets tiles while it has requests open (up to three: the next tiles are there
+    // when it is done), but not the last ones: once what is left is no more than the other
+    // ranks hold, rank 0 renders the rest itself while they finish theirs, and nobody waits
+    // at the end of the pass for tiles queued at one rank.
+    auto hand_out = [&] {
+      for (int r = 1; r < size; ++r)
+        while (asks[size_t(r)] > 0 && ntiles - next > in_flight && !interrupted()) {
+          const int b = next, e = std::min(ntiles, b + chunk[size_t(r)]);
+          next = e;
+          struct {
+            int64_t first, last;
+            int32_t begin, end;
+          } msg{first, last, b, e};
+          MPI_Send(&msg, int(sizeof msg), MPI_BYTE, r, kTiles, MPI_COMM_WORLD);
+          in_flight += e - b;
+          --asks[size_t(r)];
+        }
+    };
+    // Every message waiting: asks and tile sums.
+    auto receive = [&] {
       for (;;) {
-        const int b = next.fetch_add(threads);
-        if (b >= ntiles || interrupted()) break;
-        const int e = std::min(ntiles, b + threads);
-        if (!tiles.render(first, last, b, e, &out, options.interrupt, progress)) break;
+        int flag = 0;
+        MPI_Status st;
+        MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
+        if (!flag) return;
+        int bytes = 0;
+        MPI_Get_count(&st, MPI_BYTE, &bytes);
+        buffer.resize(size_t(std::max(bytes, 1)));
+        MPI_Recv(buffer.data(), bytes, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
+                 MPI_STATUS_IGNORE);
+        if (st.MPI_TAG == kAsk) {
+          int32_t n = 1;
+          std::memcpy(&n, buffer.data(), sizeof n);
+          chunk[size_t(st.MPI_SOURCE)] = std::max(1, n);
+          ++asks[size_t(st.MPI_SOURCE)];
+        } else if (st.MPI_TAG == kSums) {
+          int32_t range[2];
+          std::memcpy(range, buffer.data(), sizeof range);
+          size_t at = sizeof range;
+          for (int t = range[0]; t < range[1]; ++t) {
+            const rt::Bounds2i tb = tiles.tile_bounds(t);
+            std::unique_ptr<rt::FilmTile> tile = film->make_tile(tb);
+            for (int h = 0; h < 2; ++h) {
+              std::vector<rt::FilmPixelSum>& sums = tile->half_sums(h);
+              std::memcpy(sums.data(), buffer.data() + at, sums.size() * sizeof(rt::FilmPixelSum));
+              at += sums.size() * sizeof(rt::FilmPixelSum);
+            }
+            done[size_t(t)] = std::move(tile);
+            if (progress) progress->add(tb.area() * (last - first));
+          }
+          completed += range[1] - range[0];
+          in_flight -= range[1] - range[0];
+        }
+      }
+    };
+    // This thread talks MPI between its own chunks of tiles (one tile per thread), so it
+    // answers within one tile's time while the other ranks work through queued requests.
+    bool stopped = false;
+    for (;;) {
+      receive();
+      hand_out();
+      if (!stopped && next < ntiles && !interrupted()) {
+        const int b = next, e = std::min(ntiles, b + threads);
+        next = e;
+        if (!tiles.render(first, last, b, e, &out, options.interrupt, progress)) {
+          stopped = true;
+          continue;
+        }
         slow_down(slow, 0, e - b);
         for (int t = b; t < e; ++t) done[size_t(t)] = std::move(out[size_t(t - b)]);
         completed += e - b;
-      }
-      local_done = true;
-    });
-    auto hand_out = [&] {
-      for (int r = 1; r < size; ++r) {
-        if (waiting[size_t(r)] == 0 || interrupted()) continue;
-        const int b = next.fetch_add(waiting[size_t(r)]);
-        if (b >= ntiles) continue;
-        const int e = std::min(ntiles, b + waiting[size_t(r)]);
-        struct {
-          int64_t first, last;
-          int32_t begin, end;
-        } msg{first, last, b, e};
-        MPI_Send(&msg, int(sizeof msg), MPI_BYTE, r, kTiles, MPI_COMM_WORLD);
-        in_flight += e - b;
-        waiting[size_t(r)] = 0;
-      }
-    };
-    hand_out();
-    while (completed.load() < ntiles || in_flight > 0) {
-      if (local_done && in_flight == 0 && (interrupted() || next.load() >= ntiles) &&
-          completed.load() < ntiles)
-        break;  // abandoned: nothing more will come
-      int flag = 0;
-      MPI_Status st;
-      MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
-      if (!flag) {
-        std::this_thread::sleep_for(std::chrono::microseconds(50));
         continue;
       }
-      int bytes = 0;
-      MPI_Get_count(&st, MPI_BYTE, &bytes);
-      buffer.resize(size_t(std::max(bytes, 1)));
-      MPI_Recv(buffer.data(), bytes, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD,
-               MPI_STATUS_IGNORE);
-      if (st.MPI_TAG == kAsk) {
-        int32_t n = 1;
-        std::memcpy(&n, buffer.data(), sizeof n);
-        waiting[size_t(st.MPI_SOURCE)] = std::max(1, n);
-      } else if (st.MPI_TAG == kSums) {
-        int32_t range[2];
-        std::memcpy(range, buffer.data(), sizeof range);
-        size_t at = sizeof range;
-        for (int t = range[0]; t < range[1]; ++t) {
-          const rt::Bounds2i tb = tiles.tile_bounds(t);
-          std::unique_ptr<rt::FilmTile> tile = film->make_tile(tb);
-          for (int h = 0; h < 2; ++h) {
-            std::vector<rt::FilmPixelSum>& sums = tile->half_sums(h);
-            std::memcpy(sums.data(), buffer.data() + at, sums.size() * sizeof(rt::FilmPixelSum));
-            at += sums.size() * sizeof(rt::FilmPixelSum);
-          }
-          done[size_t(t)] = std::move(tile);
-          if (progress) progress->add(tb.area() * (last - first));
-        }
-        completed += range[1] - range[0];
-        in_flight -= range[1] - range[0];
-      }
-      hand_out();
+      if (completed == ntiles || (in_flight == 0 && (stopped || interrupted()))) break;
+      std::this_thread::sleep_for(std::chrono::microseconds(50));  // other ranks' tiles
     }
-    local.join();
-    const bool whole = completed.load() == ntiles && !interrupted();
+    const bool whole = completed == ntiles && !interrupted();
     const int32_t keep = whole ? 1 : 0;
     for (int r = 1; r < size; ++r)
       MPI_Send(&keep, int(sizeof keep), MPI_BYTE, r, kPassEnd, MPI_COMM_WORLD);
@@ -169,8 +174,12 @@ rt::RenderStats follow(const rt::Camera& camera, const rt::Sampler& sampler,
                        const Slowdown& slow) {
   rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
   const int32_t ask = threads;
-  MPI_Send(&ask, int(sizeof ask), MPI_BYTE, 0, kAsk, MPI_COMM_WORLD);
-  std::vector<char> buffer(64), out;
+  // Requests ahead of need (rank 0 decides how many it answers): the next tiles are here
+  // when these are done.
+  for (int i = 0; i < 3; ++i) MPI_Send(&ask, int(sizeof ask), MPI_BYTE, 0, kAsk, MPI_COMM_WORLD);
+  std::vector<char> buffer(64), out[2];
+  MPI_Request sent[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
+  int which = 0;
   std::vector<std::unique_ptr<rt::FilmTile>> rendered;
   for (;;) {
     MPI_Status st;
@@ -191,17 +200,22 @@ rt::RenderStats follow(const rt::Camera& camera, const rt::Sampler& sampler,
     std::memcpy(&msg, buffer.data(), sizeof msg);
     (void)tiles.render(msg.first, msg.last, msg.begin, msg.end, &rendered, nullptr, nullptr);
     slow_down(slow, rank, msg.end - msg.begin);
+    // Sent without waiting for rank 0 to take it; the buffer of two sends ago is free.
+    MPI_Wait(&sent[which], MPI_STATUS_IGNORE);
+    std::vector<char>& o = out[which];
     const int32_t range[2] = {msg.begin, msg.end};
-    out.assign(reinterpret_cast<const char*>(range), reinterpret_cast<const char*>(range + 2));
+    o.assign(reinterpret_cast<const char*>(range), reinterpret_cast<const char*>(range + 2));
     for (const auto& tile : rendered)
       for (int h = 0; h < 2; ++h) {
         const std::vector<rt::FilmPixelSum>& sums = tile->half_sums(h);
         const char* p = reinterpret_cast<const char*>(sums.data());
-        out.insert(out.end(), p, p + sums.size() * sizeof(rt::FilmPixelSum));
+        o.insert(o.end(), p, p + sums.size() * sizeof(rt::FilmPixelSum));
       }
-    MPI_Send(out.data(), int(out.size()), MPI_BYTE, 0, kSums, MPI_COMM_WORLD);
+    MPI_Isend(o.data(), int(o.size()), MPI_BYTE, 0, kSums, MPI_COMM_WORLD, &sent[which]);
+    which ^= 1;
     MPI_Send(&ask, int(sizeof ask), MPI_BYTE, 0, kAsk, MPI_COMM_WORLD);
   }
+  MPI_Waitall(2, sent, MPI_STATUSES_IGNORE);
   rt::RenderStats stats;
   tiles.add_counters(&stats);
   uint64_t mine[kCounters];

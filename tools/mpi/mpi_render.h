@@ -4,7 +4,8 @@
 // rank 0 runs the pass loop (renderer.h: stopping rules, error estimate, checkpoints,
 // states, files) and, for each pass, hands out tiles on request: a rank asks with the
 // number of threads it renders with and gets that many consecutive tiles (so fast and
-// slow ranks finish a pass together), sends their sums back and asks again. Rank 0
+// slow ranks finish a pass together), sends their sums back and asks again; each rank
+// keeps two requests open, so its next tiles are there when it is done. Rank 0
 // renders tiles too, on a thread of its own beside the one that talks MPI. When every
 // tile of a pass is back, the ranks add their pending splats (bdpt) to rank 0's with one
 // MPI_Reduce, and rank 0 merges the tiles in tile order: the image of a given seed is the
@@ -12,7 +13,7 @@
 // At the end the ranks' counters are summed into rank 0's statistics.
 //
 // Messages (tags below), all between rank 0 and one other rank:
-//   kAsk     r -> 0  int32 threads                  (ready for tiles)
+//   kAsk     r -> 0  int32 threads                  (ready for tiles; two outstanding)
 //   kTiles   0 -> r  int64 first, last; int32 begin, end   (render these tiles of a pass)
 //   kSums    r -> 0  int32 begin, end; then per tile, half 0 then 1, the FilmPixelSums
 //                    of its pixel bounds (4 doubles each); then the rank asks again
