@@ -157,6 +157,8 @@ bool read_render_state(const std::string& path, RenderState* s, std::string* err
       s->cropped.max.x > s->full_resolution.x || s->cropped.max.y > s->full_resolution.y)
     return bad("its pixel bounds " + bounds_text(s->cropped) + " are not inside the film");
   const uint64_t pixels = uint64_t(s->cropped.area());
+  if (pixels > in.size() / 64)  // 64 bytes of sums per pixel at least: no overflow below
+    return bad("its pixel bounds " + bounds_text(s->cropped) + " need more bytes than it has");
   const uint64_t need =
       kFixedBytes + config_bytes + pixels * 2 * 32 + ((flags & 1) ? pixels * 2 * 24 : 0) + 8;
   if (need != in.size())

@@ -76,6 +76,8 @@ bool to_job(const PbrtrunArgs& a, RenderJobOptions* job, std::string* error) {
     if (std::sscanf(a.shard.c_str(), "%d/%d%c", &k, &n, &tail) != 2 || k < 1 || n < 1 || k > n)
       return fail("error: --shard needs K/N with 1 <= K <= N, such as 3/8, not \"" + a.shard +
                   "\"");
+    if (!a.resume.empty())
+      return fail("error: --shard and --resume cannot be given together (a shard is a new render)");
     if (a.save_state.empty())
       return fail("error: --shard renders part of the samples: give --save-state for pbrt-merge");
     job->shard = k - 1;

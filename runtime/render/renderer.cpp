@@ -55,8 +55,10 @@ RenderStats run_passes(Film* film, const Integrator& integrator, int64_t total, 
   // Those samplers rebuild every pixel's whole pattern at each pass (a fifth of a render's
   // time, measured on rs-procedural-textures/windy): one pass unless something may stop
   // the render or look at it between passes.
+  // A resumed render continues in passes, as the render it resumes (which checkpointed) did.
   const bool one_pass = whole && options.target_error <= 0 && options.time_limit <= 0 &&
-                        options.checkpoint_every <= 0 && !options.on_pass;
+                        options.checkpoint_every <= 0 && !options.on_pass &&
+                        (options.first_sample == 0 || options.end_sample > 0);
   auto interrupted = [&] {
     return options.interrupt && options.interrupt->load(std::memory_order_relaxed);
   };

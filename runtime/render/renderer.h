@@ -2,23 +2,26 @@
 //
 // The render visits every pixel in passes, each adding the next samples of the
 // pixel's sequence (Sampler::set_sample_range): passes of 1, 1, 2, 4 and 8
-// samples, then 8 at a time (kMaxPassSamples); samplers whose patterns span the
+// samples, then 8 at a time (kMaxPassSamples). Samplers whose patterns span the
 // whole count (Sampler::whole_count_patterns: stratified, 02sequence, maxmindist)
-// keep doubling (1, 1, 2, 4, 8, 16, ...), since each pass rebuilds their pixel
-// patterns, and render in one pass when nothing may stop the render early or look
-// at it between passes (no target error, time limit, checkpoints or on_pass). The pass sizes depend
-// only on the sample index, so a render stopped after N passes holds exactly the samples of a
-// render whose count ends there, added in the same order: the same image, bit for bit, with any
-// sampler whose values do not depend on the total count (halton, sobol, random); the pixel samplers
-// stratify over the count they were built for, so theirs is only statistically the same. (Ray
-// differentials, and so texture filtering, follow the planned count:
-// RenderOptions::differential_spp.)
+// rebuild every pixel's pattern at each pass, so they keep doubling (1, 1, 2, 4,
+// 8, 16, ...), and render in one pass when nothing may stop the render early or
+// look at it between passes (no target error, time limit, checkpoints or on_pass;
+// not resuming).
+//
+// The pass sizes depend only on the sample index, so a render stopped after N
+// passes holds exactly the samples of a render whose count ends there, added in
+// the same order: the same image, bit for bit, with any sampler whose values do
+// not depend on the total count (halton, sobol, random). The pixel samplers
+// stratify over the count they were built for, so theirs is only statistically
+// the same. Ray differentials, and so texture filtering, follow the planned
+// count (RenderOptions::differential_spp).
 //
 // Within a pass the tiles (tile_renderer.h) are rendered in parallel and merged
 // into the film in tile order once the pass is done, so the image is bit-identical
-// whatever the thread count (or the process count, tools/mpi). After each pass the film's sample
-// count (Film::set_sample_count: what it held before plus the samples rendered) and splat scale (1
-// / that) are updated.
+// whatever the thread count (or the process count, tools/mpi). After each pass the
+// film's sample count (Film::set_sample_count: what it held before plus the
+// samples rendered) and splat scale (1 / that) are updated.
 //
 // Stopping: at the planned count (the sampler's), or at the end of a pass once
 // the estimated error (error_estimate.h) is at most target_error, or before a

@@ -67,8 +67,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!quiet) {
-    std::cerr << "pbrt-merge: " << inputs.size() << " states, " << merged.samples()
-              << " samples per pixel";
+    std::cerr << "pbrt-merge: " << inputs.size() << (inputs.size() == 1 ? " state, " : " states, ")
+              << merged.samples() << " samples per pixel";
     if (e.valid) std::cerr << ", estimated error " << rt::error_percent(e.rel_error);
     std::cerr << "\n";
   }
