@@ -99,6 +99,27 @@ TEST(Mpi, ADamagedArchiveOnOneRankIsReportedByIt) {
   EXPECT_FALSE(fs::exists(dir + "/d.exr"));
 }
 
+// Integrators that do not render in passes of tiles are refused before any rendering.
+TEST(Mpi, SppmAndMltAreRefused) {
+  const std::string dir = scratch_dir("mpi_refused");
+  for (const char* integrator : {"sppm", "mlt"}) {
+    write_file(dir + "/s.pbrt", std::string("LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+                                            "Film \"image\" \"integer xresolution\" 8 "
+                                            "\"integer yresolution\" 8\nIntegrator \"") +
+                                    integrator +
+                                    "\"\nWorldBegin\nLightSource \"point\"\n"
+                                    "Shape \"sphere\"\nWorldEnd\n");
+    ASSERT_EQ(run_in(dir, kBin + "/pbrtc -q s.pbrt -o s.pbrta", "c").status, 0);
+    const Outcome r = run_in(dir, mpi(2, "s.pbrta -q -o s.exr"), integrator);
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(
+        r.err.find(std::string("not supported yet: the ") + integrator + " integrator under MPI"),
+        std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir + "/s.exr"));
+  }
+}
+
 // The rank of a process, from the environment Open MPI gives it; -1 if not one.
 int rank_of(const std::string& pid) {
   const std::string env = read_file("/proc/" + pid + "/environ");

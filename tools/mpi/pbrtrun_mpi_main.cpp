@@ -8,7 +8,8 @@
 // file. A rank that cannot load it says so ("rank R: error: ...") and the job exits 1. Then
 // every rank builds the scene and rank 0 leads the render (mpi_render.h): the same progress
 // line, stopping rules, checkpoints, states and files as pbrtrun, the image of one process
-// for the same seed. sppm and mlt are refused (they do not render in passes of tiles).
+// for the same seed. sppm and mlt are refused (they do not render in passes of tiles), and
+// bdpt's strategy images (each rank's would hold only its own paths).
 // If a rank dies the job ends (MPI's default error handler); --checkpoint-every with
 // --save-state leaves a state that a rerun with --resume continues, losing at most one
 // checkpoint interval. Test hooks: --slow-rank R --slow-tile-seconds S.
@@ -152,12 +153,16 @@ int main(int argc, char** argv) {
   const double t_archive = rt::seconds_since(t_start);
   rt::IntegratorSettings settings;
   if (!rt::read_integrator(archive, &settings, &error) ||
-      settings.type == rt::IntegratorType::kMlt || settings.type == rt::IntegratorType::kSppm) {
+      settings.type == rt::IntegratorType::kMlt || settings.type == rt::IntegratorType::kSppm ||
+      settings.bdpt_visualize_strategies || settings.bdpt_visualize_weights) {
+    const std::string type(archive.type_name(archive.scene().integrator));
     if (g_rank == 0)
-      say(error.empty() ? "not supported yet: the " +
-                              std::string(archive.type_name(archive.scene().integrator)) +
-                              " integrator under MPI (it does not render in passes of tiles)"
-                        : error);
+      say(!error.empty() ? error
+          : settings.type == rt::IntegratorType::kBdpt
+              ? "not supported yet: bdpt's visualizestrategies/visualizeweights under MPI (the "
+                "strategy images would hold rank 0's paths only)"
+              : "not supported yet: the " + type +
+                    " integrator under MPI (it does not render in passes of tiles)");
     return finish(1);
   }
 
