@@ -2,18 +2,19 @@
 //
 // Every rank builds the same scene, film, camera, sampler and integrator (render_job.h);
 // rank 0 runs the pass loop (renderer.h: stopping rules, error estimate, checkpoints,
-// states, files) and, for each pass, hands out tiles on request: a rank asks with the
-// number of threads it renders with and gets that many consecutive tiles (so fast and
-// slow ranks finish a pass together), sends their sums back and asks again; each rank
-// keeps two requests open, so its next tiles are there when it is done. Rank 0
-// renders tiles too, on a thread of its own beside the one that talks MPI. When every
-// tile of a pass is back, the ranks add their pending splats (bdpt) to rank 0's with one
-// MPI_Reduce, and rank 0 merges the tiles in tile order: the image of a given seed is the
-// single-process image, bit for bit (splats aside, which are summed in another order).
-// At the end the ranks' counters are summed into rank 0's statistics.
+// states, files) and, for each pass, hands out tiles on request: a rank asks for twice
+// as many tiles as it has threads and gets that many consecutive tiles (so fast and slow
+// ranks finish a pass together), sends their sums back and asks again; each rank keeps
+// three requests open, so its next tiles are there when it is done. Rank 0 renders tiles
+// too, one per thread between answering requests, and keeps a pass's last tiles to
+// itself once the others hold as many. When every tile of a pass is back, the ranks add
+// their pending splats (bdpt) to rank 0's with one MPI_Reduce, and rank 0 merges the
+// tiles in tile order: the image of a given seed is the single-process image, bit for
+// bit (splats aside, which are summed in another order). At the end the ranks' counters
+// are summed into rank 0's statistics.
 //
 // Messages (tags below), all between rank 0 and one other rank:
-//   kAsk     r -> 0  int32 threads                  (ready for tiles; two outstanding)
+//   kAsk     r -> 0  int32 tiles wanted (2 x threads) (ready for tiles; three outstanding)
 //   kTiles   0 -> r  int64 first, last; int32 begin, end   (render these tiles of a pass)
 //   kSums    r -> 0  int32 begin, end; then per tile, half 0 then 1, the FilmPixelSums
 //                    of its pixel bounds (4 doubles each); then the rank asks again
