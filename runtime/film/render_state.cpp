@@ -33,6 +33,11 @@ std::string bounds_text(const Bounds2i& b) {
          std::to_string(b.min.y) + "," + std::to_string(b.max.y) + ")";
 }
 
+// The same film: resolution and cropped pixel bounds.
+bool same_windows(Point2i full_a, const Bounds2i& crop_a, Point2i full_b, const Bounds2i& crop_b) {
+  return full_a == full_b && crop_a.min == crop_b.min && crop_a.max == crop_b.max;
+}
+
 }  // namespace
 
 RenderState capture_state(const Film& film) {
@@ -55,12 +60,8 @@ bool film_of_state(const RenderState& state, Film* film, std::string* error) {
 }
 
 bool restore_state(const RenderState& state, Film* film, std::string* error) {
-  if (state.full_resolution.x != film->full_resolution().x ||
-      state.full_resolution.y != film->full_resolution().y ||
-      state.cropped.min.x != film->cropped_pixel_bounds().min.x ||
-      state.cropped.min.y != film->cropped_pixel_bounds().min.y ||
-      state.cropped.max.x != film->cropped_pixel_bounds().max.x ||
-      state.cropped.max.y != film->cropped_pixel_bounds().max.y) {
+  if (!same_windows(state.full_resolution, state.cropped, film->full_resolution(),
+                    film->cropped_pixel_bounds())) {
     *error = "the state is of a " + std::to_string(state.full_resolution.x) + "x" +
              std::to_string(state.full_resolution.y) + " film, pixels " +
              bounds_text(state.cropped) + "; this render's film is " +
@@ -191,9 +192,7 @@ bool merge_state(RenderState* into, const RenderState& from, const std::string& 
     return false;
   };
   if (from.archive_id != into->archive_id) return refuse("it was rendered from another archive");
-  if (from.full_resolution.x != into->full_resolution.x ||
-      from.full_resolution.y != into->full_resolution.y ||
-      !(from.cropped.min == into->cropped.min) || !(from.cropped.max == into->cropped.max))
+  if (!same_windows(from.full_resolution, from.cropped, into->full_resolution, into->cropped))
     return refuse("it has another resolution or crop (" + bounds_text(from.cropped) + " against " +
                   bounds_text(into->cropped) + ")");
   if (from.config != into->config)

@@ -60,16 +60,18 @@ bool to_job(const PbrtrunArgs& a, RenderJobOptions* job, std::string* error) {
   if (!a.crop.empty() && (a.crop[0] < 0 || a.crop[1] > 1 || a.crop[2] < 0 || a.crop[3] > 1 ||
                           a.crop[0] >= a.crop[1] || a.crop[2] >= a.crop[3]))
     return fail("error: --cropwindow needs 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1");
-  if (!a.target_error.empty() && !rt::parse_percent(a.target_error, &job->target_error))
-    return fail("error: --target-error needs a percentage above 0, such as 1 or 0.5%, not \"" +
-                a.target_error + "\"");
-  if (!a.time_limit.empty() && !rt::parse_duration(a.time_limit, &job->time_limit))
-    return fail("error: --time-limit needs a duration such as 90, 90s, 10m or 1h, not \"" +
-                a.time_limit + "\"");
-  if (!a.checkpoint_every.empty() &&
-      !rt::parse_duration(a.checkpoint_every, &job->checkpoint_every))
-    return fail("error: --checkpoint-every needs a duration such as 30s or 5m, not \"" +
-                a.checkpoint_every + "\"");
+  const struct {
+    const char* flag;
+    const std::string& text;
+    double* value;
+  } stops[] = {{"target-error", a.target_error, &job->target_error},
+               {"time-limit", a.time_limit, &job->time_limit},
+               {"checkpoint-every", a.checkpoint_every, &job->checkpoint_every}};
+  for (const auto& stop : stops)
+    if (!stop.text.empty() && !rt::parse_stop_value(stop.flag, stop.text, stop.value, error)) {
+      *error = "error: " + *error;
+      return false;
+    }
   if (!a.shard.empty()) {
     int k = 0, n = 0;
     char tail = 0;

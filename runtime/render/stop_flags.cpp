@@ -51,6 +51,18 @@ bool parse_percent(const std::string& text, double* fraction) {
   return true;
 }
 
+bool parse_stop_value(const std::string& flag, const std::string& text, double* value,
+                      std::string* error) {
+  if (flag == "target-error") {
+    if (parse_percent(text, value)) return true;
+    *error = "--target-error needs a percentage above 0, such as 1 or 0.5%, not \"" + text + "\"";
+    return false;
+  }
+  if (parse_duration(text, value)) return true;
+  *error = "--" + flag + " needs a duration such as 90, 90s, 10m or 1h, not \"" + text + "\"";
+  return false;
+}
+
 const std::atomic<bool>* install_interrupt_handlers() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);

@@ -173,18 +173,12 @@ bool parse_options(int argc, char** argv, Options* o, std::string* error) {
     } else if (name == "preview") {
       if (!take(&v)) return false;
       o->preview = v;
-    } else if (name == "target-error") {
+    } else if (name == "target-error" || name == "time-limit" || name == "checkpoint-every") {
       if (!take(&v)) return false;
-      if (!rt::parse_percent(v, &o->target_error)) {
-        *error = "--target-error needs a percentage above 0, such as 1 or 0.5%, not \"" + v + "\"";
-        return false;
-      }
-    } else if (name == "time-limit" || name == "checkpoint-every") {
-      if (!take(&v)) return false;
-      if (!rt::parse_duration(v, name == "time-limit" ? &o->time_limit : &o->checkpoint_every)) {
-        *error = "--" + name + " needs a duration such as 90, 90s, 10m or 1h, not \"" + v + "\"";
-        return false;
-      }
+      double* value = name == "target-error" ? &o->target_error
+                      : name == "time-limit" ? &o->time_limit
+                                             : &o->checkpoint_every;
+      if (!rt::parse_stop_value(name, v, value, error)) return false;
     } else if (name == "error-layer") {
       if (!flag()) return false;
       o->error_layer = true;
