@@ -13,7 +13,7 @@
 
 #include "compiler/bsdf_file.h"
 #include "format/fourier_table.h"
-#include "format/ply_writer.h"
+#include "compiler/ply_writer.h"
 #include "format/texel_format.h"
 
 namespace pbrtc {
@@ -431,7 +431,7 @@ class Dumper {
           !make_dir(outdir_ + "/" + ply_name_.substr(0, slash), &error_))
         return false;
       if (written_meshes_.insert(m).second &&
-          !pbrta::write_ply(outdir_ + "/" + ply_name_, a_.mesh_arrays(m), &error_))
+          !pbrtc::write_ply(outdir_ + "/" + ply_name_, a_.mesh_arrays(m), &error_))
         return false;
     }
     skip_filename_ = is_mesh && !as_ply;

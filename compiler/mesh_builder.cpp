@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "format/draco_codec.h"
-#include "format/ply_reader.h"
+#include "compiler/ply_reader.h"
 
 namespace pbrtc {
 
@@ -148,10 +148,10 @@ bool build_trianglemesh(const ParamList& params, Loc shape_loc, Diagnostics* dia
 bool load_plymesh(const std::string& path, Loc filename_loc, Diagnostics* diag,
                   TriangleMesh* mesh) {
   if (has_drc_extension(path)) return load_drc(path, filename_loc, diag, mesh);
-  pbrta::PlyMesh ply;
-  pbrta::PlyError err;
+  pbrtc::PlyMesh ply;
+  pbrtc::PlyError err;
   std::vector<std::string> warnings;
-  if (!pbrta::read_ply(path, &ply, &err, &warnings)) {
+  if (!pbrtc::read_ply(path, &ply, &err, &warnings)) {
     diag->error(filename_loc, "cannot read PLY file \"" + path + "\": " + err.message);
     return false;
   }

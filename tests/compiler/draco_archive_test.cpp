@@ -22,7 +22,7 @@
 #include "format/archive_writer.h"
 #include "format/draco_codec.h"
 #include "format/draco_forgery.h"
-#include "format/ply_reader.h"
+#include "compiler/ply_reader.h"
 #include "format/scene_archive.h"
 #include "test_support.h"
 
@@ -358,9 +358,9 @@ TEST(DracoArchive, TheRecordCarriesTheStreamsCounts) {
 
 TEST(DracoArchive, PlymeshReadsDrcFiles) {
   // The glass mesh, encoded with the same wrapper into a .DRC file (the extension in any case).
-  pbrta::PlyMesh ply;
-  pbrta::PlyError ply_error;
-  ASSERT_TRUE(pbrta::read_ply(
+  pbrtc::PlyMesh ply;
+  pbrtc::PlyError ply_error;
+  ASSERT_TRUE(pbrtc::read_ply(
       testing_support::shared_dir() + "/scenes/v3-caustic-glass-sppm/geometry/mesh_00001.ply", &ply,
       &ply_error))
       << ply_error.message;

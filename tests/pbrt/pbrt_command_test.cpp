@@ -22,7 +22,7 @@
 #include "compiler/archive_dump.h"
 #include "format/archive.h"
 #include "format/mesh_arrays.h"
-#include "format/ply_writer.h"
+#include "compiler/ply_writer.h"
 #include "runtime/film/image_io.h"
 #include "test_support.h"
 
@@ -66,7 +66,7 @@ void write_mesh(const std::string& path, float z) {
   m.num_vertices = 4;
   m.num_triangles = 2;
   std::string error;
-  ASSERT_TRUE(pbrta::write_ply(path, m, &error)) << error;
+  ASSERT_TRUE(pbrtc::write_ply(path, m, &error)) << error;
 }
 
 const char* kScene = R"(LookAt 0 0 -4  0 0 0  0 1 0

@@ -1,7 +1,7 @@
 // tests/tools/mesh_ops_test.cpp — vertex normals, measured Hausdorff distance, simplification.
 //
 // Meshes are built in memory (icospheres, a cube, fans, grids) so the expected values can be
-// derived by hand; the one real mesh is read with pbrta::read_ply so these tests do not depend on
+// derived by hand; the one real mesh is read with pbrtc::read_ply so these tests do not depend on
 // the mesh tools' own readers.
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <set>
 #include <utility>
 
-#include "format/ply_reader.h"
+#include "compiler/ply_reader.h"
 #include "test_support.h"
 #include "tools/mesh/mesh_ops.h"
 
@@ -417,9 +417,9 @@ std::string largest_shared_ply() {
 TEST(MeshSimplify, RealSharedMeshToAQuarter) {
   const std::string path = largest_shared_ply();
   ASSERT_FALSE(path.empty()) << "no .ply under the shared scenes";
-  pbrta::PlyMesh ply;
-  pbrta::PlyError ply_error;
-  ASSERT_TRUE(pbrta::read_ply(path, &ply, &ply_error)) << path << ": " << ply_error.message;
+  pbrtc::PlyMesh ply;
+  pbrtc::PlyError ply_error;
+  ASSERT_TRUE(pbrtc::read_ply(path, &ply, &ply_error)) << path << ": " << ply_error.message;
   Mesh mesh;
   mesh.positions = std::move(ply.positions);
   mesh.normals = std::move(ply.normals);

@@ -1,6 +1,6 @@
 // tools/mesh/mesh_io.cpp — read_mesh / write_mesh for every format the mesh tools speak.
 //
-// PLY goes through the project's one hardened reader (format/ply_reader.h) and its writer; .drc
+// PLY goes through the project's one hardened reader (compiler/ply_reader.h) and its writer; .drc
 // through the one Draco wrapper (format/draco_codec.h); .pbrt through pbrtc's own front end.
 // OBJ, OFF and STL have small readers of their own here rather than OpenMesh's: OpenMesh 9's
 // readers return success after silently dropping a face whose index is out of range
@@ -40,8 +40,8 @@
 #include "compiler/scene_desc.h"
 #include "compiler/source_files.h"
 #include "format/draco_codec.h"
-#include "format/ply_reader.h"
-#include "format/ply_writer.h"
+#include "compiler/ply_reader.h"
+#include "compiler/ply_writer.h"
 
 namespace meshtools {
 namespace {
@@ -695,7 +695,7 @@ std::string stl_bytes(const Mesh& m) {
   return out;
 }
 
-// ---- PLY (ASCII writer; binary goes through format/ply_writer) ----
+// ---- PLY (ASCII writer; binary goes through compiler/ply_writer) ----
 
 std::string ply_ascii_text(const Mesh& m) {
   const bool n = !m.normals.empty(), t = !m.uvs.empty(), fi = !m.face_indices.empty();
@@ -717,7 +717,7 @@ std::string ply_ascii_text(const Mesh& m) {
 bool write_ply_file(const std::string& path, const Mesh& m, bool ascii, std::string* error) {
   if (ascii) return write_atomically(path, ply_ascii_text(m), error);
   std::string reason;
-  if (!pbrta::write_ply(path, pbrta::arrays_of(m), &reason)) return fail(error, path, reason);
+  if (!pbrtc::write_ply(path, pbrta::arrays_of(m), &reason)) return fail(error, path, reason);
   return true;
 }
 
@@ -912,10 +912,10 @@ bool read_mesh(const std::string& path, Mesh* mesh, std::string* error, bool qui
     if (!read_bytes(path, &bytes, error)) return false;
     Progress progress(path, bytes.size(), quiet);
     progress.note("reading");
-    pbrta::PlyMesh p;
-    pbrta::PlyError pe;
+    pbrtc::PlyMesh p;
+    pbrtc::PlyError pe;
     std::vector<std::string> said;
-    if (!pbrta::parse_ply(bytes, &p, &pe, &said)) return fail(error, path, pe.message);
+    if (!pbrtc::parse_ply(bytes, &p, &pe, &said)) return fail(error, path, pe.message);
     if (warnings != nullptr)
       for (const std::string& w : said) warnings->push_back(path + ": " + w);
     m.positions = std::move(p.positions);

@@ -2,7 +2,7 @@
 //
 //   mesh-table [--root DIR] [--bits 11,14,16] [--sequential] FILE.ply...
 //
-// Each mesh is read with the project's PLY reader, written as binary PLY (format/ply_writer.h)
+// Each mesh is read with the project's PLY reader, written as binary PLY (compiler/ply_writer.h)
 // to measure that size, and encoded and decoded with the project's Draco wrapper at each bit
 // depth, with the options pbrtc uses for archives (edgebreaker unless --sequential). The
 // position error is measured against the original vertices: with --sequential the order is
@@ -25,8 +25,8 @@
 
 #include "format/draco_codec.h"
 #include "format/huge_page_heap.h"
-#include "format/ply_reader.h"
-#include "format/ply_writer.h"
+#include "compiler/ply_reader.h"
+#include "compiler/ply_writer.h"
 
 namespace {
 
@@ -95,16 +95,16 @@ int main(int argc, char** argv) {
       auto rel = std::filesystem::path(path).lexically_relative(root);
       if (!rel.empty()) name = rel.generic_string();
     }
-    pbrta::PlyMesh mesh;
-    pbrta::PlyError ply_error;
-    if (!pbrta::read_ply(path, &mesh, &ply_error)) {
+    pbrtc::PlyMesh mesh;
+    pbrtc::PlyError ply_error;
+    if (!pbrtc::read_ply(path, &mesh, &ply_error)) {
       std::fprintf(stderr, "mesh-table: %s: %s\n", path.c_str(), ply_error.message.c_str());
       ++failures;
       continue;
     }
     const pbrta::MeshArrays view = pbrta::arrays_of(mesh);
     std::string error;
-    if (!pbrta::write_ply(tmp_ply, view, &error)) {
+    if (!pbrtc::write_ply(tmp_ply, view, &error)) {
       std::fprintf(stderr, "mesh-table: %s: %s\n", tmp_ply.c_str(), error.c_str());
       return 1;
     }

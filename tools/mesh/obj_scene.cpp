@@ -29,7 +29,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "format/ply_writer.h"
+#include "compiler/ply_writer.h"
 
 namespace meshtools {
 namespace {
@@ -849,7 +849,7 @@ bool write_obj_scene_pbrt(const ObjScene& scene, const std::string& out_path,
     if (options.style == PbrtStyle::kPlymesh) {
       const std::string ply = (out_dir / (stem + "-" + std::to_string(part) + ".ply")).string();
       std::string ply_error;
-      if (!pbrta::write_ply(ply, pbrta::arrays_of(mesh), &ply_error))
+      if (!pbrtc::write_ply(ply, pbrta::arrays_of(mesh), &ply_error))
         return fail(ply + ": " + ply_error);
       written.push_back(ply);
       body += "  Shape \"plymesh\" \"string filename\" " + pbrt_string(name_for(ply)) + "\n";

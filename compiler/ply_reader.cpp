@@ -1,7 +1,7 @@
-// format/ply_reader.cpp — PLY parsing in three steps: read the header, check every count it
+// compiler/ply_reader.cpp — PLY parsing in three steps: read the header, check every count it
 // declares against the bytes that follow (before allocating anything from it), then read the
 // body in one pass, element by element, straight into the output arrays.
-#include "format/ply_reader.h"
+#include "compiler/ply_reader.h"
 
 #include <fast_float/fast_float.h>
 
@@ -23,7 +23,7 @@
 #include <type_traits>
 #include <utility>
 
-namespace pbrta {
+namespace pbrtc {
 
 size_t PlyMesh::num_vertices() const {
   return positions.size() / 3;
@@ -1056,4 +1056,4 @@ bool read_ply(const std::string& path, PlyMesh* mesh, PlyError* error,
   return parse_ply(std::string_view(buffer.get(), got), mesh, error, warnings);
 }
 
-}  // namespace pbrta
+}  // namespace pbrtc

@@ -1,7 +1,7 @@
-// tests/format/ply_reader_test.cpp — the PLY reader on small files built in memory (every format,
+// tests/compiler/ply_reader_test.cpp — the PLY reader on small files built in memory (every format,
 // spelling and face shape it accepts, and the malformed inputs it must refuse without crashing),
 // plus every PLY file of the shared corpus.
-#include "format/ply_reader.h"
+#include "compiler/ply_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@
 
 #include "test_support.h"
 
-namespace pbrta {
+namespace pbrtc {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -849,4 +849,4 @@ TEST(PlyReader, ReadsEveryPlyFileOfTheSharedCorpus) {
 }
 
 }  // namespace
-}  // namespace pbrta
+}  // namespace pbrtc

@@ -1,4 +1,4 @@
-// format/ply_writer.h — writes triangle meshes as binary little-endian PLY.
+// compiler/ply_writer.h — writes triangle meshes as binary little-endian PLY.
 //
 // The counterpart of ply_reader.h, for pbrtc --dump and the mesh tools: what
 // it writes, read_ply reads back bit for bit (positions, normals, uv as u/v,
@@ -11,8 +11,9 @@
 
 #include "format/mesh_arrays.h"
 
-namespace pbrta {
+namespace pbrtc {
 
-[[nodiscard]] bool write_ply(const std::string& path, const MeshArrays& mesh, std::string* error);
+[[nodiscard]] bool write_ply(const std::string& path, const pbrta::MeshArrays& mesh,
+                             std::string* error);
 
-}  // namespace pbrta
+}  // namespace pbrtc

@@ -1,4 +1,4 @@
-#include "format/ply_writer.h"
+#include "compiler/ply_writer.h"
 
 #include <unistd.h>
 
@@ -7,11 +7,11 @@
 #include <cstring>
 #include <vector>
 
-namespace pbrta {
+namespace pbrtc {
 
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "PLY output assumes a little-endian host");
 
-bool write_ply(const std::string& path, const MeshArrays& m, std::string* error) {
+bool write_ply(const std::string& path, const pbrta::MeshArrays& m, std::string* error) {
   std::string tmp = path + ".tmp-" + std::to_string(::getpid());
   FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) {
@@ -63,4 +63,4 @@ bool write_ply(const std::string& path, const MeshArrays& m, std::string* error)
   return true;
 }
 
-}  // namespace pbrta
+}  // namespace pbrtc

@@ -1,4 +1,4 @@
-// format/ply_reader.h — the one PLY triangle-mesh reader the project shares.
+// compiler/ply_reader.h — the one PLY triangle-mesh reader the project shares.
 //
 // Reads a PLY 1.0 file (ascii, binary_little_endian or binary_big_endian) into flat arrays, the
 // way pbrt-v3's "plymesh" shape reads it: vertex positions x y z, optional normals nx ny nz,
@@ -31,7 +31,7 @@
 #include <string_view>
 #include <vector>
 
-namespace pbrta {
+namespace pbrtc {
 
 // A triangle mesh as flat arrays, in the layout pbrt-v3's triangle mesh is built from.
 struct PlyMesh {
@@ -61,4 +61,4 @@ struct PlyError {
 [[nodiscard]] bool parse_ply(std::string_view bytes, PlyMesh* mesh, PlyError* error,
                              std::vector<std::string>* warnings = nullptr);
 
-}  // namespace pbrta
+}  // namespace pbrtc
