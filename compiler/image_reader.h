@@ -4,7 +4,7 @@
 // Files are read with OpenImageIO. Debian 12's OpenImageIO brings in 263 shared libraries
 // (OpenCV, ffmpeg, GDAL, GStreamer, ...), and resolving them cost ~0.5 s at every start of a
 // program that links it: pbrtc and pbrt took ~1 s to print --help (twice 0.5 s, with the
-// huge-page re-exec), though most scenes name no image. So the code that calls OpenImageIO is a
+// huge-page re-exec they had then), though most scenes name no image. So the code that calls OpenImageIO is a
 // module of its own (compiler/image_module/, built as libpbrtc_images.so beside the programs),
 // and read_image_rgb loads it with dlopen on its first call. A process that reads no image never
 // loads it, and one that does pays the cost once.

@@ -26,7 +26,6 @@
 #include "compiler/parser.h"
 #include "compiler/scene_builder.h"
 #include "compiler/summary.h"
-#include "format/huge_page_heap.h"
 #include "format/scene_archive.h"
 
 namespace {
@@ -83,7 +82,6 @@ void print_draco_report(const std::string& path, int bits, const pbrtc::ArchiveS
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrtc: compiles pbrt-v3 scenes into validated binary scene archives (.pbrta)"};
   std::vector<std::string> inputs;
   std::string outfile, codec = "zstd", texture_precision = "f32";

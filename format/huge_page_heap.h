@@ -1,23 +1,34 @@
-// format/huge_page_heap.h — back the C/C++ heap with transparent huge pages.
+// format/huge_page_heap.h — C++ heap blocks of 1 MiB and more in transparent huge pages, for
+// the programs that parse scenes (pbrtc, pbrt, the mesh tools, the benchmarks).
 //
-// On the virtual machines this project runs on, the first touch of a fresh
-// 4 KiB page costs microseconds, and a mesh-heavy compile or load touches
-// hundreds of megabytes of fresh heap: parsing a 200 MB scene spent more than
-// half its time in the page-fault path, and Embree's build of a 4M-triangle
-// scene about as much. glibc (2.35 and later) can ask for transparent huge
-// pages for its heap and large chunks (`glibc.malloc.hugetlb=1`), but reads
-// that tunable only at process start, from the environment.
+// Why: on the virtual machines this project runs on, the first touch of a fresh 4 KiB page costs
+// microseconds, and parsing a 200 MB scene writes hundreds of MB of fresh arrays (the lexer's
+// pooled number arrays, the meshes they become): in base pages, over half of that parse went to
+// the page-fault path. Kernels default to THP "madvise", where only memory advised so gets huge
+// pages; glibc's allocator asks for them only under a tunable read at process start.
 //
-// use_huge_page_heap(argv), called first thing in main(), re-executes the
-// program once (same argv, same fds, via /proc/self/exe) with the tunable
-// added to GLIBC_TUNABLES. It returns without doing anything when the tunable
-// is already set (so there is at most one re-exec), when PBRT_HUGE_PAGES=0 is
-// set, or when the exec fails (the program then runs with the ordinary heap).
-// Where THP is disabled or the glibc is older, the tunable is simply ignored.
+// How: heap_allocate gives a block of kHugeHeapBlock bytes or more a mapping of its own from
+// map_huge() (format/huge_pages.h), with a 64-byte header saying so, and smaller ones come from
+// malloc. format/huge_page_new.cpp replaces the global operator new and delete (C++'s
+// replaceable allocation functions) with these two; it is not part of the pbrta_format library:
+// a program opts in by linking the pbrta_huge_page_new object library (CMakeLists.txt), so the
+// renderer, whose big buffers are advised where they are made, keeps the standard allocator.
+//
+// PBRT_HUGE_PAGES=0 in the environment turns it off (every block from malloc). Where THP is
+// disabled the mappings are ordinary memory. Memory from malloc must still go to free() and
+// memory from new to delete, as always.
 #pragma once
+
+#include <cstddef>
 
 namespace pbrta {
 
-void use_huge_page_heap(char** argv);
+// A block of this many bytes or more starts 64 bytes past a huge-page boundary.
+inline constexpr size_t kHugeHeapBlock = size_t{1} << 20;
+
+// As operator new: a block of n bytes (16-byte aligned), or std::bad_alloc.
+void* heap_allocate(size_t n);
+// Frees a block from heap_allocate (nullptr: nothing).
+void heap_release(void* p) noexcept;
 
 }  // namespace pbrta

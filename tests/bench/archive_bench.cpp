@@ -36,7 +36,6 @@
 #include "compiler/parser.h"
 #include "format/archive_reader.h"
 #include "format/checksum.h"
-#include "format/huge_page_heap.h"
 #include "format/isolated_jobs.h"
 #include "format/scene_archive.h"
 #include "tests/compiler/compiled_scene.h"
@@ -194,7 +193,6 @@ int run_once(const std::string& what, const std::string& path, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   if (std::getenv("ARCHIVE_BENCH_DRACO_IN_PROCESS") != nullptr) pbrta::set_isolation_enabled(false);
   if (argc == 5 && !std::strcmp(argv[1], "--once"))
     return run_once(argv[2], argv[3], std::atoi(argv[4]));

@@ -34,10 +34,10 @@ void note_alloc(size_t n) {
 }
 }  // namespace
 
-// Every allocation carries its size in a 16-byte prefix so delete can subtract it.
+// Every allocation carries its size in a 16-byte prefix so delete can subtract it. The blocks
+// come from heap_allocate, as in pbrtc (format/huge_page_heap.h).
 void* operator new(size_t n) {
-  void* p = std::malloc(n + 16);
-  if (!p) throw std::bad_alloc();
+  void* p = pbrta::heap_allocate(n + 16);
   *static_cast<size_t*>(p) = n;
   note_alloc(n);
   return static_cast<char*>(p) + 16;
@@ -46,7 +46,7 @@ void operator delete(void* p) noexcept {
   if (!p) return;
   char* base = static_cast<char*>(p) - 16;
   g_current.fetch_sub(*reinterpret_cast<size_t*>(base));
-  std::free(base);
+  pbrta::heap_release(base);
 }
 void operator delete(void* p, size_t) noexcept {
   operator delete(p);
@@ -170,7 +170,6 @@ void generate_shapes(const char* path, long count) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   if (argc >= 4 && std::strcmp(argv[1], "generate-mesh") == 0) {
     generate_mesh(argv[2], std::atof(argv[3]));
     return 0;

@@ -24,7 +24,6 @@
 #include <vector>
 
 #include "format/draco_codec.h"
-#include "format/huge_page_heap.h"
 #include "compiler/ply_reader.h"
 #include "compiler/ply_writer.h"
 
@@ -66,7 +65,6 @@ std::string g3(double x) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{"mesh-table: PLY against Draco sizes, errors and times, as a Markdown table"};
   std::vector<std::string> files;
   std::string root;

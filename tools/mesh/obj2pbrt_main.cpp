@@ -9,11 +9,9 @@
 #include <cstdio>
 #include <string>
 
-#include "format/huge_page_heap.h"
 #include "tools/mesh/obj_scene.h"
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{
       "obj2pbrt: convert an OBJ scene and its MTL materials to pbrt-v3 scene text.\n\n"
       "The output holds Texture, MakeNamedMaterial, AreaLightSource and Shape directives only\n"

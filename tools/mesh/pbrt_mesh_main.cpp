@@ -6,11 +6,9 @@
 //   pbrt-mesh simplify IN OUT     quadric decimation, reporting the error it introduced
 #include <CLI/CLI.hpp>
 
-#include "format/huge_page_heap.h"
 #include "tools/mesh/commands.h"
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   CLI::App app{"pbrt-mesh: convert, inspect and process meshes for pbrt scenes"};
   app.require_subcommand(1);
   int exit_code = 0;

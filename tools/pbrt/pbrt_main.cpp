@@ -27,7 +27,6 @@
 #include <string>
 
 #include "compiler/archive_dump.h"
-#include "format/huge_page_heap.h"
 #include "runtime/render/render_job.h"
 #include "runtime/render/stop_flags.h"
 #include "tools/pbrt/cache.h"
@@ -122,7 +121,6 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
 }  // namespace
 
 int main(int argc, char** argv) {
-  pbrta::use_huge_page_heap(argv);
   Options o;
   std::string error;
   if (!pbrt_tool::parse_options(argc, argv, &o, &error)) {
