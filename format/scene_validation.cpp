@@ -96,6 +96,11 @@ constexpr uint32_t kKnownMeshFlags = kMeshNormals | kMeshTangents | kMeshUV | kM
 // Branch-free within blocks of 1024 so the compiler vectorizes it (with plain SSE2 too, which has
 // no unsigned compare): every index of every mesh is read here.
 inline uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit) {
+  if (n <= 12) {  // a few triangles (the teapot's 2292 one-triangle meshes): no block loop
+    for (uint64_t k = 0; k < n; ++k)
+      if (v[k] >= limit) return k;
+    return n;
+  }
   constexpr uint64_t kBlock = 1024;
   for (uint64_t at = 0; at < n; at += kBlock) {
     const uint64_t end = std::min(n, at + kBlock);

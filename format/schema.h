@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <string_view>
 
 namespace pbrta {
@@ -131,12 +132,11 @@ constexpr KindStore kind_store(Kind k) {
          : k == Kind::kString                ? KindStore::kString
                                              : KindStore::kFloat;
 }
+// A table, not a chain of compares: the reader looks it up for every value of every entity.
+inline constexpr uint8_t kKindWidths[] = {1, 1, 1, 1, 2, 2, 3, 3, 3, 3, 1, 3};  // in Kind order
+static_assert(std::size(kKindWidths) == size_t(Kind::kCount));
 constexpr int kind_width(Kind k) {
-  return k == Kind::kPoint2 || k == Kind::kVector2 ? 2
-         : k == Kind::kPoint3 || k == Kind::kVector3 || k == Kind::kNormal3 || k == Kind::kRgb ||
-                 k == Kind::kSpectrumTex
-             ? 3
-             : 1;
+  return kKindWidths[uint8_t(k)];
 }
 
 // Names for messages.
