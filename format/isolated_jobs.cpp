@@ -182,97 +182,6 @@ Groups make_groups(const std::vector<uint64_t>& input_bytes, int processes) {
   return g;
 }
 
-// Runs the jobs of each group in a child of its own: in_child(k, slot, &why) there, then, here,
-// collect(k, slot, why) for each job that succeeded; a job that failed gets its message in
-// (*errors)[k], marked in (*by_job)[k] when the job gave it rather than what stopped its child.
-// here(k, &why) runs a job in this process instead: every job when the caller could not set up
-// (ready false: isolation off, or no memory for its outputs) or the slots cannot be mapped, a
-// group's jobs when no child can be had for it.
-// Several threads may call this at once: each call forks and waits for its own children.
-void run_groups(bool ready, size_t num_jobs, const Groups& groups, const IsolationBudget& budget,
-                const std::function<bool(size_t, JobSlot&, std::string*)>& in_child,
-                const std::function<bool(size_t, const JobSlot&, std::string*)>& collect,
-                const Job& here, std::vector<std::string>* errors, std::vector<char>* by_job) {
-  auto run_here = [&](const std::vector<size_t>& list) {
-    for (size_t k : list) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
-  };
-  const uint64_t mapped = round_up(num_jobs * sizeof(JobSlot));
-  void* shared =
-      ready ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)
-            : MAP_FAILED;
-  if (shared == MAP_FAILED) {
-    for (const std::vector<size_t>& list : groups.jobs) run_here(list);
-    return;
-  }
-  auto* slots = static_cast<JobSlot*>(shared);  // zero-filled: every state kPending
-  const size_t count = groups.jobs.size();
-#if !defined(PBRTA_ASAN)
-  const uint64_t mapped_now = mapped_bytes();
-#else
-  const uint64_t mapped_now = 0;
-#endif
-  std::vector<pid_t> pids(count, -1);
-  std::vector<double> seconds(count);
-  for (size_t g = 0; g < count; ++g) {
-    seconds[g] = budget.base_seconds + budget.seconds_per_byte * double(groups.load[g]);
-    const pid_t pid = fork();
-    if (pid == 0) {
-      enter_budget(seconds[g], budget.base_memory + budget.memory_per_byte * groups.load[g],
-                   mapped_now);
-      for (size_t k : groups.jobs[g]) {
-        JobSlot& slot = slots[k];
-        slot.state = kRunning;
-        std::string why;
-        const bool ok =
-            run_one([&](size_t j, std::string* e) { return in_child(j, slot, e); }, k, &why);
-        if (!ok) {
-          const size_t n = std::min(why.size(), sizeof(slot.message) - 1);
-          std::memcpy(slot.message, why.data(), n);
-          slot.message[n] = '\0';
-        }
-        slot.state = ok ? kDone : kFailed;
-      }
-      _exit(0);  // no atexit handlers, no flushing of the parent's stdio buffers
-    }
-    pids[g] = pid;
-  }
-  for (size_t g = 0; g < count; ++g) {
-    if (pids[g] < 0) {  // no process to be had: decode here rather than not at all
-      run_here(groups.jobs[g]);
-      continue;
-    }
-    int status = 0;
-    pid_t got;
-    while ((got = waitpid(pids[g], &status, 0)) < 0 && errno == EINTR) {
-    }
-    bool stopped = false;  // a job of this group did not finish: the later ones never started
-    for (size_t k : groups.jobs[g]) {
-      // The child may have been subverted by what it decoded: its slot is read once, and its
-      // message only up to the slot's end.
-      const JobSlot slot = slots[k];
-      std::string& why = (*errors)[k];
-      const int32_t state = slot.state;
-      if (state == kDone) {
-        try {
-          if (!collect(k, slot, &why) && why.empty()) why = "failed";
-        } catch (const std::bad_alloc&) {
-          why = "out of memory";
-        }
-      } else if (state == kFailed) {
-        why.assign(slot.message, strnlen(slot.message, sizeof slot.message));
-        if (why.empty()) why = "failed";
-        (*by_job)[k] = 1;
-      } else if (!stopped) {
-        why = stop_reason(got == pids[g], status, seconds[g]);
-        stopped = true;
-      } else {
-        why = "not decoded: an earlier stream in the same process failed to finish";
-      }
-    }
-  }
-  munmap(shared, mapped);
-}
-
 }  // namespace
 
 void set_isolation_enabled(bool enabled) {
@@ -311,71 +220,141 @@ void run_isolated_blobs(const std::vector<uint64_t>& input_bytes, int processes,
   by_job->assign(n, 0);
   if (n == 0) return;
   const Groups groups = make_groups(input_bytes, processes);
-  const Job here = [&](size_t k, std::string* why) { return work(k, &(*outputs)[k], why); };
+  const size_t count = groups.jobs.size();
+  // A job run in this process instead: every job when isolation is off or the memory files or
+  // the slots cannot be had, a group's jobs when no child can be had for it.
+  auto run_here = [&](const std::vector<size_t>& list) {
+    const Job here = [&](size_t k, std::string* why) { return work(k, &(*outputs)[k], why); };
+    for (size_t k : list) (*by_job)[k] = !run_one(here, k, &(*errors)[k]);
+  };
   // Each group's outputs go into a memory file of its own, back to back in job order: their
-  // sizes are known only once they are made.
-  std::vector<int> file_of_group(groups.jobs.size(), -1);
-  std::vector<size_t> group_of(n, 0);
-  bool have_files = isolation_enabled();
-  for (size_t g = 0; g < groups.jobs.size(); ++g) {
-    if (have_files) file_of_group[g] = memfd_create("pbrta-isolated", MFD_CLOEXEC);
-    have_files = have_files && file_of_group[g] >= 0;
-    for (size_t k : groups.jobs[g]) group_of[k] = g;
+  // sizes are known only once they are made. Each job's state and message go into its slot.
+  std::vector<int> file_of_group(count, -1);
+  bool ready = isolation_enabled();
+  for (size_t g = 0; g < count; ++g) {
+    if (ready) file_of_group[g] = memfd_create("pbrta-isolated", MFD_CLOEXEC);
+    ready = ready && file_of_group[g] >= 0;
   }
-  // Where the next output of each group must start, as the parent reads them in job order.
-  std::vector<uint64_t> next(groups.jobs.size(), 0);
-  run_groups(
-      have_files, n, groups, budget,
-      [&](size_t k, JobSlot& slot, std::string* why) {
-        std::vector<uint8_t> blob;
-        if (!work(k, &blob, why)) return false;
-        const int fd = file_of_group[group_of[k]];
-        const off_t at = lseek(fd, 0, SEEK_END);
-        errno = 0;
-        if (at < 0 || !transfer_all(
-                          [&](size_t done) {
-                            return pwrite(fd, blob.data() + done, blob.size() - done,
-                                          at + off_t(done));
-                          },
-                          blob.size())) {
-          *why = "cannot pass the output back: " +
-                 std::string(errno != 0 ? std::strerror(errno) : "short write");
-          if (at >= 0 && ftruncate(fd, at) != 0) _exit(1);  // the next outputs would be misplaced
-          return false;
+  auto close_files = [&] {
+    for (int fd : file_of_group)
+      if (fd >= 0) close(fd);
+  };
+  const uint64_t mapped = round_up(n * sizeof(JobSlot));
+  void* shared =
+      ready ? mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0)
+            : MAP_FAILED;
+  if (shared == MAP_FAILED) {
+    for (const std::vector<size_t>& list : groups.jobs) run_here(list);
+    close_files();
+    return;
+  }
+  auto* slots = static_cast<JobSlot*>(shared);  // zero-filled: every state kPending
+#if !defined(PBRTA_ASAN)
+  const uint64_t mapped_now = mapped_bytes();
+#else
+  const uint64_t mapped_now = 0;
+#endif
+  std::vector<pid_t> pids(count, -1);
+  std::vector<double> seconds(count);
+  for (size_t g = 0; g < count; ++g) {
+    seconds[g] = budget.base_seconds + budget.seconds_per_byte * double(groups.load[g]);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      enter_budget(seconds[g], budget.base_memory + budget.memory_per_byte * groups.load[g],
+                   mapped_now);
+      const int fd = file_of_group[g];
+      for (size_t k : groups.jobs[g]) {
+        JobSlot& slot = slots[k];
+        slot.state = kRunning;
+        std::string why;
+        const bool ok = run_one(
+            [&](size_t j, std::string* e) {
+              std::vector<uint8_t> blob;
+              if (!work(j, &blob, e)) return false;
+              const off_t at = lseek(fd, 0, SEEK_END);
+              errno = 0;
+              if (at < 0 || !transfer_all(
+                                [&](size_t done) {
+                                  return pwrite(fd, blob.data() + done, blob.size() - done,
+                                                at + off_t(done));
+                                },
+                                blob.size())) {
+                *e = "cannot pass the output back: " +
+                     std::string(errno != 0 ? std::strerror(errno) : "short write");
+                if (at >= 0 && ftruncate(fd, at) != 0) _exit(1);  // later outputs: misplaced
+                return false;
+              }
+              slot.blob_offset = uint64_t(at);
+              slot.blob_size = blob.size();
+              return true;
+            },
+            k, &why);
+        if (!ok) {
+          const size_t len = std::min(why.size(), sizeof(slot.message) - 1);
+          std::memcpy(slot.message, why.data(), len);
+          slot.message[len] = '\0';
         }
-        slot.blob_offset = uint64_t(at);
-        slot.blob_size = blob.size();
-        return true;
-      },
-      [&](size_t k, const JobSlot& slot, std::string* why) {
-        // Outputs lie back to back from the file's start, each within the memory budget.
-        const size_t g = group_of[k];
-        const int fd = file_of_group[g];
-        const uint64_t cap = budget.base_memory + budget.memory_per_byte * groups.load[g];
+        slot.state = ok ? kDone : kFailed;
+      }
+      _exit(0);  // no atexit handlers, no flushing of the parent's stdio buffers
+    }
+    pids[g] = pid;
+  }
+  for (size_t g = 0; g < count; ++g) {
+    if (pids[g] < 0) {  // no process to be had: decode here rather than not at all
+      run_here(groups.jobs[g]);
+      continue;
+    }
+    int status = 0;
+    pid_t got;
+    while ((got = waitpid(pids[g], &status, 0)) < 0 && errno == EINTR) {
+    }
+    bool stopped = false;  // a job of this group did not finish: the later ones never started
+    uint64_t next = 0;     // where the group's next output must start, read in job order
+    const int fd = file_of_group[g];
+    const uint64_t cap = budget.base_memory + budget.memory_per_byte * groups.load[g];
+    for (size_t k : groups.jobs[g]) {
+      // The child may have been subverted by what it decoded: its slot is read once, its
+      // message only up to the slot's end, and its output only where the file holds it.
+      const JobSlot slot = slots[k];
+      std::string& why = (*errors)[k];
+      if (slot.state == kDone) {
         struct stat st {};
-        if (fstat(fd, &st) != 0 || slot.blob_offset != next[g] || slot.blob_size > cap ||
-            slot.blob_size > uint64_t(st.st_size) - std::min(uint64_t(st.st_size), next[g])) {
-          *why = "the decoder's output is not where it said";
-          return false;
-        }
         std::vector<uint8_t>& out = (*outputs)[k];
-        out.resize(slot.blob_size);
-        if (!transfer_all(
-                [&](size_t done) {
-                  return pread(fd, out.data() + done, out.size() - done,
-                               off_t(slot.blob_offset + done));
-                },
-                out.size())) {
-          out.clear();
-          *why = "cannot read the decoder's output back";
-          return false;
+        if (fstat(fd, &st) != 0 || slot.blob_offset != next || slot.blob_size > cap ||
+            slot.blob_size > uint64_t(st.st_size) - std::min(uint64_t(st.st_size), next)) {
+          why = "the decoder's output is not where it said";
+        } else {
+          try {
+            out.resize(slot.blob_size);
+            if (transfer_all(
+                    [&](size_t done) {
+                      return pread(fd, out.data() + done, out.size() - done,
+                                   off_t(slot.blob_offset + done));
+                    },
+                    out.size()))
+              next += slot.blob_size;
+            else
+              why = "cannot read the decoder's output back";
+          } catch (const std::bad_alloc&) {
+            why = "out of memory";
+          }
+          if (!why.empty()) out.clear();
         }
-        next[g] += slot.blob_size;
-        return true;
-      },
-      here, errors, by_job);
-  for (int fd : file_of_group)
-    if (fd >= 0) close(fd);
+      } else if (slot.state == kFailed) {
+        why.assign(slot.message, strnlen(slot.message, sizeof slot.message));
+        if (why.empty()) why = "failed";
+        (*by_job)[k] = 1;
+      } else if (!stopped) {
+        why = stop_reason(got == pids[g], status, seconds[g]);
+        stopped = true;
+      } else {
+        why = "not decoded: an earlier stream in the same process failed to finish";
+      }
+    }
+  }
+  munmap(shared, mapped);
+  close_files();
 }
 
 }  // namespace pbrta
