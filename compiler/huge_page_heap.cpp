@@ -1,5 +1,5 @@
 // Big blocks in huge-page mappings of their own; see huge_page_heap.h.
-#include "format/huge_page_heap.h"
+#include "compiler/huge_page_heap.h"
 
 #include <malloc.h>
 #include <sys/mman.h>
@@ -14,7 +14,11 @@
 
 #include "format/huge_pages.h"
 
-namespace pbrta {
+namespace pbrtc {
+
+using pbrta::advise_huge_pages;
+using pbrta::kHugePageSize;
+using pbrta::map_huge;
 
 namespace {
 
@@ -90,4 +94,4 @@ void heap_release(void* p) noexcept {
   std::free(p);
 }
 
-}  // namespace pbrta
+}  // namespace pbrtc

@@ -1,4 +1,4 @@
-// format/huge_page_heap.h — C++ heap blocks of 1 MiB and more in transparent huge pages, for
+// compiler/huge_page_heap.h — C++ heap blocks of 1 MiB and more in transparent huge pages, for
 // the programs that parse scenes (pbrtc, pbrt, the mesh tools, the benchmarks).
 //
 // Why: on the virtual machines this project runs on, the first touch of a fresh 4 KiB page costs
@@ -9,9 +9,9 @@
 //
 // How: heap_allocate gives a block of kHugeHeapBlock bytes or more a mapping of its own from
 // map_huge() (format/huge_pages.h), with a 64-byte header saying so, and smaller ones come from
-// malloc. format/huge_page_new.cpp replaces the global operator new and delete (C++'s
-// replaceable allocation functions) with these two; it is not part of the pbrta_format library:
-// a program opts in by linking the pbrta_huge_page_new object library (CMakeLists.txt), so the
+// malloc. compiler/huge_page_new.cpp replaces the global operator new and delete (C++'s
+// replaceable allocation functions) with these two; it is not part of the pbrtc_lib library:
+// a program opts in by linking the pbrtc_huge_page_new object library (CMakeLists.txt), so the
 // renderer, whose big buffers are advised where they are made, keeps the standard allocator.
 //
 // PBRT_HUGE_PAGES=0 in the environment turns it off (every block from malloc). Where THP is
@@ -21,7 +21,7 @@
 
 #include <cstddef>
 
-namespace pbrta {
+namespace pbrtc {
 
 // A block of this many bytes or more starts 64 bytes past a huge-page boundary.
 inline constexpr size_t kHugeHeapBlock = size_t{1} << 20;
@@ -31,4 +31,4 @@ void* heap_allocate(size_t n);
 // Frees a block from heap_allocate (nullptr: nothing).
 void heap_release(void* p) noexcept;
 
-}  // namespace pbrta
+}  // namespace pbrtc

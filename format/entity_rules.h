@@ -23,7 +23,7 @@
 namespace pbrta {
 
 // Which of the rules below an entity type is held to: the one list of the types that have them,
-// for the reader's checks (format/scene_validation.cpp) and the schema digest alike. A fourier
+// for the reader's checks (format/scene_validation.cpp). A fourier
 // material's table ties its arrays' counts together as well; its rules are in
 // format/fourier_table.h.
 enum class CountRule : uint8_t { kNone, kCurve, kDensity, kFourierTable, kBssrdfTable };

@@ -5,7 +5,7 @@
 // (decoding an archive into 4 KiB pages measured 10x slower than into huge pages). Kernels default
 // to THP "madvise": only memory advised so gets huge pages. The parser's pooled arrays
 // (compiler/params.cpp) and the archive's decode buffers (format/archive_reader.h) are advised
-// here; the heap of the parsing programs by format/huge_page_heap.h. A hint: where THP
+// here; the heap of the parsing programs by compiler/huge_page_heap.h. A hint: where THP
 // is unavailable nothing changes.
 #pragma once
 

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "compiler/scene_builder.h"
-#include "format/huge_page_heap.h"
+#include "compiler/huge_page_heap.h"
 
 namespace {
 std::atomic<size_t> g_current{0};
@@ -35,9 +35,9 @@ void note_alloc(size_t n) {
 }  // namespace
 
 // Every allocation carries its size in a 16-byte prefix so delete can subtract it. The blocks
-// come from heap_allocate, as in pbrtc (format/huge_page_heap.h).
+// come from heap_allocate, as in pbrtc (compiler/huge_page_heap.h).
 void* operator new(size_t n) {
-  void* p = pbrta::heap_allocate(n + 16);
+  void* p = pbrtc::heap_allocate(n + 16);
   *static_cast<size_t*>(p) = n;
   note_alloc(n);
   return static_cast<char*>(p) + 16;
@@ -46,7 +46,7 @@ void operator delete(void* p) noexcept {
   if (!p) return;
   char* base = static_cast<char*>(p) - 16;
   g_current.fetch_sub(*reinterpret_cast<size_t*>(base));
-  pbrta::heap_release(base);
+  pbrtc::heap_release(base);
 }
 void operator delete(void* p, size_t) noexcept {
   operator delete(p);

@@ -1,7 +1,7 @@
 // heap_allocate/heap_release and the operator new that format_tests links
-// (format/huge_page_heap.h): big blocks in huge-page-advised mappings of their
+// (compiler/huge_page_heap.h): big blocks in huge-page-advised mappings of their
 // own, the main heap advised as it grows, PBRT_HUGE_PAGES=0 turning it off.
-#include "format/huge_page_heap.h"
+#include "compiler/huge_page_heap.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -70,18 +70,18 @@ size_t mapping_count() {
 const bool kIsProbe = [] {
   const char* out = std::getenv("HUGE_HEAP_PROBE_OUT");
   if (!out) return false;
-  void* p = pbrta::heap_allocate(pbrta::kHugeHeapBlock * 2);
+  void* p = pbrtc::heap_allocate(pbrtc::kHugeHeapBlock * 2);
   if (FILE* f = std::fopen(out, "w")) {
     std::fprintf(f, "%llu", static_cast<unsigned long long>(offset_in_huge_page(p)));
     std::fclose(f);
   }
-  pbrta::heap_release(p);
+  pbrtc::heap_release(p);
   std::_Exit(0);
 }();
 
 TEST(HugePageHeap, BigBlocksGetHugePageMappingsOfTheirOwn) {
-  for (size_t n : {pbrta::kHugeHeapBlock, size_t{3} << 20, size_t{9} << 20}) {
-    auto* p = static_cast<uint8_t*>(pbrta::heap_allocate(n));
+  for (size_t n : {pbrtc::kHugeHeapBlock, size_t{3} << 20, size_t{9} << 20}) {
+    auto* p = static_cast<uint8_t*>(pbrtc::heap_allocate(n));
     ASSERT_NE(p, nullptr);
     EXPECT_EQ(offset_in_huge_page(p), 64u) << n;
     std::memset(p, 0xab, n);  // all of it is there
@@ -89,24 +89,24 @@ TEST(HugePageHeap, BigBlocksGetHugePageMappingsOfTheirOwn) {
     if (thp_available()) {
       EXPECT_TRUE(advised(mapping_of(p))) << n << " bytes:\n" << mapping_of(p);
     }
-    pbrta::heap_release(p);
+    pbrtc::heap_release(p);
   }
   // Smaller blocks come from malloc.
-  void* small = pbrta::heap_allocate(pbrta::kHugeHeapBlock - 4096);
+  void* small = pbrtc::heap_allocate(pbrtc::kHugeHeapBlock - 4096);
   EXPECT_NE(offset_in_huge_page(small), 64u);
-  pbrta::heap_release(small);
-  pbrta::heap_release(nullptr);
+  pbrtc::heap_release(small);
+  pbrtc::heap_release(nullptr);
 }
 
 TEST(HugePageHeap, ReleasingUnmapsEveryBigBlock) {
   const size_t before = mapping_count();
-  for (int i = 0; i < 200; ++i) pbrta::heap_release(pbrta::heap_allocate(size_t{2} << 20));
+  for (int i = 0; i < 200; ++i) pbrtc::heap_release(pbrtc::heap_allocate(size_t{2} << 20));
   EXPECT_LE(mapping_count(), before + 1);
 }
 
 TEST(HugePageHeap, OperatorNewUsesIt) {
-  // format_tests links pbrta_huge_page_new, as pbrtc does.
-  std::vector<float> v(pbrta::kHugeHeapBlock);  // 4 MiB
+  // compiler_tests links pbrtc_huge_page_new, as pbrtc does.
+  std::vector<float> v(pbrtc::kHugeHeapBlock);  // 4 MiB
   EXPECT_EQ(offset_in_huge_page(v.data()), 64u);
   auto small = std::make_unique<int[]>(16);
   EXPECT_NE(offset_in_huge_page(small.get()), 64u);
@@ -117,12 +117,12 @@ TEST(HugePageHeap, TheMainHeapIsAdvisedAsItGrows) {
   // 64 KiB blocks come from malloc's main heap (below glibc's mmap threshold); 48 MiB of them
   // make it grow past what the start-up heap held.
   std::vector<void*> blocks;
-  for (int i = 0; i < 768; ++i) blocks.push_back(pbrta::heap_allocate(64 << 10));
+  for (int i = 0; i < 768; ++i) blocks.push_back(pbrtc::heap_allocate(64 << 10));
   std::string name;
   const std::string fields = mapping_of(blocks.back(), &name);
   EXPECT_NE(name.find("[heap]"), std::string::npos) << name;
   EXPECT_TRUE(advised(fields)) << name << "\n" << fields;
-  for (void* b : blocks) pbrta::heap_release(b);
+  for (void* b : blocks) pbrtc::heap_release(b);
 }
 
 TEST(HugePageHeap, CanBeTurnedOff) {
