@@ -44,6 +44,9 @@ struct InstanceData {
   // A moving mesh: its object-space scene moved by this over time (to_world is its start), an
   // instance as pbrt-v3's TransformedPrimitive is.
   const AnimatedTransform* motion = nullptr;
+  // A motion sampled in time steps (motion_steps): how far Embree's geometry may lie from the
+  // exact one hits are rebuilt on, added to their error bounds so spawned rays clear both.
+  float step_error = 0;
 };
 
 // The context every query hands Embree; its callbacks get it back and cast.
@@ -124,6 +127,8 @@ struct SceneGeometry::Impl {
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
     triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, si);
+    if (inst && inst->step_error > 0)
+      si->p_error += Vec3{inst->step_error, inst->step_error, inst->step_error};
   }
 
   // pbrt-v3's alpha masks: a texture, or the constant 0 (any other constant
@@ -414,19 +419,13 @@ bool Builder::check_shapes() {
     }
     // Moving quadrics and curves are intersected where they are at each ray's time (inside
     // instances too); moving meshes sit under a moving Embree instance, which Embree cannot
-    // nest in an object's instance; moving emitters are not yet.
-    float tt[3], tq[4], ts[3];
-    const bool rigid = s.motion && s.motion->diagonal_keyframe(0, tt, tq, ts) &&
-                       s.motion->diagonal_keyframe(1, tt, tq, ts);
-    // Meshes in objects are copied into their object's scene (one instance level): a moving
-    // one would need a second.
+    // nest in an object's instance (meshes in objects are copied into their object's scene:
+    // a moving one would need a second level); moving emitters are not yet.
     const bool mesh = s.kind == ShapeKind::kTriangles;
-    if (s.animated && ((mesh && !rigid) || (mesh && s.object != kNone) || s.area_light != kNone)) {
+    if (s.animated && ((mesh && s.object != kNone) || s.area_light != kNone)) {
       *error_ = "not supported yet: animated transform (motion blur) on a" +
-                std::string(mesh && !rigid ? " mesh with shear"
-                            : mesh         ? " mesh in an object"
-                                           : "n area light") +
-                " (" + a_.where(s.entity) + ")";
+                std::string(mesh ? " mesh in an object" : "n area light") + " (" +
+                a_.where(s.entity) + ")";
       return false;
     }
     if ((s.alpha_texture != kNone || s.shadow_alpha_texture != kNone) && !impl_->textures) {
@@ -437,8 +436,7 @@ bool Builder::check_shapes() {
   return true;
 }
 
-// Instance transforms; a moving instance also gets its motion, which Embree's
-// quaternion motion blur expresses only without shear.
+// Instance transforms; a moving instance also gets its motion.
 bool Builder::check_instances(std::vector<Transform>* transforms,
                               std::vector<const AnimatedTransform*>* motions) {
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
@@ -454,17 +452,8 @@ bool Builder::check_instances(std::vector<Transform>* transforms,
     transforms->push_back(x);
     motions->push_back(nullptr);
     if (std::memcmp(t.start, t.end, sizeof t.start) == 0) continue;
-    const AnimatedTransform& m = impl_->instance_motions.emplace_back(
-        t.start, t.end, float(t.start_time), float(t.end_time));
-    float tt[3], tq[4], ts[3];
-    if (!m.diagonal_keyframe(0, tt, tq, ts) || !m.diagonal_keyframe(1, tt, tq, ts)) {
-      *error_ =
-          "not supported yet: animated transform (motion blur) with shear on an object "
-          "instance (" +
-          a_.where(r.provenance) + ")";
-      return false;
-    }
-    motions->back() = &m;
+    motions->back() = &impl_->instance_motions.emplace_back(t.start, t.end, float(t.start_time),
+                                                            float(t.end_time));
   }
   return true;
 }
@@ -602,10 +591,49 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
   if (archive_instance != kNone) bounds_->extend(to_world.bounds(impl_->children[child].bounds));
 }
 
-// A moving mesh's child scene, moved by Embree's quaternion motion blur between the two
-// keyframes: translation and scale linear, rotation by slerp, as pbrt-v3 interpolates (the
-// checks admit only keyframes whose scale part is diagonal, which Embree's decomposition holds
-// exactly). Hits are rebuilt with AnimatedTransform::at, the same interpolation.
+// Time steps for a motion Embree's quaternion decomposition cannot hold. Between steps Embree
+// interpolates the matrices linearly; pbrt-v3's path (slerped rotation times linearly
+// interpolated stretch) bends away from that chord by at most kStepError of the motion's
+// extent at every segment's middle, checked on the child's box corners; the steps double until
+// it does (or reach kMaxTimeSteps).
+constexpr float kStepError = 2e-5f;
+constexpr int kMaxTimeSteps = 257;
+
+std::vector<Transform> motion_steps(const AnimatedTransform& motion, const Bounds3& box,
+                                    float* error) {
+  Vec3 corners[8];
+  for (int c = 0; c < 8; ++c)
+    corners[c] = {c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y,
+                  c & 4 ? box.hi.z : box.lo.z};
+  const float tolerance = kStepError * length(motion.motion_bounds(box).diagonal());
+  const float t0 = motion.start_time(), t1 = motion.end_time();
+  auto time_of = [&](double f) { return f >= 1 ? t1 : t0 + (t1 - t0) * float(f); };
+  for (int steps = 2;; steps = std::min(2 * steps - 1, kMaxTimeSteps)) {
+    std::vector<Transform> at(static_cast<size_t>(steps));
+    for (int k = 0; k < steps; ++k) at[size_t(k)] = motion.at(time_of(double(k) / (steps - 1)));
+    float worst = 0;
+    for (int k = 0; k + 1 < steps; ++k) {
+      const Transform mid = motion.at(time_of((k + 0.5) / (steps - 1)));
+      for (const Vec3& p : corners)
+        worst = std::max(
+            worst,
+            length((at[size_t(k)].point(p) + at[size_t(k) + 1].point(p)) * 0.5f - mid.point(p)));
+    }
+    if (!(worst > tolerance) || steps == kMaxTimeSteps) {
+      // The corners' deviation bounds every point's: Embree's and the exact transforms are
+      // affine at each time, and a point of the box is a blend of its corners.
+      *error = 2 * worst;  // margin: the farthest point of a segment may lie off its middle
+      return at;
+    }
+  }
+}
+
+// A moving mesh's or instance's child scene under an Embree instance that moves with it; hits
+// are rebuilt with AnimatedTransform::at, pbrt-v3's interpolation, at the ray's time.
+// Keyframes whose scale part is diagonal go to Embree's quaternion motion blur: translation and
+// scale linear, rotation by slerp, exactly as pbrt-v3 interpolates. Others (a scale along axes
+// the rotation turns: pbrt-v3's symmetric S has off-diagonal terms, Embree's decomposition
+// cannot hold them) get matrices sampled from at() at time steps (motion_steps).
 void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
                             uint32_t archive_instance) {
   InstanceData d;
@@ -620,23 +648,35 @@ void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
   impl_->motion_t1 = motion.end_time();
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(geom, impl_->children[child].scene);
-  rtcSetGeometryTimeStepCount(geom, 2);
-  for (int k = 0; k < 2; ++k) {
-    float t[3], q[4], sc[3];
-    motion.diagonal_keyframe(k, t, q, sc);
-    RTCQuaternionDecomposition x;
-    rtcInitQuaternionDecomposition(&x);
-    x.scale_x = sc[0];
-    x.scale_y = sc[1];
-    x.scale_z = sc[2];
-    x.quaternion_i = q[0];
-    x.quaternion_j = q[1];
-    x.quaternion_k = q[2];
-    x.quaternion_r = q[3];
-    x.translation_x = t[0];
-    x.translation_y = t[1];
-    x.translation_z = t[2];
-    rtcSetGeometryTransformQuaternion(geom, unsigned(k), &x);
+  float t[2][3], q[2][4], sc[2][3];
+  if (motion.diagonal_keyframe(0, t[0], q[0], sc[0]) &&
+      motion.diagonal_keyframe(1, t[1], q[1], sc[1])) {
+    rtcSetGeometryTimeStepCount(geom, 2);
+    for (int k = 0; k < 2; ++k) {
+      RTCQuaternionDecomposition x;
+      rtcInitQuaternionDecomposition(&x);
+      x.scale_x = sc[k][0];
+      x.scale_y = sc[k][1];
+      x.scale_z = sc[k][2];
+      x.quaternion_i = q[k][0];
+      x.quaternion_j = q[k][1];
+      x.quaternion_k = q[k][2];
+      x.quaternion_r = q[k][3];
+      x.translation_x = t[k][0];
+      x.translation_y = t[k][1];
+      x.translation_z = t[k][2];
+      rtcSetGeometryTransformQuaternion(geom, unsigned(k), &x);
+    }
+  } else {
+    const std::vector<Transform> steps =
+        motion_steps(motion, impl_->children[child].bounds, &impl_->instances.back().step_error);
+    ++stats_->sampled_motions;
+    rtcSetGeometryTimeStepCount(geom, unsigned(steps.size()));
+    for (size_t k = 0; k < steps.size(); ++k) {
+      float xfm[12];
+      to_row_major_3x4(steps[k].matrix(), xfm);
+      rtcSetGeometryTransform(geom, unsigned(k), RTC_FORMAT_FLOAT3X4_ROW_MAJOR, xfm);
+    }
   }
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(impl_->top, geom);

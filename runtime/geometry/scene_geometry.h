@@ -17,10 +17,11 @@
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
-// an Embree instance with quaternion motion blur (keyframes without shear),
-// its hits rebuilt at the ray's time; a moving object instance likewise. Unsupported
-// input (moving meshes or instances with shear or with different TransformTimes,
-// moving meshes inside objects) fails build() with "not supported yet: <what> (file:line)".
+// an Embree instance with quaternion motion blur (keyframes with shear: matrices
+// at enough time steps), its hits rebuilt at the ray's time; a moving object instance
+// likewise. Unsupported input (moving meshes or instances with different TransformTimes,
+// which pbrtc never writes; moving meshes inside objects) fails build() with
+// "not supported yet: <what> (file:line)".
 #pragma once
 
 #include <cstdint>
@@ -39,6 +40,7 @@ struct GeometryStats {
   double build_seconds = 0;
   uint64_t embree_bytes = 0;  // Embree's own allocations after the build
   uint32_t triangles = 0, quadrics = 0, curves = 0, instances = 0, copied_meshes = 0;
+  uint32_t sampled_motions = 0;  // moving meshes and instances given time steps (shear)
 };
 
 class SceneGeometry {

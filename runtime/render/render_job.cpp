@@ -349,6 +349,12 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
       (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
   std::string out = buf;
+  if (gs.sampled_motions > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "  motion time steps      %u moving meshes or instances with shear, sampled\n",
+                  gs.sampled_motions);
+    out += buf;
+  }
   if (rs.passes > 0) {
     std::snprintf(buf, sizeof buf, "  passes                 %d (%s)%s\n", rs.passes,
                   stop_text(rs.stop), rs.checkpoints ? ", with checkpoints" : "");
