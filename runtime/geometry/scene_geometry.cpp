@@ -44,9 +44,22 @@ struct InstanceData {
   // A moving mesh: its object-space scene moved by this over time (to_world is its start), an
   // instance as pbrt-v3's TransformedPrimitive is.
   const AnimatedTransform* motion = nullptr;
+  // A moving mesh inside an object definition, flattened into the top level once per instance
+  // of its object (Embree here nests one instance level): the instance's transform, or its
+  // motion, is composed onto the mesh's motion, as pbrt-v3's two TransformedPrimitives do.
+  bool composed = false;
+  Transform outer;
+  const AnimatedTransform* outer_motion = nullptr;
   // A motion sampled in time steps (motion_steps): how far Embree's geometry may lie from the
   // exact one hits are rebuilt on, added to their error bounds so spawned rays clear both.
   float step_error = 0;
+
+  // Buffer space to world at a ray's time.
+  Transform at(float time) const {
+    const Transform inner = motion ? motion->at(time) : to_world;
+    if (!composed) return inner;
+    return (outer_motion ? outer_motion->at(time) : outer) * inner;
+  }
 };
 
 // The context every query hands Embree; its callbacks get it back and cast.
@@ -121,7 +134,7 @@ struct SceneGeometry::Impl {
     space.to_world = inst ? &inst->to_world : nullptr;
     std::optional<Transform> moving;  // made only for a moving instance: this is per hit
     if (inst && inst->motion) {
-      moving = inst->motion->at(ray.time);
+      moving = inst->at(ray.time);
       space.to_world = &*moving;
     }
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
@@ -229,7 +242,7 @@ void quadric_bounds(const RTCBoundsFunctionArguments* args) {
 
 // An instance's transform at a ray's time.
 Transform instance_at(const InstanceData& inst, float time) {
-  return inst.motion ? inst.motion->at(time) : inst.to_world;
+  return inst.at(time);
 }
 
 // Where a moving or instanced shape is at a ray's time: its motion there (or its own
@@ -390,7 +403,11 @@ class Builder {
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
-  void attach_moving(uint32_t child, const AnimatedTransform& motion, uint32_t archive_instance);
+  // outer, outer_motion: an instance's transform or motion to compose onto the motion (a moving
+  // mesh inside an object definition); then the composition is always sampled in time steps.
+  void attach_moving(uint32_t child, const AnimatedTransform& motion, uint32_t archive_instance,
+                     const Transform* outer = nullptr,
+                     const AnimatedTransform* outer_motion = nullptr);
   void record_top(unsigned id, const GeomData* g, uint32_t instance);
   bool embree_ok();
 
@@ -418,13 +435,10 @@ bool Builder::check_shapes() {
       return false;
     }
     // Moving quadrics and curves are intersected where they are at each ray's time (inside
-    // instances too); moving meshes sit under a moving Embree instance, which Embree cannot
-    // nest in an object's instance (meshes in objects are copied into their object's scene:
-    // a moving one would need a second level); moving emitters are not yet.
-    const bool mesh = s.kind == ShapeKind::kTriangles;
-    if (s.animated && ((mesh && s.object != kNone) || s.area_light != kNone)) {
-      *error_ = "not supported yet: animated transform (motion blur) on a" +
-                std::string(mesh ? " mesh in an object" : "n area light") + " (" +
+    // instances too); moving meshes sit under a moving Embree instance (inside objects: one per
+    // instance of the object, in the top level); moving emitters are not yet.
+    if (s.animated && s.area_light != kNone) {
+      *error_ = "not supported yet: animated transform (motion blur) on an area light (" +
                 a_.where(s.entity) + ")";
       return false;
     }
@@ -597,17 +611,19 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
 // extent at every segment's middle, checked on the child's box corners; the steps double until
 // it does (or reach kMaxTimeSteps).
 constexpr float kStepError = 2e-5f;
-constexpr int kMaxTimeSteps = 257;
+constexpr int kMaxTimeSteps = RTC_MAX_TIME_STEP_COUNT;
 
-std::vector<Transform> motion_steps(const AnimatedTransform& motion, const Bounds3& box,
-                                    float* error) {
+std::vector<Transform> motion_steps(const InstanceData& motion, const Bounds3& box, float* error) {
   Vec3 corners[8];
   for (int c = 0; c < 8; ++c)
     corners[c] = {c & 1 ? box.hi.x : box.lo.x, c & 2 ? box.hi.y : box.lo.y,
                   c & 4 ? box.hi.z : box.lo.z};
-  const float tolerance = kStepError * length(motion.motion_bounds(box).diagonal());
-  const float t0 = motion.start_time(), t1 = motion.end_time();
+  const float t0 = motion.motion->start_time(), t1 = motion.motion->end_time();
   auto time_of = [&](double f) { return f >= 1 ? t1 : t0 + (t1 - t0) * float(f); };
+  Bounds3 extent;  // of the whole motion, sampled
+  for (int k = 0; k <= 16; ++k)
+    for (const Vec3& p : corners) extent.extend(motion.at(time_of(k / 16.0)).point(p));
+  const float tolerance = kStepError * length(extent.diagonal());
   for (int steps = 2;; steps = std::min(2 * steps - 1, kMaxTimeSteps)) {
     std::vector<Transform> at(static_cast<size_t>(steps));
     for (int k = 0; k < steps; ++k) at[size_t(k)] = motion.at(time_of(double(k) / (steps - 1)));
@@ -635,13 +651,17 @@ std::vector<Transform> motion_steps(const AnimatedTransform& motion, const Bound
 // the rotation turns: pbrt-v3's symmetric S has off-diagonal terms, Embree's decomposition
 // cannot hold them) get matrices sampled from at() at time steps (motion_steps).
 void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
-                            uint32_t archive_instance) {
+                            uint32_t archive_instance, const Transform* outer,
+                            const AnimatedTransform* outer_motion) {
   InstanceData d;
-  d.to_world = motion.start();
   d.child = child;
   d.archive_instance = archive_instance;
   d.motion = &motion;
-  d.mirrors = motion.start().swaps_handedness();
+  d.composed = outer != nullptr || outer_motion != nullptr;
+  if (outer) d.outer = *outer;
+  d.outer_motion = outer_motion;
+  d.to_world = d.at(motion.start_time());
+  d.mirrors = d.to_world.swaps_handedness();
   impl_->instances.push_back(d);
   impl_->has_moving_meshes = true;
   impl_->motion_t0 = motion.start_time();
@@ -649,7 +669,7 @@ void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_INSTANCE);
   rtcSetGeometryInstancedScene(geom, impl_->children[child].scene);
   float t[2][3], q[2][4], sc[2][3];
-  if (motion.diagonal_keyframe(0, t[0], q[0], sc[0]) &&
+  if (!d.composed && motion.diagonal_keyframe(0, t[0], q[0], sc[0]) &&
       motion.diagonal_keyframe(1, t[1], q[1], sc[1])) {
     rtcSetGeometryTimeStepCount(geom, 2);
     for (int k = 0; k < 2; ++k) {
@@ -668,8 +688,9 @@ void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
       rtcSetGeometryTransformQuaternion(geom, unsigned(k), &x);
     }
   } else {
+    InstanceData& placed = impl_->instances.back();
     const std::vector<Transform> steps =
-        motion_steps(motion, impl_->children[child].bounds, &impl_->instances.back().step_error);
+        motion_steps(placed, impl_->children[child].bounds, &placed.step_error);
     ++stats_->sampled_motions;
     rtcSetGeometryTimeStepCount(geom, unsigned(steps.size()));
     for (size_t k = 0; k < steps.size(); ++k) {
@@ -750,6 +771,8 @@ bool Builder::run() {
 
   // Object definitions: one child scene each, in instance space.
   std::vector<uint32_t> object_child(a_.objects.size, kNone);
+  // Per object: (child, shape) of its moving meshes.
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> moving_in_object(a_.objects.size);
   std::vector<bool> instanced(a_.objects.size, false);
   for (const pbrta::InstanceRecord& r : a_.instances) instanced[r.object] = true;
   for (uint32_t o = 0; o < a_.objects.size; ++o) {
@@ -760,6 +783,15 @@ bool Builder::run() {
       uint32_t shape = a_.object_shapes[rec.first_shape + k];
       const ShapeInfo& s = shapes_[shape];
       if (s.kind == ShapeKind::kTriangles && empty_mesh(s)) continue;
+      if (s.kind == ShapeKind::kTriangles && s.motion) {
+        // A scene of its own, in its own space, placed per instance below.
+        const uint32_t own = add_child();
+        unsigned id =
+            attach_mesh(impl_->children[own].scene, shape, false, &impl_->children[own].bounds);
+        record_child(own, id, &impl_->geoms.back());
+        moving_in_object[o].push_back({own, shape});
+        continue;
+      }
       if (child == kNone) child = add_child();
       Impl::Child& c = impl_->children[child];
       unsigned id = is_quadric(s.kind) ? attach_quadric(c.scene, shape, &c.bounds)
@@ -788,15 +820,24 @@ bool Builder::run() {
     }
   for (auto [child, shape] : moving) attach_moving(child, *shapes_[shape].motion, kNone);
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
-    uint32_t child = object_child[a_.instances[i].object];
-    if (child == kNone) continue;  // an empty object
-    if (const AnimatedTransform* m = instance_motions[i]) {
+    const uint32_t object = a_.instances[i].object;
+    const AnimatedTransform* m = instance_motions[i];
+    for (auto [own, shape] : moving_in_object[object]) {
+      const ShapeInfo& s = shapes_[shape];
+      attach_moving(own, *s.motion, i, m ? nullptr : &instance_transforms[i], m);
+      const Bounds3 box = s.motion->motion_bounds(impl_->children[own].bounds);
+      bounds_->extend(m ? m->motion_bounds(box) : instance_transforms[i].bounds(box));
+    }
+    uint32_t child = object_child[object];
+    if (child == kNone && moving_in_object[object].empty()) continue;  // an empty object
+    ++stats_->instances;
+    if (child == kNone) continue;
+    if (m) {
       attach_moving(child, *m, i);
       bounds_->extend(m->motion_bounds(impl_->children[child].bounds));
     } else {
       attach_instance(child, instance_transforms[i], i);
     }
-    ++stats_->instances;
   }
   rtcCommitScene(impl_->top);
   return embree_ok();

@@ -17,11 +17,13 @@
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
-// an Embree instance with quaternion motion blur (keyframes with shear: matrices
-// at enough time steps), its hits rebuilt at the ray's time; a moving object instance
-// likewise. Unsupported input (moving meshes or instances with different TransformTimes,
-// which pbrtc never writes; moving meshes inside objects) fails build() with
-// "not supported yet: <what> (file:line)".
+// an Embree instance with quaternion motion blur, or, where Embree's
+// decomposition cannot hold pbrt-v3's interpolation (keyframes with shear; a
+// moving mesh inside an object, placed once per instance with the instance's
+// transform or motion composed on), matrices at enough time steps; its hits are
+// rebuilt at the ray's time; a moving object instance likewise. Unsupported input
+// (moving meshes or instances with different TransformTimes, which pbrtc never
+// writes) fails build() with "not supported yet: <what> (file:line)".
 #pragma once
 
 #include <cstdint>
@@ -40,7 +42,7 @@ struct GeometryStats {
   double build_seconds = 0;
   uint64_t embree_bytes = 0;  // Embree's own allocations after the build
   uint32_t triangles = 0, quadrics = 0, curves = 0, instances = 0, copied_meshes = 0;
-  uint32_t sampled_motions = 0;  // moving meshes and instances given time steps (shear)
+  uint32_t sampled_motions = 0;  // moving meshes and instances given time steps
 };
 
 class SceneGeometry {

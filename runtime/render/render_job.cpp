@@ -351,7 +351,8 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
   std::string out = buf;
   if (gs.sampled_motions > 0) {
     std::snprintf(buf, sizeof buf,
-                  "  motion time steps      %u moving meshes or instances with shear, sampled\n",
+                  "  motion time steps      %u moving meshes or instances sampled (shear, or "
+                  "inside objects)\n",
                   gs.sampled_motions);
     out += buf;
   }

@@ -332,6 +332,66 @@ ActiveTransform All
   EXPECT_TRUE(mesh->geometry.intersect(r, &si));
 }
 
+// Moving meshes inside object definitions (issue 36): each instance of the object gets the
+// mesh in the top level, its motion composed with the instance's transform or motion as
+// pbrt-v3's two TransformedPrimitives compose them. A quad turning 60 degrees about y and
+// sliding 2 along x within its object, instanced still at z = 5 and moving from z = 10 up by 10
+// and back by 10: hit where the composition puts it at each time, and left cleanly.
+TEST(SceneGeometryInstance, MovingMeshesInsideObjects) {
+  auto s = load_world("sg_moving_mesh_in_objects", R"(
+ObjectBegin "o"
+  ActiveTransform EndTime
+  Translate 2 0 0
+  Rotate 60 0 1 0
+  ActiveTransform All
+  Shape "trianglemesh" "point3 P" [-1 -1 0 1 -1 0 1 1 0 -1 1 0] "integer indices" [0 1 2 0 2 3]
+ObjectEnd
+AttributeBegin
+  Translate 0 0 5
+  ObjectInstance "o"
+AttributeEnd
+AttributeBegin
+  Translate 0 0 10
+  ActiveTransform EndTime
+  Translate 0 10 10
+  ActiveTransform All
+  ObjectInstance "o"
+AttributeEnd
+)");
+  ASSERT_TRUE(s->built) << s->error;
+  EXPECT_EQ(s->geometry.stats().instances, 2u);
+  EXPECT_EQ(s->geometry.stats().sampled_motions, 2u);
+  const double c = 0.5, sn = std::sqrt(0.75);
+  const double start[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  const double end[16] = {c, 0, sn, 2, 0, 1, 0, 0, -sn, 0, c, 0, 0, 0, 0, 1};
+  const AnimatedTransform inner(start, end, 0, 1);
+  const double lift[16] = {1, 0, 0, 0, 0, 1, 0, 10, 0, 0, 1, 20, 0, 0, 0, 1};
+  const double at10[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 10, 0, 0, 0, 1};
+  const AnimatedTransform outer_moving(at10, lift, 0, 1);
+  for (int i = 0; i <= 10; ++i) {
+    const float time = i / 10.f;
+    SCOPED_TRACE(time);
+    for (int which = 0; which < 2; ++which) {
+      const Transform outer = which == 0 ? translate({0, 0, 5}) : outer_moving.at(time);
+      const Transform m = outer * inner.at(time);
+      // Aim at the quad's point (0.3, 0.2) in its own space, along z, from before it.
+      const Vec3 target = m.point({0.3f, 0.2f, 0});
+      Ray r = make_ray({target.x, target.y, which == 0 ? -5.f : 7.5f}, {0, 0, 1});
+      r.time = time;
+      SurfaceInteraction si;
+      ASSERT_TRUE(s->geometry.intersect(r, &si)) << "instance " << which;
+      EXPECT_NEAR(si.p.z, target.z, 2e-3f) << "instance " << which;
+      EXPECT_EQ(si.instance, uint32_t(which));
+      const Vec3 n = dot(si.n, r.d) < 0 ? si.n : -si.n;
+      Ray out = si.spawn_ray(n);
+      out.time = time;
+      SurfaceInteraction again;  // instance 1's way back may meet instance 0, never itself
+      EXPECT_FALSE(s->geometry.intersect(out, &again) && again.instance == uint32_t(which))
+          << "instance " << which;
+    }
+  }
+}
+
 // Moving shapes inside object definitions: a sphere and a curve that move within their
 // object, instanced twice (one instance itself moving): each is where its motion, composed
 // with its instance's transform at the ray's time, puts it.

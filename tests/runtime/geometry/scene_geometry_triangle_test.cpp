@@ -203,23 +203,5 @@ AttributeEnd
   EXPECT_EQ(b.lo.z, 1.f);
 }
 
-TEST(SceneGeometryTriangle, UnsupportedInputs) {
-  auto moving = load_world("sg_moving_in_object", R"(
-ObjectBegin "m"
-  ActiveTransform EndTime
-  Translate 1 0 0
-  ActiveTransform All
-  Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 1 1 0] "integer indices" [0 1 2]
-ObjectEnd
-ObjectInstance "m"
-)");
-  EXPECT_FALSE(moving->built);
-  EXPECT_NE(moving->error.find("not supported yet: animated transform (motion blur) on a mesh in "
-                               "an object ("),
-            std::string::npos)
-      << moving->error;
-  EXPECT_NE(moving->error.find("scene.pbrt:8)"), std::string::npos) << moving->error;
-}
-
 }  // namespace
 }  // namespace rt
