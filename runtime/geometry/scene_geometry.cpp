@@ -167,8 +167,10 @@ bool has_shadow_mask(const ShapeInfo& s) {
 void on_embree_error(void* user, RTCError code, const char* str) {
   auto* impl = static_cast<Impl*>(user);
   std::lock_guard<std::mutex> lock(impl->error_mutex);
+  const std::string what = "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "");
+  if (impl->embree_error.find(what) != std::string::npos) return;  // one call per geometry
   if (!impl->embree_error.empty()) impl->embree_error += "; ";
-  impl->embree_error += "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "");
+  impl->embree_error += what;
 }
 
 bool on_embree_memory(void* user, ssize_t bytes, bool /*post*/) {
