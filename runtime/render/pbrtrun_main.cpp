@@ -12,7 +12,6 @@
 // "not supported yet: <feature> (file:line)". Exit codes: 0 rendered,
 // 1 bad archive or unsupported scene, 2 bad command line or output path,
 // 128 + signal when SIGINT or SIGTERM stopped it (after writing the image so far).
-#include <sys/resource.h>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -31,12 +30,6 @@
 #include "runtime/render/stop_flags.h"
 
 namespace {
-
-double peak_memory_mib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
-}
 
 int fail(const std::string& message, int code = 1) {
   std::cerr << "pbrtrun: " << message << "\n";
@@ -65,15 +58,15 @@ int main(int argc, char** argv) {
 
   rt::RenderJobResult result;
   if (!rt::render_archive(archive, job, &result, &error)) {
-    if (result.interrupted) {
-      if (!args.quiet) std::cerr << "pbrtrun: " << error << "\n";
-      return 128 + rt::interrupt_signal();
-    }
-    return fail(error, result.bad_output ? 2 : 1);
+    bool print = true;
+    const int status = rt::failed_render_status(result, args.quiet, &print);
+    if (print) std::cerr << "pbrtrun: " << error << "\n";
+    return status;
   }
   if (args.show_stats)
     std::fputs(
-        rt::format_render_stats(args.input, result, t_archive, threads, peak_memory_mib()).c_str(),
+        rt::format_render_stats(args.input, result, t_archive, threads, rt::peak_memory_mib())
+            .c_str(),
         stderr);
   return 0;
 }

@@ -1,5 +1,7 @@
 #include "runtime/render/render_job.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -18,6 +20,7 @@
 #include "runtime/render/mlt.h"
 #include "runtime/render/render_scene.h"
 #include "runtime/render/sppm.h"
+#include "runtime/render/stop_flags.h"
 #include "runtime/sampler/sampler.h"
 
 namespace rt {
@@ -391,6 +394,18 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
     out += buf;
   }
   return out;
+}
+
+double peak_memory_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;
+}
+
+int failed_render_status(const RenderJobResult& r, bool quiet, bool* print) {
+  *print = !(r.interrupted && quiet);
+  if (r.interrupted) return 128 + interrupt_signal();
+  return r.bad_output ? 2 : 1;
 }
 
 }  // namespace rt

@@ -122,4 +122,12 @@ const char* stop_text(StopReason r);  // "target error reached" and the like
 std::string format_render_stats(const std::string& input, const RenderJobResult& r,
                                 double archive_seconds, int threads, double peak_memory_mib);
 
+// This process's peak resident memory in MiB, for --stats.
+double peak_memory_mib();
+
+// The exit status of a render_archive() that failed: 128 + the signal when SIGINT or SIGTERM
+// stopped it (the image so far was written), 2 when an output could not be written, else 1.
+// *print says whether to print its error: an interrupted render says nothing under --quiet.
+int failed_render_status(const RenderJobResult& r, bool quiet, bool* print);
+
 }  // namespace rt

@@ -14,7 +14,6 @@
 // --save-state leaves a state that a rerun with --resume continues, losing at most one
 // checkpoint interval. Test hooks: --slow-rank R --slow-tile-seconds S.
 #include <mpi.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <tbb/global_control.h>
@@ -98,12 +97,6 @@ bool load_broadcast(const std::string& path, int threads, pbrta::SceneArchive* a
   if (!written) *error = name + ": cannot write the broadcast archive";
   ::unlink(name.c_str());  // a mapping of it stays valid
   return ok;
-}
-
-double peak_memory_mib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
 }
 
 }  // namespace
@@ -196,15 +189,13 @@ int main(int argc, char** argv) {
   }
   int code = 0;
   if (g_rank == 0) {
-    if (!ok && result.interrupted) {
-      if (!args.quiet) say(error);
-      code = 128 + rt::interrupt_signal();
-    } else if (!ok) {
-      say(error);
-      code = result.bad_output ? 2 : 1;
+    if (!ok) {
+      bool print = true;
+      code = rt::failed_render_status(result, args.quiet, &print);
+      if (print) say(error);
     } else if (args.show_stats) {
       std::string text =
-          rt::format_render_stats(args.input, result, t_archive, threads, peak_memory_mib());
+          rt::format_render_stats(args.input, result, t_archive, threads, rt::peak_memory_mib());
       text += "  MPI ranks              " + std::to_string(size) + " x " + std::to_string(threads) +
               " threads\n";
       std::fputs(text.c_str(), stderr);

@@ -14,7 +14,6 @@
 // render option, it never changes the cache key. Exit codes: 0 all rendered, 1 a scene
 // failed (compile errors as "file:line:col: error: ...", "not supported yet: ..."),
 // 2 bad command line or output path.
-#include <sys/resource.h>
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -37,12 +36,6 @@
 namespace {
 
 using pbrt_tool::Options;
-
-double peak_memory_mib() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return double(u.ru_maxrss) / 1024.0;
-}
 
 // --cat: the scene with every mesh inline; --toply: every triangle mesh as a PLY file in
 // the working directory. Images and lens files keep the names the scene gave them.
@@ -98,12 +91,10 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
   rt::RenderJobResult result;
   std::string error;
   if (!rt::render_archive(*archive, job, &result, &error)) {
-    if (result.interrupted) {
-      if (!o.quiet) std::cerr << "pbrt: " << error << "\n";
-      return 128 + rt::interrupt_signal();
-    }
-    std::cerr << "pbrt: " << error << "\n";
-    return result.bad_output ? 2 : 1;
+    bool print = true;
+    const int status = rt::failed_render_status(result, o.quiet, &print);
+    if (print) std::cerr << "pbrt: " << error << "\n";
+    return status;
   }
   if (o.stats) {
     std::fprintf(stderr, "pbrt: %s: cache: %s (lookup %.3f s, compile %.3f s, load %.3f s)%s%s\n",
@@ -111,7 +102,7 @@ int run_scene(const std::string& file, const Options& o, pbrt_tool::SceneCache* 
                  got.compile_seconds, got.load_seconds, got.archive_path.empty() ? "" : " ",
                  got.archive_path.c_str());
     std::fputs(rt::format_render_stats(source.display(), result, got.load_seconds, threads,
-                                       peak_memory_mib())
+                                       rt::peak_memory_mib())
                    .c_str(),
                stderr);
   }
