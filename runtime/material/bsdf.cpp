@@ -5,10 +5,10 @@ namespace rt {
 
 void Bsdf::init(const SurfaceInteraction& si, float eta_) {
   eta = eta_;
-  ns_ = si.shading.n;
-  ng_ = si.n;
-  ss_ = normalize(si.shading.dpdu);
-  ts_ = cross(ns_, ss_);
+  frame_.ns = si.shading.n;
+  frame_.ng = si.n;
+  frame_.ss = normalize(si.shading.dpdu);
+  frame_.ts = cross(frame_.ns, frame_.ss);
   n_ = 0;
 }
 
@@ -29,18 +29,30 @@ int Bsdf::num_components(uint8_t flags) const {
   return n;
 }
 
-Rgb Bsdf::f(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
-  Vec3 wi = world_to_local(wi_world), wo = world_to_local(wo_world);
-  if (wo.z == 0) return Rgb(0);
-  bool reflect = dot(wi_world, ng_) * dot(wo_world, ng_) > 0;
+namespace {
+// The lobes matching flags on wi's side of the surface (reflect: wo's), summed.
+Rgb sum_f(const Bxdf* lobes, int n, Vec3 wo, Vec3 wi, bool reflect, uint8_t flags) {
   Rgb result(0);
-  for (int i = 0; i < n_; ++i) {
-    const Bxdf& b = lobes_[i];
+  for (int i = 0; i < n; ++i) {
+    const Bxdf& b = lobes[i];
     if (b.matches(flags) &&
         ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))))
       result += b.f(wo, wi);
   }
   return result;
+}
+}  // namespace
+
+Rgb lobes_f(const BsdfFrame& frame, const Bxdf* lobes, int n, Vec3 wo_world, Vec3 wi_world,
+            uint8_t flags) {
+  Vec3 wi = frame.world_to_local(wi_world), wo = frame.world_to_local(wo_world);
+  if (wo.z == 0) return Rgb(0);
+  const bool reflect = dot(wi_world, frame.ng) * dot(wo_world, frame.ng) > 0;
+  return sum_f(lobes, n, wo, wi, reflect, flags);
+}
+
+Rgb Bsdf::f(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
+  return lobes_f(frame_, lobes_, n_, wo_world, wi_world, flags);
 }
 
 Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t flags,
@@ -75,14 +87,8 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
   if (matching > 1) *pdf /= matching;
 
   if (!(chosen->flags & kSpecular)) {
-    bool reflect = dot(*wi_world, ng_) * dot(wo_world, ng_) > 0;
-    f = Rgb(0);
-    for (int i = 0; i < n_; ++i) {
-      const Bxdf& b = lobes_[i];
-      if (b.matches(flags) &&
-          ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))))
-        f += b.f(wo, wi);
-    }
+    const bool reflect = dot(*wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
+    f = sum_f(lobes_, n_, wo, wi, reflect, flags);
   }
   return f;
 }

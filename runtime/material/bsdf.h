@@ -15,6 +15,19 @@
 
 namespace rt {
 
+// The shading frame (shading normal, normalised shading dp/du, their cross product) and the
+// geometric normal f() tells reflection from transmission by.
+struct BsdfFrame {
+  Vec3 ns, ng, ss, ts;
+  Vec3 world_to_local(Vec3 v) const { return {dot(v, ss), dot(v, ts), dot(v, ns)}; }
+  Vec3 local_to_world(Vec3 v) const { return ss * v.x + ts * v.y + ns * v.z; }
+};
+
+// f() of lobes [0, n) in frame: what Bsdf::f returns, for BSDFs kept in other forms (sppm's
+// visible points).
+Rgb lobes_f(const BsdfFrame& frame, const Bxdf* lobes, int n, Vec3 wo_world, Vec3 wi_world,
+            uint8_t flags = kAllBxdf);
+
 class Bsdf {
  public:
   static constexpr int kMaxLobes = 8;
@@ -29,10 +42,11 @@ class Bsdf {
   const Bxdf& lobe(int i) const { return lobes_[i]; }
   int num_components(uint8_t flags = kAllBxdf) const;
 
-  Vec3 world_to_local(Vec3 v) const { return {dot(v, ss_), dot(v, ts_), dot(v, ns_)}; }
-  Vec3 local_to_world(Vec3 v) const { return ss_ * v.x + ts_ * v.y + ns_ * v.z; }
-  Vec3 shading_normal() const { return ns_; }
-  Vec3 geometric_normal() const { return ng_; }
+  const BsdfFrame& frame() const { return frame_; }
+  Vec3 world_to_local(Vec3 v) const { return frame_.world_to_local(v); }
+  Vec3 local_to_world(Vec3 v) const { return frame_.local_to_world(v); }
+  Vec3 shading_normal() const { return frame_.ns; }
+  Vec3 geometric_normal() const { return frame_.ng; }
 
   Rgb f(Vec3 wo_world, Vec3 wi_world, uint8_t flags = kAllBxdf) const;
   Rgb sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t flags = kAllBxdf,
@@ -42,7 +56,7 @@ class Bsdf {
   float eta = 1;
 
  private:
-  Vec3 ns_, ng_, ss_, ts_;
+  BsdfFrame frame_;
   int n_ = 0;
   Bxdf lobes_[kMaxLobes];
 };

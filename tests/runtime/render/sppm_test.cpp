@@ -83,6 +83,37 @@ TEST(Sppm, AgreesWithThePathTracerOnADiffuseScene) {
   EXPECT_EQ(sppm.stats.samples, 24u * 24u * 64u);  // one camera sample per pixel per iteration
 }
 
+// The same box with floor, ceiling and back wall of a mix material (matte with plastic: three
+// lobes where visible points form): those points keep their BSDF whole beside the two-lobe
+// inline ones (sppm.cpp, VisibleBsdf), and the photon pass evaluates it there alike.
+TEST(Sppm, AgreesWithThePathTracerWhereVisiblePointsHaveManyLobes) {
+  auto mixed_box = [](const std::string& integrator) {
+    std::string text = diffuse_box(integrator);
+    const std::string grey = R"(Material "matte" "rgb Kd" [0.6 0.6 0.6])";
+    const size_t at = text.find(grey);
+    EXPECT_NE(at, std::string::npos);
+    text.replace(at, grey.size(),
+                 R"(MakeNamedMaterial "a" "string type" "matte" "rgb Kd" [0.6 0.6 0.6]
+MakeNamedMaterial "b" "string type" "plastic" "rgb Kd" [0.4 0.4 0.4] "rgb Ks" [0.2 0.2 0.2]
+  "float roughness" [0.5]
+Material "mix" "string namedmaterial1" "a" "string namedmaterial2" "b" "rgb amount" [0.5 0.5 0.5])");
+    return text;
+  };
+  Rendered path =
+      render_text("sppm_mix_path", mixed_box(R"(Integrator "path" "integer maxdepth" [5])"));
+  Rendered sppm = render_text("sppm_mix_sppm", mixed_box(R"(Integrator "sppm"
+    "integer maxdepth" [5] "integer iterations" [64] "integer photonsperiteration" [30000]
+    "float radius" [0.03])"));
+  ASSERT_TRUE(path.ok && sppm.ok);
+  for (int q = 0; q < 5; ++q) {
+    int x0 = q == 4 ? 0 : (q % 2) * 12, y0 = q == 4 ? 0 : (q / 2) * 12;
+    int x1 = q == 4 ? 24 : x0 + 12, y1 = q == 4 ? 24 : y0 + 12;
+    double a = mean_luminance(path, x0, x1, y0, y1), b = mean_luminance(sppm, x0, x1, y0, y1);
+    EXPECT_NEAR(b / a, 1, 0.03) << "region " << q << ": path " << a << ", sppm " << b;
+  }
+  EXPECT_EQ(sppm.stats.nonfinite_samples, 0u);
+}
+
 // A point light straight above a glass ball (index 1.5, radius 0.5, centre 1 above the
 // floor, light 3 above the centre): the ball's focus lands on the floor right under it
 // (1/s' = 2(n-1)/(nR) - 1/s = 4/3 - 1/3), which the camera sees past the ball at the image
