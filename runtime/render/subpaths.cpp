@@ -179,7 +179,7 @@ int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float 
     Vertex& prev = path[bounces - 1];
     if (scattered) {
       // A medium vertex: the phase function is its BSDF, and its own inverse density.
-      v = Vertex{};
+      v.reset_except_bsdf();
       v.type = VertexType::kMedium;
       v.medium = medium;
       v.g = scene.media[medium].g;
@@ -198,7 +198,7 @@ int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float 
     if (!found) {
       // Light from infinity, seen by the camera path.
       if (mode == TransportMode::kRadiance) {
-        v = Vertex{};
+        v.reset_except_bsdf();
         v.type = VertexType::kLight;
         v.infinite = true;
         v.si.p = ray.at(1);
@@ -247,7 +247,7 @@ int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float 
 int Subpaths::camera_subpath(const RayDifferential& ray, int max_depth, Vertex* path) const {
   if (max_depth == 0) return 0;
   Vertex& c = path[0];
-  c = Vertex{};
+  c.reset_except_bsdf();
   c.type = VertexType::kCamera;
   c.si.p = ray.o;
   c.si.time = ray.time;
@@ -273,7 +273,7 @@ int Subpaths::light_subpath(int max_depth, float time, Vertex* path) const {
       scene.lights.sample_le(uint32_t(light), u1, u2, time, &ray, &n_light, &pdf_pos, &pdf_dir);
   if (pdf_pos == 0 || pdf_dir == 0 || le.is_black()) return 0;
   Vertex& v = path[0];
-  v = Vertex{};
+  v.reset_except_bsdf();
   v.type = VertexType::kLight;
   v.light = uint32_t(light);
   const LightKind kind = scene.lights.kind(v.light);

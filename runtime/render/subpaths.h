@@ -43,6 +43,19 @@ struct Vertex {
   SurfaceInteraction si;
   Bsdf bsdf;
 
+  // Every field back to its default but bsdf, which only surface vertices read and which
+  // scattering_at() sets whole: resetting an endpoint or a medium vertex need not write its
+  // kilobyte of lobes.
+  void reset_except_bsdf() {
+    type = VertexType::kSurface;
+    delta = infinite = false;
+    light = area_light = medium = kNone;
+    g = 0;
+    beta = Rgb();
+    pdf_fwd = pdf_rev = 0;
+    si = SurfaceInteraction{};
+  }
+
   Vec3 p() const { return si.p; }
   Vec3 ng() const { return si.n; }
   Vec3 ns() const { return type == VertexType::kSurface ? si.shading.n : si.n; }
