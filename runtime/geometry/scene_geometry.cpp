@@ -405,6 +405,13 @@ class Builder {
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
+  // A moving mesh inside an object whose instance's transform is a right-handed similarity
+  // (rotation, uniform scale, translation: M = T R s) that, if it moves, only translates: the
+  // instance's keyframes times the mesh's as one motion, or null for another instance. Its
+  // interpolation is the instance's times the mesh's, as pbrt-v3 composes them (translation
+  // t(t) + R s t'(t), rotation R R'(t) by slerp, scale s S'(t): each still what pbrt-v3
+  // interpolates), so Embree's quaternion motion may move it exactly.
+  const AnimatedTransform* placed_motion(uint32_t shape, uint32_t instance);
   // outer, outer_motion: an instance's transform or motion to compose onto the motion (a moving
   // mesh inside an object definition); then the composition is always sampled in time steps.
   void attach_moving(uint32_t child, const AnimatedTransform& motion, uint32_t archive_instance,
@@ -707,6 +714,49 @@ void Builder::attach_moving(uint32_t child, const AnimatedTransform& motion,
   record_top(id, nullptr, uint32_t(impl_->instances.size() - 1));
 }
 
+const AnimatedTransform* Builder::placed_motion(uint32_t shape, uint32_t instance) {
+  const pbrta::TransformRecord& outer = a_.transforms[a_.instances[instance].transform];
+  const pbrta::TransformRecord& inner = a_.transforms[a_.shapes[shape].transform];
+  // Columns of the upper 3x3 orthogonal, of one length, right-handed; the same 3x3 at the end
+  // (only the translation moves); no projective row.
+  const double* m = outer.start;
+  double len2[3];
+  for (int j = 0; j < 3; ++j) {
+    len2[j] = 0;
+    for (int i = 0; i < 3; ++i) len2[j] += m[4 * i + j] * m[4 * i + j];
+  }
+  const double tol = 1e-9 * len2[0];
+  for (int j = 0; j < 3; ++j) {
+    if (!(std::fabs(len2[j] - len2[0]) <= tol)) return nullptr;
+    for (int k = j + 1; k < 3; ++k) {
+      double d = 0;
+      for (int i = 0; i < 3; ++i) d += m[4 * i + j] * m[4 * i + k];
+      if (std::fabs(d) > tol) return nullptr;
+    }
+  }
+  const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                     m[2] * (m[4] * m[9] - m[5] * m[8]);
+  if (!(det > 0)) return nullptr;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (outer.end[4 * i + j] != m[4 * i + j]) return nullptr;
+  for (const double* x : {outer.start, outer.end})
+    if (x[12] != 0 || x[13] != 0 || x[14] != 0 || x[15] != 1) return nullptr;
+  auto times = [&](const double* a, const double* b, double* out) {
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) {
+        double v = 0;
+        for (int k = 0; k < 4; ++k) v += a[4 * i + k] * b[4 * k + j];
+        out[4 * i + j] = v;
+      }
+  };
+  double start[16], end[16];
+  times(outer.start, inner.start, start);
+  times(outer.end, inner.end, end);
+  return &impl_->instance_motions.emplace_back(start, end, float(inner.start_time),
+                                               float(inner.end_time));
+}
+
 bool Builder::run() {
   std::vector<Transform> instance_transforms;
   std::vector<const AnimatedTransform*> instance_motions;
@@ -826,7 +876,11 @@ bool Builder::run() {
     const AnimatedTransform* m = instance_motions[i];
     for (auto [own, shape] : moving_in_object[object]) {
       const ShapeInfo& s = shapes_[shape];
-      attach_moving(own, *s.motion, i, m ? nullptr : &instance_transforms[i], m);
+      if (const AnimatedTransform* whole = placed_motion(shape, i)) {
+        attach_moving(own, *whole, i);  // one motion, exact
+      } else {
+        attach_moving(own, *s.motion, i, m ? nullptr : &instance_transforms[i], m);
+      }
       const Bounds3 box = s.motion->motion_bounds(impl_->children[own].bounds);
       bounds_->extend(m ? m->motion_bounds(box) : instance_transforms[i].bounds(box));
     }
