@@ -65,6 +65,16 @@ std::string diffuse_box(const std::string& integrator) {
   return box_scene(integrator, false, false);
 }
 
+// The whole 24x24 image and each quadrant (walls, floor, ceiling light, sphere) within 3%.
+void expect_regions_agree(const Rendered& path, const Rendered& sppm) {
+  for (int q = 0; q < 5; ++q) {
+    int x0 = q == 4 ? 0 : (q % 2) * 12, y0 = q == 4 ? 0 : (q / 2) * 12;
+    int x1 = q == 4 ? 24 : x0 + 12, y1 = q == 4 ? 24 : y0 + 12;
+    double a = mean_luminance(path, x0, x1, y0, y1), b = mean_luminance(sppm, x0, x1, y0, y1);
+    EXPECT_NEAR(b / a, 1, 0.03) << "region " << q << ": path " << a << ", sppm " << b;
+  }
+}
+
 TEST(Sppm, AgreesWithThePathTracerOnADiffuseScene) {
   Rendered path =
       render_text("sppm_box_path", diffuse_box(R"(Integrator "path" "integer maxdepth" [5])"));
@@ -72,13 +82,7 @@ TEST(Sppm, AgreesWithThePathTracerOnADiffuseScene) {
     "integer maxdepth" [5] "integer iterations" [64] "integer photonsperiteration" [30000]
     "float radius" [0.03])"));
   ASSERT_TRUE(path.ok && sppm.ok);
-  // The whole image and each quadrant (walls, floor, ceiling light, sphere).
-  for (int q = 0; q < 5; ++q) {
-    int x0 = q == 4 ? 0 : (q % 2) * 12, y0 = q == 4 ? 0 : (q / 2) * 12;
-    int x1 = q == 4 ? 24 : x0 + 12, y1 = q == 4 ? 24 : y0 + 12;
-    double a = mean_luminance(path, x0, x1, y0, y1), b = mean_luminance(sppm, x0, x1, y0, y1);
-    EXPECT_NEAR(b / a, 1, 0.03) << "region " << q << ": path " << a << ", sppm " << b;
-  }
+  expect_regions_agree(path, sppm);
   EXPECT_EQ(sppm.stats.nonfinite_samples, 0u);
   EXPECT_EQ(sppm.stats.samples, 24u * 24u * 64u);  // one camera sample per pixel per iteration
 }
@@ -105,12 +109,7 @@ Material "mix" "string namedmaterial1" "a" "string namedmaterial2" "b" "rgb amou
     "integer maxdepth" [5] "integer iterations" [64] "integer photonsperiteration" [30000]
     "float radius" [0.03])"));
   ASSERT_TRUE(path.ok && sppm.ok);
-  for (int q = 0; q < 5; ++q) {
-    int x0 = q == 4 ? 0 : (q % 2) * 12, y0 = q == 4 ? 0 : (q / 2) * 12;
-    int x1 = q == 4 ? 24 : x0 + 12, y1 = q == 4 ? 24 : y0 + 12;
-    double a = mean_luminance(path, x0, x1, y0, y1), b = mean_luminance(sppm, x0, x1, y0, y1);
-    EXPECT_NEAR(b / a, 1, 0.03) << "region " << q << ": path " << a << ", sppm " << b;
-  }
+  expect_regions_agree(path, sppm);
   EXPECT_EQ(sppm.stats.nonfinite_samples, 0u);
 }
 
