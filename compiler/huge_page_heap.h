@@ -9,10 +9,12 @@
 //
 // How: heap_allocate gives a block of kHugeHeapBlock bytes or more a mapping of its own from
 // map_huge() (format/huge_pages.h), with a 64-byte header saying so, and smaller ones come from
-// malloc. compiler/huge_page_new.cpp replaces the global operator new and delete (C++'s
+// malloc, whose main heap grows in 32 MiB steps that are advised as they come (what glibc's
+// tunable does). compiler/huge_page_new.cpp replaces the global operator new and delete (C++'s
 // replaceable allocation functions) with these two; it is not part of the pbrtc_lib library:
-// a program opts in by linking the pbrtc_huge_page_new object library (CMakeLists.txt), so the
-// renderer, whose big buffers are advised where they are made, keeps the standard allocator.
+// a program opts in by linking the pbrtc_huge_page_new object library (CMakeLists.txt): the
+// parsing programs and pbrt (which renders too); pbrtrun, whose big buffers are advised where
+// they are made, keeps the standard allocator.
 //
 // PBRT_HUGE_PAGES=0 in the environment turns it off (every block from malloc). Where THP is
 // disabled the mappings are ordinary memory. Memory from malloc must still go to free() and
@@ -23,7 +25,8 @@
 
 namespace pbrtc {
 
-// A block of this many bytes or more starts 64 bytes past a huge-page boundary.
+// A block of this many bytes or more starts 64 bytes past a huge-page boundary (unless turned
+// off, or the mapping failed and malloc gave it).
 inline constexpr size_t kHugeHeapBlock = size_t{1} << 20;
 
 // As operator new: a block of n bytes (16-byte aligned), or std::bad_alloc.

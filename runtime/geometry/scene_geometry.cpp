@@ -41,8 +41,8 @@ struct InstanceData {
   uint32_t child = kNone;             // index into Impl::children
   uint32_t archive_instance = kNone;  // kNone for a transform group
   bool mirrors = false;               // an object instance whose transform mirrors
-  // A moving mesh: its object-space scene moved by this over time (to_world is its start), an
-  // instance as pbrt-v3's TransformedPrimitive is.
+  // A moving mesh: its object-space scene moved by this over time (to_world is where at()
+  // puts it at the start), an instance as pbrt-v3's TransformedPrimitive is.
   const AnimatedTransform* motion = nullptr;
   // A moving mesh inside an object definition, flattened into the top level once per instance
   // of its object (Embree here nests one instance level): the instance's transform, or its
@@ -616,9 +616,10 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
 
 // Time steps for a motion Embree's quaternion decomposition cannot hold. Between steps Embree
 // interpolates the matrices linearly; pbrt-v3's path (slerped rotation times linearly
-// interpolated stretch) bends away from that chord by at most kStepError of the motion's
-// extent at every segment's middle, checked on the child's box corners; the steps double until
-// it does (or reach kMaxTimeSteps).
+// interpolated stretch) bends away from that chord. The steps double until, at every segment's
+// middle, the child's box corners lie within kStepError of the object's size of where they
+// should be (or reach kMaxTimeSteps); twice the largest such distance is the error reported
+// (the farthest point of a segment may lie off its middle).
 constexpr float kStepError = 2e-5f;
 constexpr int kMaxTimeSteps = RTC_MAX_TIME_STEP_COUNT;
 
@@ -629,10 +630,15 @@ std::vector<Transform> motion_steps(const InstanceData& motion, const Bounds3& b
                   c & 4 ? box.hi.z : box.lo.z};
   const float t0 = motion.motion->start_time(), t1 = motion.motion->end_time();
   auto time_of = [&](double f) { return f >= 1 ? t1 : t0 + (t1 - t0) * float(f); };
-  Bounds3 extent;  // of the whole motion, sampled
-  for (int k = 0; k <= 16; ++k)
-    for (const Vec3& p : corners) extent.extend(motion.at(time_of(k / 16.0)).point(p));
-  const float tolerance = kStepError * length(extent.diagonal());
+  // The object's own size (its box's diagonal where it is largest), not the extent it sweeps:
+  // a small thing moving far needs as fine steps as one standing still.
+  float size = 0;
+  for (int k = 0; k <= 16; ++k) {
+    Bounds3 at_k;
+    for (const Vec3& p : corners) at_k.extend(motion.at(time_of(k / 16.0)).point(p));
+    size = std::max(size, length(at_k.diagonal()));
+  }
+  const float tolerance = kStepError * size;
   for (int steps = 2;; steps = std::min(2 * steps - 1, kMaxTimeSteps)) {
     std::vector<Transform> at(static_cast<size_t>(steps));
     for (int k = 0; k < steps; ++k) at[size_t(k)] = motion.at(time_of(double(k) / (steps - 1)));
@@ -862,6 +868,8 @@ bool Builder::run() {
   // Embree's ray time spans one keyframe interval, shared by every moving mesh and instance.
   std::vector<const AnimatedTransform*> all_moving;
   for (auto [child, shape] : moving) all_moving.push_back(shapes_[shape].motion);
+  for (const auto& in_object : moving_in_object)
+    for (auto [child, shape] : in_object) all_moving.push_back(shapes_[shape].motion);
   for (const AnimatedTransform* m : instance_motions)
     if (m) all_moving.push_back(m);
   for (const AnimatedTransform* m : all_moving)

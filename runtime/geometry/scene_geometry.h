@@ -18,12 +18,13 @@
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
 // an Embree instance with quaternion motion blur, or, where Embree's
-// decomposition cannot hold pbrt-v3's interpolation (keyframes with shear; a
-// moving mesh inside an object, placed once per instance with the instance's
-// transform or motion composed on), matrices at enough time steps; its hits are
-// rebuilt at the ray's time; a moving object instance likewise. Unsupported input
-// (moving meshes or instances with different TransformTimes, which pbrtc never
-// writes) fails build() with "not supported yet: <what> (file:line)".
+// decomposition cannot hold pbrt-v3's interpolation, matrices at enough time
+// steps (keyframes with shear); a moving mesh inside an object is placed once
+// per instance with the instance's transform or motion composed on (one exact
+// motion under a still or only translating similarity, else sampled); hits are
+// rebuilt at the ray's time; a moving object instance likewise. Unsupported
+// input (moving things with different TransformTimes, which pbrtc never writes)
+// fails build() with "not supported yet: <what> (file:line)".
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// heap_allocate/heap_release and the operator new that format_tests links
+// heap_allocate/heap_release and the operator new that compiler_tests links
 // (compiler/huge_page_heap.h): big blocks in huge-page-advised mappings of their
 // own, the main heap advised as it grows, PBRT_HUGE_PAGES=0 turning it off.
 #include "compiler/huge_page_heap.h"
@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -64,6 +65,28 @@ size_t mapping_count() {
   for (std::string line; std::getline(in, line);) ++n;
   return n;
 }
+
+// A child that asks for sizes no sum may wrap on (a wrapped one would come back as a small
+// mapping the caller writes past): records how many were refused, and exits before any test
+// runs. A child, because malloc's failure moves the calling thread off the main heap, which
+// TheMainHeapIsAdvisedAsItGrows needs.
+const bool kIsImpossibleProbe = [] {
+  const char* out = std::getenv("HUGE_HEAP_IMPOSSIBLE_OUT");
+  if (!out) return false;
+  int refused = 0;
+  for (size_t n : {~size_t{0}, ~size_t{0} - 63, size_t{1} << 62}) {
+    try {
+      pbrtc::heap_release(pbrtc::heap_allocate(n));
+    } catch (const std::bad_alloc&) {
+      ++refused;
+    }
+  }
+  if (FILE* f = std::fopen(out, "w")) {
+    std::fprintf(f, "%d", refused);
+    std::fclose(f);
+  }
+  std::_Exit(0);
+}();
 
 // The child run with PBRT_HUGE_PAGES=0: records where a big block landed and exits before any
 // test runs.
@@ -125,13 +148,15 @@ TEST(HugePageHeap, TheMainHeapIsAdvisedAsItGrows) {
   for (void* b : blocks) pbrtc::heap_release(b);
 }
 
-TEST(HugePageHeap, CanBeTurnedOff) {
-  const std::string out = testing_support::scratch_dir("huge_page_heap") + "/offset.txt";
+// This test binary run again as a probe (probe_var naming the file it writes), with
+// huge_pages_off; what the probe wrote.
+std::string run_probe(const char* probe_var, bool huge_pages_off) {
+  const std::string out = testing_support::scratch_dir("huge_page_heap") + "/" + probe_var;
   std::remove(out.c_str());
   const pid_t pid = fork();
   if (pid == 0) {
-    setenv("PBRT_HUGE_PAGES", "0", 1);
-    setenv("HUGE_HEAP_PROBE_OUT", out.c_str(), 1);
+    if (huge_pages_off) setenv("PBRT_HUGE_PAGES", "0", 1);
+    setenv(probe_var, out.c_str(), 1);
     char self[] = "/proc/self/exe";
     char* argv[] = {self, nullptr};
     execv(self, argv);
@@ -139,10 +164,18 @@ TEST(HugePageHeap, CanBeTurnedOff) {
   }
   int status = 0;
   waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  const std::string offset = testing_support::read_file(out);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  return testing_support::read_file(out);
+}
+
+TEST(HugePageHeap, CanBeTurnedOff) {
+  const std::string offset = run_probe("HUGE_HEAP_PROBE_OUT", true);
   ASSERT_FALSE(offset.empty());
   EXPECT_NE(offset, "64");  // from malloc
+}
+
+TEST(HugePageHeap, AnImpossibleSizeIsRefused) {
+  EXPECT_EQ(run_probe("HUGE_HEAP_IMPOSSIBLE_OUT", false), "3");
 }
 
 }  // namespace
