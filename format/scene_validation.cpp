@@ -315,7 +315,7 @@ bool SceneArchive::validate_records(std::string* error) {
   const CategorySpec* specs[uint32_t(Category::kCount)];
   for (uint32_t k = 0; k < uint32_t(Category::kCount); ++k) specs[k] = &category_spec(Category(k));
   static const std::vector<std::vector<CountRule>> rules = [] {
-    std::vector<std::vector<CountRule>> by_category(uint32_t(Category::kCount));
+    std::vector<std::vector<CountRule>> by_category(static_cast<size_t>(Category::kCount));
     for (uint32_t k = 0; k < uint32_t(Category::kCount); ++k)
       for (uint32_t t = 0; t < category_spec(Category(k)).num_types; ++t)
         by_category[k].push_back(count_rule_of(Category(k), t));
