@@ -242,16 +242,11 @@ void quadric_bounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
 }
 
-// An instance's transform at a ray's time.
-Transform instance_at(const InstanceData& inst, float time) {
-  return inst.at(time);
-}
-
 // Where a moving or instanced shape is at a ray's time: its motion there (or its own
 // transform) under its instance's transform then.
 Transform world_from_shape_at(const ShapeInfo& s, const InstanceData* inst, float time) {
   const Transform shape = s.motion ? s.motion->at(time) : s.object_to_world;
-  return inst ? instance_at(*inst, time) * shape : shape;
+  return inst ? inst->at(time) * shape : shape;
 }
 
 // A curve piece's box in the space of the scene holding it, over the whole motion.
@@ -740,9 +735,8 @@ const AnimatedTransform* Builder::placed_motion(uint32_t shape, uint32_t instanc
       if (std::fabs(d) > tol) return nullptr;
     }
   }
-  const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-                     m[2] * (m[4] * m[9] - m[5] * m[8]);
-  if (!(det > 0)) return nullptr;
+  // check_instances() refused singular transforms already.
+  if (Transform::from_doubles(m).swaps_handedness()) return nullptr;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
       if (outer.end[4 * i + j] != m[4 * i + j]) return nullptr;

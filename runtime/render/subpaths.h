@@ -30,7 +30,7 @@ enum class VertexType : uint8_t { kCamera, kLight, kSurface, kMedium };
 // the endpoint has no surface: the camera, a point light's sample); surfaces keep the whole hit
 // and their BSDF. Densities are per unit area at this vertex (per solid angle for lights at
 // infinity), forwards (as the walk that made it sampled it) and in reverse.
-struct Vertex {
+struct VertexFields {
   VertexType type = VertexType::kSurface;
   bool delta = false;           // a specular bounce left here
   bool infinite = false;        // light endpoints: infinite or distant light, or an escaped ray
@@ -41,20 +41,15 @@ struct Vertex {
   Rgb beta;
   float pdf_fwd = 0, pdf_rev = 0;
   SurfaceInteraction si;
+};
+
+struct Vertex : VertexFields {
   Bsdf bsdf;
 
   // Every field back to its default but bsdf, which only surface vertices read and which
   // scattering_at() sets whole: resetting an endpoint or a medium vertex need not write its
   // kilobyte of lobes.
-  void reset_except_bsdf() {
-    type = VertexType::kSurface;
-    delta = infinite = false;
-    light = area_light = medium = kNone;
-    g = 0;
-    beta = Rgb();
-    pdf_fwd = pdf_rev = 0;
-    si = SurfaceInteraction{};
-  }
+  void reset_except_bsdf() { static_cast<VertexFields&>(*this) = VertexFields{}; }
 
   Vec3 p() const { return si.p; }
   Vec3 ng() const { return si.n; }

@@ -52,6 +52,19 @@ RenderJobResult run(const Scene& s, const RenderJobOptions& o) {
   return r;
 }
 
+// The image a (merged) state holds equals the render `all`, up to double addition order.
+void expect_state_is_render(const RenderState& state, const RenderJobResult& all,
+                            const std::string& what) {
+  Film film;
+  std::string error;
+  ASSERT_TRUE(film_of_state(state, &film, &error)) << error;
+  const ImageRgb m = film.image();
+  ASSERT_EQ(m.rgb.size(), all.image.rgb.size());
+  for (size_t i = 0; i < m.rgb.size(); ++i)
+    ASSERT_NEAR(m.rgb[i], all.image.rgb[i], 1e-5f * std::max(1.f, all.image.rgb[i]))
+        << what << " " << i;
+}
+
 // Stops a render at the end of the pass that reaches `at` (as Ctrl-C between passes).
 struct StopAt {
   std::atomic<bool> flag{false};
@@ -152,13 +165,7 @@ TEST(Passes, MergedRangesAreTheRenderOfAllTheirSamples) {
   ASSERT_TRUE(merge_state(&merged, other, "b.state", &error)) << error;
   EXPECT_EQ(merged.samples(), 32);
   EXPECT_TRUE(merged.resumable());  // same seed, ranges that join
-  Film film;
-  ASSERT_TRUE(film_of_state(merged, &film, &error)) << error;
-  const ImageRgb m = film.image();
-  const RenderJobResult all = run(*s, options(32, 5));
-  ASSERT_EQ(m.rgb.size(), all.image.rgb.size());
-  for (size_t i = 0; i < m.rgb.size(); ++i)
-    ASSERT_NEAR(m.rgb[i], all.image.rgb[i], 1e-5f * std::max(1.f, all.image.rgb[i])) << i;
+  expect_state_is_render(merged, run(*s, options(32, 5)), "");
   // The same state twice would count its samples twice.
   RenderState again;
   ASSERT_TRUE(read_render_state(b.save_state, &again, &error)) << error;
@@ -190,14 +197,7 @@ TEST(Passes, ShardsMergeIntoTheWholeRender) {
     }
     EXPECT_TRUE(merged.resumable());
     EXPECT_EQ(merged.samples(), 32);
-    Film film;
-    ASSERT_TRUE(film_of_state(merged, &film, &error)) << error;
-    const ImageRgb m = film.image();
-    const RenderJobResult all = run(*s, options(32, 9));
-    ASSERT_EQ(m.rgb.size(), all.image.rgb.size());
-    for (size_t i = 0; i < m.rgb.size(); ++i)
-      ASSERT_NEAR(m.rgb[i], all.image.rgb[i], 1e-5f * std::max(1.f, all.image.rgb[i]))
-          << sampler << " " << i;
+    expect_state_is_render(merged, run(*s, options(32, 9)), sampler);
   }
 }
 
