@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rt {
 
@@ -31,6 +32,12 @@ ErrorEstimate estimate_error(const Film& film, std::vector<float>* per_pixel) {
   }
   out.rel_error = std::sqrt(sum / (3.0 * double(b.area())));
   return out;
+}
+
+std::string error_percent(double fraction) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g%%", 100 * fraction);
+  return buf;
 }
 
 }  // namespace rt

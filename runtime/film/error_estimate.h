@@ -23,6 +23,7 @@
 // spp. A target error is then reached later than needed, never missed.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "runtime/film/film.h"
@@ -37,5 +38,8 @@ struct ErrorEstimate {
 // per_pixel (optional): the per-pixel, per-channel estimate sqrt(...) above, 3 floats per
 // cropped pixel in row order (zeros when not valid).
 ErrorEstimate estimate_error(const Film& film, std::vector<float>* per_pixel = nullptr);
+
+// "2.31%": an error estimate (a fraction) as the progress line and --stats print it.
+std::string error_percent(double fraction);
 
 }  // namespace rt

@@ -99,12 +99,6 @@ bool render_integrator(const RenderScene& scene, const Camera& camera, const Sam
   return true;
 }
 
-std::string error_percent(double fraction) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g%%", 100 * fraction);
-  return buf;
-}
-
 const char* stop_text(StopReason r) {
   switch (r) {
     case StopReason::kSamples:

@@ -113,8 +113,6 @@ struct RenderJobResult {
                                      long long* spp, std::string* error,
                                      const RenderJobOptions* job = nullptr);
 
-// "2.31%": an error estimate (a fraction) as the progress line and --stats print it.
-std::string error_percent(double fraction);
 const char* stop_text(StopReason r);  // "target error reached" and the like
 
 // pbrtrun's --stats block for one render: `input` names the scene, archive_seconds is the

@@ -20,16 +20,13 @@ namespace {
 std::string error_note(const ErrorEstimate& e, double target, double seconds, bool* has_eta) {
   *has_eta = false;
   if (!e.valid) return "err --";
-  char buf[128];
-  if (target <= 0) {
-    std::snprintf(buf, sizeof buf, "err %.3g%%", 100 * e.rel_error);
-    return buf;
-  }
+  const std::string err = "err " + error_percent(e.rel_error);
+  if (target <= 0) return err;
   const double ratio = e.rel_error / target;
   *has_eta = true;
-  std::snprintf(buf, sizeof buf, "err %.3g%% -> %.3g%%, ETA %.0f s", 100 * e.rel_error,
-                100 * target, std::max(0.0, seconds * (ratio * ratio - 1)));
-  return buf;
+  char eta[48];
+  std::snprintf(eta, sizeof eta, ", ETA %.0f s", std::max(0.0, seconds * (ratio * ratio - 1)));
+  return err + " -> " + error_percent(target) + eta;
 }
 
 }  // namespace
