@@ -39,6 +39,7 @@
 #include "runtime/core/rgb.h"
 #include "runtime/core/transform.h"
 #include "runtime/render/lens_system.h"
+#include "runtime/sampler/sampler.h"
 
 namespace rt {
 
@@ -47,6 +48,17 @@ struct CameraSample {
   Vec2 p_lens;
   float time = 0;
 };
+
+// pbrt-v3's Sampler::GetCameraSample: the film offset within pixel, time and lens point, drawn
+// in that order from the sampler's current sample.
+inline CameraSample pixel_camera_sample(Sampler& sampler, Point2i pixel) {
+  CameraSample cs;
+  const Vec2 u = sampler.get_2d();
+  cs.p_film = {float(pixel.x) + u.x, float(pixel.y) + u.y};
+  cs.time = sampler.get_1d();
+  cs.p_lens = sampler.get_2d();
+  return cs;
+}
 
 class Camera {
  public:

@@ -209,11 +209,7 @@ class SppmRender {
     PixelState& px = pixels_[i];
     sampler.start_pixel(p);
     sampler.set_sample_number(iteration);
-    CameraSample cs;
-    const Vec2 u = sampler.get_2d();
-    cs.p_film = {float(p.x) + u.x, float(p.y) + u.y};
-    cs.time = sampler.get_1d();
-    cs.p_lens = sampler.get_2d();
+    const CameraSample cs = pixel_camera_sample(sampler, p);
     RayDifferential ray;
     const float weight = camera_.generate_ray_differential(cs, &ray);
     ++tc->rays.camera_rays;

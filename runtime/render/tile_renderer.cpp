@@ -66,11 +66,7 @@ bool TileRenderer::render(int64_t first, int64_t last, int begin, int end,
               Point2i pixel{x, y};
               sampler.start_pixel(pixel);
               do {
-                CameraSample cs;
-                Vec2 u = sampler.get_2d();
-                cs.p_film = {float(x) + u.x, float(y) + u.y};
-                cs.time = sampler.get_1d();
-                cs.p_lens = sampler.get_2d();
+                const CameraSample cs = pixel_camera_sample(sampler, pixel);
                 RayDifferential ray;
                 float w = camera_.generate_ray_differential(cs, &ray);
                 ray.scale_differentials(diff_scale_);
