@@ -267,6 +267,8 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   ro.checkpoint_every = options.checkpoint_every;
   ro.checkpoint = write_outputs;
   ro.interrupt = options.interrupt;
+  // A state names the samples every pixel holds: only whole passes.
+  ro.whole_passes_only = !options.save_state.empty();
   ro.on_pass = options.on_pass;
   if (!render_integrator(scene, camera, *sampler, integrator, &film, options.spp, options.seed,
                          options.quick, ro, &result->render, &spp, error, &options))
@@ -302,7 +304,9 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
                    "02sequence and maxmindist render in one pass unless --checkpoint-every, "
                    "--target-error or --time-limit is given)"
                  : "interrupted: wrote the image of the " + std::to_string(rs.samples_per_pixel) +
-                       " samples per pixel done to " + out;
+                       " samples per pixel done" +
+                       (ro.whole_passes_only ? "" : " (and the tiles the last pass finished)") +
+                       " to " + out;
     return false;
   }
   if (result->render.nonfinite_samples > 0)

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <vector>
 
 #include "runtime/core/clock.h"
@@ -127,13 +128,29 @@ RenderStats run_passes(Film* film, const Integrator& integrator, int64_t total, 
 RenderStats render(const Camera& camera, const Sampler& sampler, const Integrator& integrator,
                    Film* film, const RenderOptions& options) {
   TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
-  std::vector<std::unique_ptr<FilmTile>> done;
+  // Finished tiles wait here until every tile before them is merged.
+  std::vector<std::unique_ptr<FilmTile>> waiting;
+  std::mutex merging;
+  int next = 0;
+  // Merged during the pass: every tile, or none (whole passes only: merged at its end).
+  const int merge_early = options.whole_passes_only ? 0 : tiles.tile_count();
+  auto done = [&](int t, std::unique_ptr<FilmTile> tile) {
+    std::lock_guard<std::mutex> lock(merging);
+    waiting[size_t(t)] = std::move(tile);
+    for (; next < merge_early && waiting[size_t(next)]; ++next) {
+      film->merge_tile(*waiting[size_t(next)]);
+      waiting[size_t(next)].reset();
+    }
+  };
   RenderStats stats = run_passes(
       film, integrator, sampler.samples_per_pixel(), sampler.whole_count_patterns(),
       tiles.pixel_count(), options, [&](int64_t first, int64_t last, ProgressBar* progress) {
-        if (!tiles.render(first, last, 0, tiles.tile_count(), &done, options.interrupt, progress))
+        waiting.clear();
+        waiting.resize(size_t(tiles.tile_count()));
+        next = 0;
+        if (!tiles.render(first, last, 0, tiles.tile_count(), done, options.interrupt, progress))
           return false;
-        for (const auto& tile : done) film->merge_tile(*tile);
+        for (; next < tiles.tile_count(); ++next) film->merge_tile(*waiting[size_t(next)]);
         return true;
       });
   tiles.add_counters(&stats);

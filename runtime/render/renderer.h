@@ -18,8 +18,11 @@
 // count (RenderOptions::differential_spp).
 //
 // Within a pass the tiles (tile_renderer.h) are rendered in parallel and merged
-// into the film in tile order once the pass is done, so the image is bit-identical
-// whatever the thread count (or the process count, tools/mpi). After each pass the
+// into the film in tile order, so the image is bit-identical whatever the thread
+// count (or the process count, tools/mpi). A tile is merged as soon as those before
+// it are, so only a few are held at once (holding a pass's tiles until its end took
+// more memory than the film: 80 bytes a pixel on the Cornell box); with
+// whole_passes_only they are held until the pass ends. After each pass the
 // film's sample count (Film::set_sample_count: what it held before plus the
 // samples rendered) and splat scale (1 / that) are updated.
 //
@@ -27,8 +30,10 @@
 // the estimated error (error_estimate.h) is at most target_error, or before a
 // pass that the last pass's speed says would end past time_limit (so a render
 // overruns its limit by at most one pass, when a pass is slower than the last),
-// or when *interrupt becomes true: the pass under way is abandoned (its tiles and
-// splats dropped) and the film holds the passes done. checkpoint() runs at the
+// or when *interrupt becomes true: the pass under way is abandoned (its splats and
+// unmerged tiles dropped) and the film holds the passes done, plus the tiles of
+// the abandoned pass merged so far unless whole_passes_only (a saved state must
+// hold whole passes). checkpoint() runs at the
 // end of a pass at most every checkpoint_every seconds. Progress (samples, time,
 // ETA, and the error estimate with its target) goes to stderr unless quiet.
 #pragma once
@@ -66,6 +71,7 @@ struct RenderOptions {
   double checkpoint_every = 0;
   std::function<bool(std::string* error)> checkpoint;  // writes the image so far
   const std::atomic<bool>* interrupt = nullptr;
+  bool whole_passes_only = false;  // an interrupted pass leaves nothing in the film
   // After every pass: the film, the sample index reached and the seconds since the loop
   // began (pbrt-converge measures its error ladder here; tests watch the estimate).
   std::function<void(const Film& film, int64_t samples, double seconds)> on_pass;

@@ -2,6 +2,7 @@
 #include "runtime/render/tile_renderer.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -44,20 +45,22 @@ Bounds2i TileRenderer::tile_bounds(int t) const {
            std::min(bounds_.min.y + (ty + 1) * kTileSize, bounds_.max.y)}};
 }
 
-bool TileRenderer::render(int64_t first, int64_t last, int begin, int end,
-                          std::vector<std::unique_ptr<FilmTile>>* out,
+bool TileRenderer::render(int64_t first, int64_t last, int begin, int end, const TileDone& done,
                           const std::atomic<bool>* interrupt, ProgressBar* progress) {
   auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };
-  out->clear();
-  out->resize(size_t(std::max(0, end - begin)));
+  if (end <= begin) return !interrupted();
+  // One loop per thread, each taking the next tile: tbb::parallel_for would split the range
+  // in halves, and a caller merging in tile order would hold half the tiles.
+  std::atomic<int> next{begin};
+  const int loops = std::min(end - begin, tbb::this_task_arena::max_concurrency());
   tbb::parallel_for(
-      tbb::blocked_range<int>(begin, end, 1),
-      [&](const tbb::blocked_range<int>& range) {
+      0, loops,
+      [&](int) {
         ThreadState& ts = threads_->local();
         if (!ts.sampler) ts.sampler = prototype_.clone();
         Sampler& sampler = *ts.sampler;
         sampler.set_sample_range(first, last);
-        for (int t = range.begin(); t != range.end(); ++t) {
+        for (int t = next++; t < end; t = next++) {
           if (interrupted()) return;
           const Bounds2i tb = tile_bounds(t);
           std::unique_ptr<FilmTile> tile = film_->make_tile(tb);
@@ -82,7 +85,7 @@ bool TileRenderer::render(int64_t first, int64_t last, int begin, int end,
                 ++ts.samples;
               } while (sampler.start_next_sample());
             }
-          (*out)[size_t(t - begin)] = std::move(tile);
+          done(t, std::move(tile));
           if (progress) progress->add(tb.area() * (last - first));
           double none = -1;
           first_tile_seconds_.compare_exchange_strong(none, seconds_since(t0_));
@@ -90,6 +93,17 @@ bool TileRenderer::render(int64_t first, int64_t last, int begin, int end,
       },
       tbb::simple_partitioner());
   return !interrupted();
+}
+
+bool TileRenderer::render(int64_t first, int64_t last, int begin, int end,
+                          std::vector<std::unique_ptr<FilmTile>>* out,
+                          const std::atomic<bool>* interrupt, ProgressBar* progress) {
+  out->clear();
+  out->resize(size_t(std::max(0, end - begin)));
+  return render(
+      first, last, begin, end,
+      [&](int t, std::unique_ptr<FilmTile> tile) { (*out)[size_t(t - begin)] = std::move(tile); },
+      interrupt, progress);
 }
 
 void TileRenderer::add_counters(RenderStats* stats) const {

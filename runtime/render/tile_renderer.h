@@ -3,13 +3,13 @@
 // The film's sample bounds (within the integrator's pixel bounds) are cut into
 // 16x16-pixel tiles numbered in raster order. render() renders tiles [begin, end)
 // for samples [first, last) of every pixel in parallel with oneTBB, each with a
-// per-thread clone of the sampler and its own FilmTile, and returns them in tile
-// order, so what a tile holds depends only on (tile, samples, seed), never on the
-// thread or the process that rendered it: the renderer (renderer.h) merges tiles
-// in order, and so do the processes of an MPI render. Non-finite radiance is
-// counted and added as black, as pbrt-v3 does. Splats (bdpt) go to the film's
-// pending buffer. Counters (rays, samples) accumulate per thread; counters() sums
-// them.
+// per-thread clone of the sampler and its own FilmTile. What a tile holds depends
+// only on (tile, samples, seed), never on the thread or the process that rendered
+// it. Threads take tiles in order, so tiles finish nearly in order: a caller that
+// merges them into the film in tile order (the renderer, renderer.h; the processes
+// of an MPI render) holds only a few at a time. Non-finite radiance is counted and
+// added as black, as pbrt-v3 does. Splats (bdpt) go to the film's pending buffer.
+// Counters (rays, samples) accumulate per thread; counters() sums them.
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -43,9 +44,14 @@ class TileRenderer {
   Bounds2i tile_bounds(int t) const;
   int64_t pixel_count() const { return bounds_.empty() ? 0 : bounds_.area(); }
 
-  // Tiles [begin, end) of the pass over samples [first, last): (*out)[t - begin]. False
-  // when *interrupt became true (some tiles then missing). progress (optional) counts
-  // pixel samples.
+  // Tiles [begin, end) of the pass over samples [first, last), each handed to done(t, tile)
+  // as it finishes, from the thread that rendered it (done must be thread-safe). False
+  // when *interrupt became true (some tiles then never rendered). progress (optional)
+  // counts pixel samples.
+  using TileDone = std::function<void(int tile, std::unique_ptr<FilmTile> rendered)>;
+  bool render(int64_t first, int64_t last, int begin, int end, const TileDone& done,
+              const std::atomic<bool>* interrupt, ProgressBar* progress);
+  // The same, collected: (*out)[t - begin].
   bool render(int64_t first, int64_t last, int begin, int end,
               std::vector<std::unique_ptr<FilmTile>>* out, const std::atomic<bool>* interrupt,
               ProgressBar* progress);

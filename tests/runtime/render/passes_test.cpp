@@ -120,6 +120,35 @@ TEST(Passes, StoppedRenderIsTheRenderOfThatCount) {
   }
 }
 
+// Tiles merged as they finish (in tile order, as soon as those before them are) leave the
+// film that merging the whole pass at its end leaves (which a saved state asks for): every
+// tile once, none lost to a pass's last tiles or to tiles finishing out of order.
+TEST(Passes, TilesMergedAsTheyFinishMakeTheWholePassFilm) {
+  // A Gaussian filter 2 pixels wide: samples reach into the neighbouring tiles.
+  auto s = compile("merge_order", "/scenes/rs-procedural-textures/checkerboard.pbrt");
+  RenderJobOptions streamed = options(4, 3);
+  streamed.resdiv = 4;
+  streamed.time_limit = 1000;  // passes (02sequence renders in one otherwise)
+  // The film's double sums after each pass (the float image would hide their last bits).
+  auto keep_sums = [](RenderJobOptions* o, std::vector<double>* sums) {
+    o->on_pass = [sums](const Film& film, int64_t, double) {
+      sums->clear();
+      for (int h = 0; h < 2; ++h)
+        for (const FilmPixelSum& p : film.half_sums(h))
+          sums->insert(sums->end(), {p.rgb[0], p.rgb[1], p.rgb[2], p.weight});
+    };
+  };
+  std::vector<double> streamed_sums, whole_sums;
+  keep_sums(&streamed, &streamed_sums);
+  RenderJobOptions whole = streamed;
+  keep_sums(&whole, &whole_sums);
+  whole.save_state = s->dir + "/not-written.state";  // write_files is off
+  const RenderJobResult a = run(*s, streamed), b = run(*s, whole);
+  EXPECT_GT(a.render.passes, 1);
+  ASSERT_FALSE(streamed_sums.empty());
+  EXPECT_TRUE(streamed_sums == whole_sums);
+}
+
 // Resuming a saved state continues the very render: the same image as never stopping, for
 // every sampler, the whole-count ones (stratified) included. (A render that may be stopped
 // and resumed checkpoints; stratified renders in passes then, so the straight one does too.)
