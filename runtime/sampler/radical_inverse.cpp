@@ -107,90 +107,88 @@ uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits) {
   return index;
 }
 
-DigitPermutations::DigitPermutations(uint64_t seed) {
-  Rng rng(mix_seed(seed, SeedPurpose::kGlobalTable, 0x4a17));
-  offsets_.resize(size_t(kHaltonDimensions));
-  size_t total = 0;
-  for (int d = 0; d < kHaltonDimensions; ++d) {
-    offsets_[size_t(d)] = uint32_t(total);
-    total += halton_prime(d);
-  }
-  digits_.resize(total);
-  for (int d = 0; d < kHaltonDimensions; ++d) {
-    uint32_t base = halton_prime(d);
-    uint16_t* perm = &digits_[offsets_[size_t(d)]];
-    for (uint32_t i = 0; i < base; ++i) perm[i] = uint16_t(i);
-    for (uint32_t i = 0; i < base; ++i) std::swap(perm[i], perm[i + rng.next_u32(base - i)]);
-  }
-  dims_.resize(size_t(kHaltonDimensions));
-  std::vector<size_t> pair_offsets(size_t(kHaltonDimensions), ~size_t(0));
-  for (int d = 0; d < kHaltonDimensions && halton_prime(d) <= kMaxPairBase; ++d) {
-    const uint32_t base = halton_prime(d);
-    const uint16_t* perm = for_dimension(d);
-    pair_offsets[size_t(d)] = pairs_.size();
+DigitPermutations::DigitPermutations(uint64_t seed)
+    : seed_(seed), dims_(new std::atomic<const Dimension*>[size_t(kHaltonDimensions)]) {
+  for (int d = 0; d < kHaltonDimensions; ++d) dims_[size_t(d)].store(nullptr);
+}
+
+DigitPermutations::~DigitPermutations() {
+  for (int d = 0; d < kHaltonDimensions; ++d) delete dims_[size_t(d)].load();
+}
+
+const DigitPermutations::Dimension& DigitPermutations::make_dimension(int d) const {
+  std::lock_guard<std::mutex> lock(making_);
+  if (const Dimension* made = dims_[size_t(d)].load(std::memory_order_acquire)) return *made;
+  auto dim = std::make_unique<Dimension>();
+  const uint32_t base = halton_prime(d);
+  Rng rng(mix_seed(seed_, SeedPurpose::kGlobalTable, 0x4a17, uint64_t(d)));
+  dim->perm.resize(base);
+  for (uint32_t i = 0; i < base; ++i) dim->perm[i] = uint16_t(i);
+  for (uint32_t i = 0; i < base; ++i)
+    std::swap(dim->perm[i], dim->perm[i + rng.next_u32(base - i)]);
+  const uint16_t* perm = dim->perm.data();
+  if (base <= kMaxPairBase)
     for (uint32_t r = 0; r < base * base; ++r)
-      pairs_.push_back(uint16_t(perm[r % base] * base + perm[r / base]));
+      dim->pairs.push_back(uint16_t(perm[r % base] * base + perm[r / base]));
+  dim->base = base;
+  dim->recip = ~uint64_t(0) / base + 1;
+  // The reference loop's digit count and scale, replayed with its own
+  // operations so the rounding is the same.
+  const double inv_base = 1.0 / base;
+  double inv_base_n = 1;
+  int n = 0;
+  while (1.f - float((base - 1) * inv_base_n) < 1.f) {
+    inv_base_n *= inv_base;
+    ++n;
   }
-  for (int d = 0; d < kHaltonDimensions; ++d) {
-    Dimension& dim = dims_[size_t(d)];
-    dim.perm = for_dimension(d);
-    dim.base = halton_prime(d);
-    dim.recip = ~uint64_t(0) / dim.base + 1;
-    // The reference loop's digit count and scale, replayed with its own
-    // operations so the rounding is the same.
-    const double inv_base = 1.0 / dim.base;
-    double inv_base_n = 1;
-    int n = 0;
-    while (1.f - float((dim.base - 1) * inv_base_n) < 1.f) {
-      inv_base_n *= inv_base;
-      ++n;
-    }
-    dim.digits = n;
-    dim.scale = inv_base_n;
-    dim.tail = inv_base * dim.perm[0] / (1 - inv_base);
-    dim.pairs = pair_offsets[size_t(d)] == ~size_t(0) ? nullptr : &pairs_[pair_offsets[size_t(d)]];
-    dim.base2 = dim.base * dim.base;
-    dim.recip2 = ~uint64_t(0) / dim.base2 + 1;
-    dim.powers = uint32_t(pow_.size());
-    uint64_t pw = 1, fill = 0;
-    for (int k = 0; k <= n; ++k) {
-      pow_.push_back(pw);
-      fill_.push_back(fill);
-      fill = fill * dim.base + dim.perm[0];
-      pw *= dim.base;
-    }
+  dim->digits = n;
+  dim->scale = inv_base_n;
+  dim->tail = inv_base * perm[0] / (1 - inv_base);
+  dim->base2 = base * base;
+  dim->recip2 = ~uint64_t(0) / dim->base2 + 1;
+  uint64_t pw = 1, fill = 0;
+  for (int k = 0; k <= n; ++k) {
+    dim->pow.push_back(pw);
+    dim->fill.push_back(fill);
+    fill = fill * base + perm[0];
+    pw *= base;
   }
+  const Dimension* made = dim.release();
+  dims_[size_t(d)].store(made, std::memory_order_release);
+  return *made;
 }
 
 double DigitPermutations::scrambled(int d, uint64_t a) const {
-  const Dimension& dim = dims_[size_t(d)];
+  const Dimension& dim = dimension(d);
   const uint32_t base = dim.base;
+  const uint16_t* perm = dim.perm.data();
   // The reference accumulates the reversed digits in a double; they are an
   // integer below 2^53, so a 64-bit integer holds the same value exactly.
   uint64_t reversed = 0;
   int k = dim.digits;
   for (; k > 0 && a > 0xffffffffull; --k) {
     uint64_t next = a / base;
-    reversed = reversed * base + dim.perm[a - next * base];
+    reversed = reversed * base + perm[a - next * base];
     a = next;
   }
   uint32_t a32 = uint32_t(a);
-  if (dim.pairs) {
+  if (!dim.pairs.empty()) {
     // Past a's last digit the pair's upper digit is 0, mapped to perm[0] as
     // the reference maps it.
+    const uint16_t* pairs = dim.pairs.data();
     for (; k >= 2 && a32 != 0; k -= 2) {
       uint32_t next = div_by_reciprocal(dim.recip2, a32);
-      reversed = reversed * dim.base2 + dim.pairs[a32 - next * dim.base2];
+      reversed = reversed * dim.base2 + pairs[a32 - next * dim.base2];
       a32 = next;
     }
   }
   for (; k > 0 && a32 != 0; --k) {
     uint32_t next = div_by_reciprocal(dim.recip, a32);
-    reversed = reversed * base + dim.perm[a32 - next * base];
+    reversed = reversed * base + perm[a32 - next * base];
     a32 = next;
   }
   // The remaining k digits of a are zeros, each mapped to perm[0].
-  reversed = reversed * pow_[dim.powers + uint32_t(k)] + fill_[dim.powers + uint32_t(k)];
+  reversed = reversed * dim.pow[size_t(k)] + dim.fill[size_t(k)];
   return dim.scale * (double(reversed) + dim.tail);
 }
 

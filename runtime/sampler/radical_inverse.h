@@ -6,8 +6,10 @@
 // Dimension d of the Halton sequence uses the d-th prime (2, 3, 5, ...).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace rt {
@@ -37,10 +39,17 @@ uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits);
 
 // One random permutation of the digits per Halton dimension, with what
 // scrambled() needs to evaluate that dimension without a hardware divide.
+// Each dimension's permutation comes from its own random stream and is made
+// the first time it is asked for (thread-safe): all 1000 would take 7.4 MB,
+// a path tracer uses a few dozen.
 class DigitPermutations {
  public:
   explicit DigitPermutations(uint64_t seed);
-  const uint16_t* for_dimension(int d) const { return &digits_[offsets_[size_t(d)]]; }
+  ~DigitPermutations();
+  DigitPermutations(const DigitPermutations&) = delete;
+  DigitPermutations& operator=(const DigitPermutations&) = delete;
+
+  const uint16_t* for_dimension(int d) const { return dimension(d).perm.data(); }
   // Bit-identical to scrambled_radical_inverse(halton_prime(d), a,
   // for_dimension(d)), several times faster: the digit count and the scale
   // base^-digits depend only on the base and are precomputed, digits are
@@ -51,24 +60,29 @@ class DigitPermutations {
 
  private:
   struct Dimension {
-    const uint16_t* perm;
+    std::vector<uint16_t> perm;
     uint32_t base;
-    int digits;       // how many digits pbrt-v3's loop takes in this base
-    uint64_t recip;   // ceil(2^64 / base): a / base = (recip * a) >> 64 for a < 2^32
-    double scale;     // base^-digits, rounded exactly as the reference loop rounds it
-    double tail;      // the digits past `digits`, a geometric series in perm[0]
-    uint32_t powers;  // offset of base^k and perm[0] * (1 + base + ... + base^(k-1))
+    int digits;      // how many digits pbrt-v3's loop takes in this base
+    uint64_t recip;  // ceil(2^64 / base): a / base = (recip * a) >> 64 for a < 2^32
+    double scale;    // base^-digits, rounded exactly as the reference loop rounds it
+    double tail;     // the digits past `digits`, a geometric series in perm[0]
+    // base^k and perm[0] * (1 + base + ... + base^(k-1)), k = 0..digits.
+    std::vector<uint64_t> pow, fill;
     // Small bases also split two digits at a time: pairs[r] for r < base^2
     // is the permuted, mirrored pair of digits (r % base, r / base).
-    const uint16_t* pairs;
+    std::vector<uint16_t> pairs;
     uint32_t base2;
     uint64_t recip2;  // ceil(2^64 / base^2)
   };
-  std::vector<uint16_t> digits_;
-  std::vector<uint32_t> offsets_;
-  std::vector<Dimension> dims_;
-  std::vector<uint64_t> pow_, fill_;  // per dimension, k = 0..digits
-  std::vector<uint16_t> pairs_;
+  const Dimension& dimension(int d) const {
+    const Dimension* dim = dims_[size_t(d)].load(std::memory_order_acquire);
+    return dim ? *dim : make_dimension(d);
+  }
+  const Dimension& make_dimension(int d) const;
+
+  uint64_t seed_;
+  mutable std::unique_ptr<std::atomic<const Dimension*>[]> dims_;
+  mutable std::mutex making_;
 };
 
 }  // namespace rt
