@@ -7,6 +7,7 @@
 // for environment maps and the power light distribution.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "runtime/core/vec.h"
@@ -48,7 +49,7 @@ inline float balance_heuristic(int nf, float f_pdf, int ng, float g_pdf) {
 }
 
 // find_interval() starts from a guide table (the cutpoint method): guide_[j]
-// is the search result at u = j/n, so a lookup searches only the entries
+// is the search result at u = j/m (m = n/8), so a lookup searches only the entries
 // between two neighbouring cutpoints instead of the whole cdf (large
 // environment-map tables otherwise miss the cache at every step). The result
 // is checked against the cdf and is the same as a full binary search.
@@ -77,15 +78,16 @@ class Distribution1D {
   static void discrete_result(const float* func, const float* cdf, int n, float integral, int i,
                               float u, float* pmf, float* remapped);
   std::vector<float> func_, cdf_;
-  std::vector<int> guide_;  // n + 1 cutpoints
+  std::vector<int> guide_;  // n/8 + 1 cutpoints
   float integral_ = 0;
 };
 
 class Distribution2D {
  public:
   Distribution2D() = default;
-  // f is nv rows of nu values.
-  Distribution2D(const float* f, int nu, int nv);
+  // nv rows of nu values, row(v, f) writing row v's into f: the whole table is never held
+  // (an environment map's is 4096 x 2048 floats).
+  Distribution2D(int nu, int nv, const std::function<void(int v, float* f)>& row);
   Vec2 sample_continuous(Vec2 u, float* pdf) const;
   float pdf(Vec2 p) const;
 

@@ -188,17 +188,14 @@ bool LightSet::add_light(const pbrta::SceneArchive& a, uint32_t index, std::stri
         *error = a.where(e) + ": environment map distribution is not 2w x 2h, one channel";
         return false;
       }
-      int nu = dist.width(), nv = dist.height();
-      std::vector<float> f(size_t(nu) * nv);
-      for (int v = 0; v < nv; ++v)
-        for (int u = 0; u < nu; ++u) f[size_t(v) * nu + u] = dist.texel_float(0, u, v);
-      il.distribution = Distribution2D(f.data(), nu, nv);
+      il.distribution = Distribution2D(dist.width(), dist.height(), [&](int v, float* f) {
+        for (int u = 0; u < dist.width(); ++u) f[u] = dist.texel_float(0, u, v);
+      });
     } else {
       // pbrt-v3's constant map is one texel of L: its 2 x 2 distribution.
-      float y = il.l.luminance(), f[4];
-      for (int v = 0; v < 2; ++v)
-        for (int u = 0; u < 2; ++u) f[v * 2 + u] = y * std::sin(kPi * (v + .5f) / 2);
-      il.distribution = Distribution2D(f, 2, 2);
+      const float y = il.l.luminance();
+      il.distribution = Distribution2D(
+          2, 2, [&](int v, float* f) { f[0] = f[1] = y * std::sin(kPi * (v + .5f) / 2); });
     }
     infinite_lights_.push_back(count());
     entries_.push_back({LightKind::kInfinite, uint32_t(infinite_.size()), kNone, 0});
