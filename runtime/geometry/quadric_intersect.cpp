@@ -60,8 +60,9 @@ ObjectRay to_object(const Transform& world_to_object, const Ray& rw) {
 // float nearest the exact product, off by half an ulp instead of gamma(3)
 // times the magnitudes. Used only where pbrt-v3's bounds leave the nearest
 // root ambiguous (intersect_quadric); the hit's error box keeps pbrt-v3's.
-ObjectRay to_object_precise(const ShapeInfo& s, const Ray& rw, const ObjectRay& pbrt) {
-  const Matrix4& inv = s.object_to_world.inverse_matrix();
+ObjectRay to_object_precise(const Transform& world_to_object, const Ray& rw,
+                            const ObjectRay& pbrt) {
+  const Matrix4& inv = world_to_object.matrix();
   const double o[3] = {rw.o.x, rw.o.y, rw.o.z}, dw[3] = {rw.d.x, rw.d.y, rw.d.z};
   Vec3 of, df, o_err, d_err;
   for (int i = 0; i < 3; ++i) {
@@ -198,9 +199,9 @@ Vec3 finite_or_zero(Vec3 v) {
 // Object-space differential geometry to a world-space SurfaceInteraction;
 // dn/du and dn/dv from the Weingarten equations. False where the surface has
 // no normal (a cone's apex, hit exactly): no usable hit there.
-bool fill_interaction(const ShapeInfo& s, Vec3 p, Vec3 p_err, Vec2 uv, Vec3 dpdu, Vec3 dpdv,
-                      Vec3 d2pduu, Vec3 d2pduv, Vec3 d2pdvv, const Ray& rw,
-                      SurfaceInteraction* si) {
+bool fill_interaction(const ShapeInfo& s, const Transform& world_to_object, Vec3 p, Vec3 p_err,
+                      Vec2 uv, Vec3 dpdu, Vec3 dpdv, Vec3 d2pduu, Vec3 d2pduv, Vec3 d2pdvv,
+                      const Ray& rw, SurfaceInteraction* si) {
   Vec3 n = normalize(cross(dpdu, dpdv));
   if (!std::isfinite(n.x) || !std::isfinite(n.y) || !std::isfinite(n.z)) return false;
   float e1 = dot(dpdu, dpdu), f1 = dot(dpdu, dpdv), g1 = dot(dpdv, dpdv);
@@ -217,7 +218,7 @@ bool fill_interaction(const ShapeInfo& s, Vec3 p, Vec3 p_err, Vec2 uv, Vec3 dpdu
   // ReverseOrientation (a mirrored sphere's normal points inwards).
   if (s.flip_normals()) n = -n;
 
-  const Transform& m = s.object_to_world;
+  const Transform m = world_to_object.inverse();
   si->p = m.point(p, p_err, &si->p_error);
   si->n = normalize(m.normal(n));
   si->wo = normalize(-rw.d);
@@ -244,8 +245,9 @@ Vec3 parametric_error(const ObjectRay& r, EFloat t) {
   return e;
 }
 
-bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& r, EFloat t,
-                      Vec3 p, float phi, const Ray& rw, SurfaceInteraction* si) {
+bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const Transform& world_to_object,
+                      const ObjectRay& r, EFloat t, Vec3 p, float phi, const Ray& rw,
+                      SurfaceInteraction* si) {
   float pm = q.phimax;
   float u = phi / pm, v = 0;
   Vec3 dpdu{-pm * p.y, pm * p.x, 0};
@@ -297,12 +299,12 @@ bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const ObjectRay
       break;
     }
   }
-  return fill_interaction(s, p, p_err, {u, v}, dpdu, dpdv, d2pduu, finite_or_zero(d2pduv),
-                          finite_or_zero(d2pdvv), rw, si);
+  return fill_interaction(s, world_to_object, p, p_err, {u, v}, dpdu, dpdv, d2pduu,
+                          finite_or_zero(d2pduv), finite_or_zero(d2pdvv), rw, si);
 }
 
-bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& r, const Ray& rw,
-                    float* t_hit, SurfaceInteraction* si) {
+bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const Transform& world_to_object,
+                    const ObjectRay& r, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
   if (r.d.z == 0) return false;
   float t = (q.height - r.o.z) / r.d.z;
   if (!(t > 0) || t >= rw.tmax) return false;
@@ -327,14 +329,15 @@ bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const ObjectRay& 
   // and (pbrt-v3) none is claimed in x and y either.
   p.z = q.height;
   *t_hit = t;
-  return fill_interaction(s, p, Vec3{}, {phi / pm, v}, dpdu, dpdv, Vec3{}, Vec3{}, Vec3{}, rw, si);
+  return fill_interaction(s, world_to_object, p, Vec3{}, {phi / pm, v}, dpdu, dpdv, Vec3{}, Vec3{},
+                          Vec3{}, rw, si);
 }
 
 // intersect_quadric's rare second try, out of line so that its common path
 // keeps the root solver inlined.
-[[gnu::noinline]] bool roots_precise(const QuadricShape& q, const ShapeInfo& s, const Ray& rw,
-                                     ObjectRay* r, EFloat* t0, EFloat* t1) {
-  *r = to_object_precise(s, rw, *r);
+[[gnu::noinline]] bool roots_precise(const QuadricShape& q, const Transform& world_to_object,
+                                     const Ray& rw, ObjectRay* r, EFloat* t0, EFloat* t1) {
+  *r = to_object_precise(world_to_object, rw, *r);
   EFloat a, b, c;
   coefficients(q, *r, &a, &b, &c);
   return solve_quadratic(a, b, c, t0, t1);
@@ -391,16 +394,16 @@ PreparedQuadric prepare_quadric(const ShapeInfo& s) {
 }
 
 bool intersect_quadric(const ShapeInfo& s, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
-  return intersect_quadric(s, prepare_quadric(s), rw, t_hit, si);
+  const PreparedQuadric prepared = prepare_quadric(s);
+  return intersect_quadric(s, prepared.shape, prepared.world_to_object, rw, t_hit, si);
 }
 
-bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, const Ray& rw,
-                       float* t_hit, SurfaceInteraction* si) {
+bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transform& world_to_object,
+                       const Ray& rw, float* t_hit, SurfaceInteraction* si) {
   if (!is_quadric(s.kind)) return false;
-  const QuadricShape& q = prepared.shape;
   if (!q.valid) return false;
-  ObjectRay r = to_object(prepared.world_to_object, rw);
-  if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, r, rw, t_hit, si);
+  ObjectRay r = to_object(world_to_object, rw);
+  if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, world_to_object, r, rw, t_hit, si);
 
   if (!may_hit(q, r)) return false;
   EFloat a, b, c, t0, t1;
@@ -412,7 +415,7 @@ bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, cons
     // at 2e3) a ray leaving the inside of a sphere at a grazing angle lands
     // here and, rejected, would escape the closed sphere. Decide it again with
     // the exactly rounded object-space ray.
-    if (!roots_precise(q, s, rw, &r, &t0, &t1)) return false;
+    if (!roots_precise(q, world_to_object, rw, &r, &t0, &t1)) return false;
   }
   // Conservative: a root is used only if its whole interval is in (0, tmax].
   if (!(t0.upper() <= rw.tmax) || !(t1.lower() > 0)) return false;
@@ -431,7 +434,7 @@ bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, cons
     t = t1;
     if (!locate(q, r, t.v, &p, &phi)) return false;
   }
-  if (si && !surface_geometry(q, s, r, t, p, phi, rw, si)) return false;
+  if (si && !surface_geometry(q, s, world_to_object, r, t, p, phi, rw, si)) return false;
   *t_hit = t.v;
   return true;
 }

@@ -43,7 +43,10 @@ struct PreparedQuadric {
   Transform world_to_object;
 };
 PreparedQuadric prepare_quadric(const ShapeInfo& s);
-bool intersect_quadric(const ShapeInfo& s, const PreparedQuadric& prepared, const Ray& ray_world,
-                       float* t_hit, SurfaceInteraction* si);
+// With the shape's prepared parameters and the world-to-object transform (the one in s is not
+// read: a shape in a moving or instanced object is tested where it is at the ray's time). Of
+// s only the kind and the orientation flags are read.
+bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transform& world_to_object,
+                       const Ray& ray_world, float* t_hit, SurfaceInteraction* si);
 
 }  // namespace rt

@@ -264,14 +264,13 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, c
                        float* t, SurfaceInteraction* si) {
   const ShapeInfo& s = (*g.impl->shapes)[g.shape];
   const InstanceData* inst = g.impl->instance_of(inst_id);
-  if (!s.motion && !inst) return intersect_quadric(s, g.prepared, r, t, si);
+  if (!s.motion && !inst)
+    return intersect_quadric(s, g.prepared.shape, g.prepared.world_to_object, r, t, si);
   // The normalised parameters do not depend on the transform: only the transform is made per
   // ray. (A moving shape's handedness flag is already off: ShapeTable clears it, as pbrt-v3
   // builds a moving shape with the identity transform.)
-  ShapeInfo scratch = s;
-  scratch.object_to_world = world_from_shape_at(s, inst, r.time);
-  return intersect_quadric(scratch, {g.prepared.shape, scratch.object_to_world.inverse()}, r, t,
-                           si);
+  return intersect_quadric(s, g.prepared.shape, world_from_shape_at(s, inst, r.time).inverse(), r,
+                           t, si);
 }
 
 void curve_bounds(const RTCBoundsFunctionArguments* args) {
