@@ -2,7 +2,6 @@
 #include "runtime/render/tile_renderer.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -48,20 +47,19 @@ Bounds2i TileRenderer::tile_bounds(int t) const {
 bool TileRenderer::render(int64_t first, int64_t last, int begin, int end, const TileDone& done,
                           const std::atomic<bool>* interrupt, ProgressBar* progress) {
   auto interrupted = [&] { return interrupt && interrupt->load(std::memory_order_relaxed); };
-  if (end <= begin) return !interrupted();
-  // One loop per thread, each taking the next tile: tbb::parallel_for would split the range
-  // in halves, and a caller merging in tile order would hold half the tiles.
+  // Each task renders the next tile in order (tbb::parallel_for alone would split the range
+  // in halves, and a caller merging in tile order would hold half the tiles).
   std::atomic<int> next{begin};
-  const int loops = std::min(end - begin, tbb::this_task_arena::max_concurrency());
   tbb::parallel_for(
-      0, loops,
-      [&](int) {
+      tbb::blocked_range<int>(begin, end, 1),
+      [&](const tbb::blocked_range<int>& range) {
         ThreadState& ts = threads_->local();
         if (!ts.sampler) ts.sampler = prototype_.clone();
         Sampler& sampler = *ts.sampler;
         sampler.set_sample_range(first, last);
-        for (int t = next++; t < end; t = next++) {
+        for (int i = range.begin(); i != range.end(); ++i) {
           if (interrupted()) return;
+          const int t = next++;
           const Bounds2i tb = tile_bounds(t);
           std::unique_ptr<FilmTile> tile = film_->make_tile(tb);
           for (int y = tb.min.y; y < tb.max.y; ++y)
