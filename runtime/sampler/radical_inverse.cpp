@@ -108,60 +108,62 @@ uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits) {
 }
 
 DigitPermutations::DigitPermutations(uint64_t seed)
-    : seed_(seed), dims_(new std::atomic<const Dimension*>[size_t(kHaltonDimensions)]) {
-  for (int d = 0; d < kHaltonDimensions; ++d) dims_[size_t(d)].store(nullptr);
+    : seed_(seed),
+      dims_(new Dimension[size_t(kHaltonDimensions)]),
+      made_(new Made[size_t(kHaltonDimensions)]) {
+  std::vector<size_t> pow_at(static_cast<size_t>(kHaltonDimensions));
+  for (int d = 0; d < kHaltonDimensions; ++d) {
+    Dimension& dim = dims_[size_t(d)];
+    dim.base = halton_prime(d);
+    dim.recip = ~uint64_t(0) / dim.base + 1;
+    dim.base2 = dim.base * dim.base;
+    dim.recip2 = ~uint64_t(0) / dim.base2 + 1;
+    // The reference loop's digit count and scale, replayed with its own
+    // operations so the rounding is the same.
+    const double inv_base = 1.0 / dim.base;
+    double inv_base_n = 1;
+    int n = 0;
+    while (1.f - float((dim.base - 1) * inv_base_n) < 1.f) {
+      inv_base_n *= inv_base;
+      ++n;
+    }
+    dim.digits = n;
+    dim.scale = inv_base_n;
+    pow_at[size_t(d)] = pow_.size();
+    uint64_t pw = 1;
+    for (int k = 0; k <= n; ++k, pw *= dim.base) pow_.push_back(pw);
+  }
+  for (int d = 0; d < kHaltonDimensions; ++d) dims_[size_t(d)].pow = &pow_[pow_at[size_t(d)]];
 }
 
-DigitPermutations::~DigitPermutations() {
-  for (int d = 0; d < kHaltonDimensions; ++d) delete dims_[size_t(d)].load();
-}
-
-const DigitPermutations::Dimension& DigitPermutations::make_dimension(int d) const {
+const uint16_t* DigitPermutations::make_dimension(int d) const {
   std::lock_guard<std::mutex> lock(making_);
-  if (const Dimension* made = dims_[size_t(d)].load(std::memory_order_acquire)) return *made;
-  auto dim = std::make_unique<Dimension>();
-  const uint32_t base = halton_prime(d);
+  Dimension& dim = dims_[size_t(d)];
+  if (const uint16_t* made = dim.perm.load(std::memory_order_acquire)) return made;
+  Made& m = made_[size_t(d)];
+  const uint32_t base = dim.base;
   Rng rng(mix_seed(seed_, SeedPurpose::kGlobalTable, 0x4a17, uint64_t(d)));
-  dim->perm.resize(base);
-  for (uint32_t i = 0; i < base; ++i) dim->perm[i] = uint16_t(i);
-  for (uint32_t i = 0; i < base; ++i)
-    std::swap(dim->perm[i], dim->perm[i + rng.next_u32(base - i)]);
-  const uint16_t* perm = dim->perm.data();
-  if (base <= kMaxPairBase)
+  m.perm.resize(base);
+  for (uint32_t i = 0; i < base; ++i) m.perm[i] = uint16_t(i);
+  for (uint32_t i = 0; i < base; ++i) std::swap(m.perm[i], m.perm[i + rng.next_u32(base - i)]);
+  if (base <= kMaxPairBase) {
     for (uint32_t r = 0; r < base * base; ++r)
-      dim->pairs.push_back(uint16_t(perm[r % base] * base + perm[r / base]));
-  dim->base = base;
-  dim->recip = ~uint64_t(0) / base + 1;
-  // The reference loop's digit count and scale, replayed with its own
-  // operations so the rounding is the same.
+      m.pairs.push_back(uint16_t(m.perm[r % base] * base + m.perm[r / base]));
+    dim.pairs = m.pairs.data();
+  }
+  uint64_t fill = 0;
+  for (int k = 0; k <= dim.digits; ++k, fill = fill * base + m.perm[0]) m.fill.push_back(fill);
+  dim.fill = m.fill.data();
   const double inv_base = 1.0 / base;
-  double inv_base_n = 1;
-  int n = 0;
-  while (1.f - float((base - 1) * inv_base_n) < 1.f) {
-    inv_base_n *= inv_base;
-    ++n;
-  }
-  dim->digits = n;
-  dim->scale = inv_base_n;
-  dim->tail = inv_base * perm[0] / (1 - inv_base);
-  dim->base2 = base * base;
-  dim->recip2 = ~uint64_t(0) / dim->base2 + 1;
-  uint64_t pw = 1, fill = 0;
-  for (int k = 0; k <= n; ++k) {
-    dim->pow.push_back(pw);
-    dim->fill.push_back(fill);
-    fill = fill * base + perm[0];
-    pw *= base;
-  }
-  const Dimension* made = dim.release();
-  dims_[size_t(d)].store(made, std::memory_order_release);
-  return *made;
+  dim.tail = inv_base * m.perm[0] / (1 - inv_base);
+  dim.perm.store(m.perm.data(), std::memory_order_release);
+  return m.perm.data();
 }
 
 double DigitPermutations::scrambled(int d, uint64_t a) const {
-  const Dimension& dim = dimension(d);
+  const uint16_t* perm = permutation(d);  // before dim's other lazily made fields are read
+  const Dimension& dim = dims_[size_t(d)];
   const uint32_t base = dim.base;
-  const uint16_t* perm = dim.perm.data();
   // The reference accumulates the reversed digits in a double; they are an
   // integer below 2^53, so a 64-bit integer holds the same value exactly.
   uint64_t reversed = 0;
@@ -172,13 +174,12 @@ double DigitPermutations::scrambled(int d, uint64_t a) const {
     a = next;
   }
   uint32_t a32 = uint32_t(a);
-  if (!dim.pairs.empty()) {
+  if (dim.pairs) {
     // Past a's last digit the pair's upper digit is 0, mapped to perm[0] as
     // the reference maps it.
-    const uint16_t* pairs = dim.pairs.data();
     for (; k >= 2 && a32 != 0; k -= 2) {
       uint32_t next = div_by_reciprocal(dim.recip2, a32);
-      reversed = reversed * dim.base2 + pairs[a32 - next * dim.base2];
+      reversed = reversed * dim.base2 + dim.pairs[a32 - next * dim.base2];
       a32 = next;
     }
   }
@@ -188,7 +189,7 @@ double DigitPermutations::scrambled(int d, uint64_t a) const {
     a32 = next;
   }
   // The remaining k digits of a are zeros, each mapped to perm[0].
-  reversed = reversed * dim.pow[size_t(k)] + dim.fill[size_t(k)];
+  reversed = reversed * dim.pow[k] + dim.fill[k];
   return dim.scale * (double(reversed) + dim.tail);
 }
 

@@ -45,11 +45,10 @@ uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits);
 class DigitPermutations {
  public:
   explicit DigitPermutations(uint64_t seed);
-  ~DigitPermutations();
   DigitPermutations(const DigitPermutations&) = delete;
   DigitPermutations& operator=(const DigitPermutations&) = delete;
 
-  const uint16_t* for_dimension(int d) const { return dimension(d).perm.data(); }
+  const uint16_t* for_dimension(int d) const { return permutation(d); }
   // Bit-identical to scrambled_radical_inverse(halton_prime(d), a,
   // for_dimension(d)), several times faster: the digit count and the scale
   // base^-digits depend only on the base and are precomputed, digits are
@@ -59,29 +58,36 @@ class DigitPermutations {
   double scrambled(int d, uint64_t a) const;
 
  private:
+  // What depends only on the base is set up front; the permutation and what depends on it
+  // (pairs, fill, tail) when the dimension is first used, published by the store to perm.
   struct Dimension {
-    std::vector<uint16_t> perm;
-    uint32_t base;
-    int digits;      // how many digits pbrt-v3's loop takes in this base
-    uint64_t recip;  // ceil(2^64 / base): a / base = (recip * a) >> 64 for a < 2^32
-    double scale;    // base^-digits, rounded exactly as the reference loop rounds it
-    double tail;     // the digits past `digits`, a geometric series in perm[0]
-    // base^k and perm[0] * (1 + base + ... + base^(k-1)), k = 0..digits.
-    std::vector<uint64_t> pow, fill;
+    std::atomic<const uint16_t*> perm{nullptr};
     // Small bases also split two digits at a time: pairs[r] for r < base^2
     // is the permuted, mirrored pair of digits (r % base, r / base).
-    std::vector<uint16_t> pairs;
-    uint32_t base2;
-    uint64_t recip2;  // ceil(2^64 / base^2)
+    const uint16_t* pairs = nullptr;
+    const uint64_t* fill = nullptr;  // perm[0] * (1 + base + ... + base^(k-1)), k = 0..digits
+    double tail = 0;                 // the digits past `digits`, a geometric series in perm[0]
+    const uint64_t* pow = nullptr;   // base^k, k = 0..digits
+    uint32_t base = 0, base2 = 0;
+    int digits = 0;       // how many digits pbrt-v3's loop takes in this base
+    uint64_t recip = 0;   // ceil(2^64 / base): a / base = (recip * a) >> 64 for a < 2^32
+    uint64_t recip2 = 0;  // ceil(2^64 / base^2)
+    double scale = 0;     // base^-digits, rounded exactly as the reference loop rounds it
   };
-  const Dimension& dimension(int d) const {
-    const Dimension* dim = dims_[size_t(d)].load(std::memory_order_acquire);
-    return dim ? *dim : make_dimension(d);
+  struct Made {  // a dimension's tables, once made
+    std::vector<uint16_t> perm, pairs;
+    std::vector<uint64_t> fill;
+  };
+  const uint16_t* permutation(int d) const {
+    const uint16_t* perm = dims_[size_t(d)].perm.load(std::memory_order_acquire);
+    return perm ? perm : make_dimension(d);
   }
-  const Dimension& make_dimension(int d) const;
+  const uint16_t* make_dimension(int d) const;
 
   uint64_t seed_;
-  mutable std::unique_ptr<std::atomic<const Dimension*>[]> dims_;
+  std::unique_ptr<Dimension[]> dims_;
+  std::vector<uint64_t> pow_;
+  mutable std::unique_ptr<Made[]> made_;
   mutable std::mutex making_;
 };
 
