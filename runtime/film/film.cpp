@@ -160,7 +160,7 @@ void Film::enable_splats() {
   if (splats_enabled_) return;
   const size_t n = 3 * size_t(cropped_.area());
   for (auto& h : splats_) h.assign(n, 0.0);
-  pending_.reset(new std::atomic<double>[2 * n]);
+  pending_.reset(new std::atomic<float>[2 * n]);
   for (size_t i = 0; i < 2 * n; ++i) pending_[i].store(0, std::memory_order_relaxed);
   splats_enabled_ = true;
 }
@@ -184,8 +184,8 @@ void Film::commit_splats() {
   const size_t n = splats_[0].size();
   for (int h = 0; h < 2; ++h)
     for (size_t i = 0; i < n; ++i) {
-      std::atomic<double>& p = pending_[size_t(h) * n + i];
-      splats_[h][i] += p.load(std::memory_order_relaxed);
+      std::atomic<float>& p = pending_[size_t(h) * n + i];
+      splats_[h][i] += double(p.load(std::memory_order_relaxed));
       p.store(0, std::memory_order_relaxed);
     }
 }
@@ -200,14 +200,15 @@ std::vector<double> Film::pending_splats() const {
   std::vector<double> out;
   if (!splats_enabled_) return out;
   out.resize(2 * splats_[0].size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = pending_[i].load(std::memory_order_relaxed);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = double(pending_[i].load(std::memory_order_relaxed));
   return out;
 }
 
 void Film::set_pending_splats(const std::vector<double>& values) {
   if (!splats_enabled_ || values.size() != 2 * splats_[0].size()) return;
   for (size_t i = 0; i < values.size(); ++i)
-    pending_[i].store(values[i], std::memory_order_relaxed);
+    pending_[i].store(float(values[i]), std::memory_order_relaxed);
 }
 
 void Film::set_pixel(Point2i p, Rgb v) {
