@@ -159,7 +159,7 @@ void Film::merge_tile(const FilmTile& tile) {
 void Film::enable_splats() {
   if (splats_enabled_) return;
   const size_t n = 3 * size_t(cropped_.area());
-  for (auto& h : splats_) h.assign(n, 0.0);
+  for (auto& h : splats_) h.assign(n, 0.f);
   pending_.reset(new std::atomic<float>[2 * n]);
   for (size_t i = 0; i < 2 * n; ++i) pending_[i].store(0, std::memory_order_relaxed);
   splats_enabled_ = true;
@@ -185,7 +185,7 @@ void Film::commit_splats() {
   for (int h = 0; h < 2; ++h)
     for (size_t i = 0; i < n; ++i) {
       std::atomic<float>& p = pending_[size_t(h) * n + i];
-      splats_[h][i] += double(p.load(std::memory_order_relaxed));
+      splats_[h][i] = float(double(splats_[h][i]) + double(p.load(std::memory_order_relaxed)));
       p.store(0, std::memory_order_relaxed);
     }
 }
@@ -232,7 +232,7 @@ Rgb Film::pixel(Point2i p) const {
   for (int c = 0; c < 3; ++c) {
     double v = weight != 0 ? std::max(0.0, (e.rgb[c] + o.rgb[c]) / weight) : 0.0;
     if (splats_enabled_)
-      v += double(splat_scale_) * (splats_[0][3 * i + c] + splats_[1][3 * i + c]);
+      v += double(splat_scale_) * (double(splats_[0][3 * i + c]) + double(splats_[1][3 * i + c]));
     out[c] = float(v * double(scale_));
   }
   return out;

@@ -157,8 +157,8 @@ class Film {
   // (3 per pixel, all zero without splats), in cropped-pixel row order.
   std::vector<FilmPixelSum>& half_sums(int half) { return pixels_[half]; }
   const std::vector<FilmPixelSum>& half_sums(int half) const { return pixels_[half]; }
-  std::vector<double>& half_splats(int half) { return splats_[half]; }
-  const std::vector<double>& half_splats(int half) const { return splats_[half]; }
+  std::vector<float>& half_splats(int half) { return splats_[half]; }
+  const std::vector<float>& half_splats(int half) const { return splats_[half]; }
   ImageRgb image() const;  // the cropped pixels with their windows
   bool write(const std::string& path, std::string* error) const;  // by extension
 
@@ -176,11 +176,12 @@ class Film {
   std::string filename_;
   int64_t half_counts_[2] = {0, 0};
   std::vector<FilmPixelSum> pixels_[2];  // even and odd samples
-  std::vector<double> splats_[2];        // committed, 3 per pixel (empty without splats)
+  // Light-tracing splats, 3 per pixel (empty without splats), in float as pbrt-v3 keeps its
+  // splats: committed (a pass's sums added in double, then rounded) and, apart, the pass
+  // under way's, which an abandoned pass drops. 48 bytes a pixel; in double they were 96.
+  std::vector<float> splats_[2];
   bool splats_enabled_ = false;
-  // 2 halves x 3 per pixel: one pass's splats, in float as pbrt-v3 keeps all of its splats
-  // (24 bytes a pixel instead of 48; the committed sums stay double).
-  std::unique_ptr<std::atomic<float>[]> pending_;
+  std::unique_ptr<std::atomic<float>[]> pending_;  // 2 halves x 3 per pixel
 };
 
 }  // namespace rt

@@ -45,7 +45,8 @@ RenderState capture_state(const Film& film) {
   for (int h = 0; h < 2; ++h) {
     s.half_samples[h] = film.half_count(h);
     s.sums[h] = film.half_sums(h);
-    if (film.has_splats()) s.splats[h] = film.half_splats(h);
+    if (film.has_splats())
+      s.splats[h].assign(film.half_splats(h).begin(), film.half_splats(h).end());
   }
   s.scale = film.scale();
   s.full_resolution = film.full_resolution();
@@ -78,7 +79,8 @@ bool restore_state(const RenderState& state, Film* film, std::string* error) {
   }
   for (int h = 0; h < 2; ++h) {
     film->half_sums(h) = state.sums[h];
-    if (film->has_splats()) film->half_splats(h) = state.splats[h];
+    if (film->has_splats())
+      film->half_splats(h).assign(state.splats[h].begin(), state.splats[h].end());
   }
   film->set_half_counts(state.half_samples[0], state.half_samples[1]);
   film->set_splat_scale(state.samples() > 0 ? 1.f / float(state.samples()) : 1.f);
