@@ -49,7 +49,8 @@ Vec2 uniform_sample_triangle(Vec2 u) {
   return {1 - su0, u.y * su0};
 }
 
-Distribution1D::Distribution1D(const float* f, int n) : func_(f, f + n), cdf_(n + 1) {
+Distribution1D::Distribution1D(const float* f, int n, bool view)
+    : own_(view ? f + n : f, f + n), func_(view ? f : own_.data()), n_(n), cdf_(n + 1) {
   cdf_[0] = 0;
   for (int i = 1; i <= n; ++i) cdf_[i] = cdf_[i - 1] + std::fabs(func_[i - 1]) / n;
   integral_ = cdf_[n];
@@ -71,6 +72,17 @@ Distribution1D::Distribution1D(const float* f, int n) : func_(f, f + n), cdf_(n 
     while (i <= n && cdf_[i] <= t) ++i;
     guide_[j] = i;
   }
+}
+
+Distribution1D& Distribution1D::operator=(const Distribution1D& o) {
+  if (this == &o) return *this;
+  own_ = o.own_;
+  func_ = o.func_ == o.own_.data() ? own_.data() : o.func_;
+  n_ = o.n_;
+  cdf_ = o.cdf_;
+  guide_ = o.guide_;
+  integral_ = o.integral_;
+  return *this;
 }
 
 namespace {
@@ -128,7 +140,7 @@ int Distribution1D::sample_discrete(const float* func, const float* cdf, int n, 
 
 int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const {
   int i = find_interval(u);
-  discrete_result(func_.data(), cdf_.data(), count(), integral_, i, u, pmf, remapped);
+  discrete_result(func_, cdf_.data(), count(), integral_, i, u, pmf, remapped);
   return i;
 }
 
@@ -136,12 +148,11 @@ float Distribution1D::discrete_pdf(int i) const {
   return integral_ > 0 ? func_[i] / (integral_ * count()) : 0;
 }
 
-Distribution2D::Distribution2D(int nu, int nv, const std::function<void(int v, float* f)>& row) {
+Distribution2D::Distribution2D(const float* f, int nu, int nv, bool view) {
   conditional_.reserve(nv);
-  std::vector<float> marginal(nv), f(nu);
+  std::vector<float> marginal(nv);
   for (int v = 0; v < nv; ++v) {
-    row(v, f.data());
-    conditional_.emplace_back(f.data(), nu);
+    conditional_.emplace_back(f + size_t(v) * nu, nu, view);
     marginal[v] = conditional_.back().integral();
   }
   marginal_ = Distribution1D(marginal.data(), nv);

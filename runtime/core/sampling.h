@@ -7,7 +7,6 @@
 // for environment maps and the power light distribution.
 #pragma once
 
-#include <functional>
 #include <vector>
 
 #include "runtime/core/vec.h"
@@ -56,8 +55,15 @@ inline float balance_heuristic(int nf, float f_pdf, int ng, float g_pdf) {
 class Distribution1D {
  public:
   Distribution1D() = default;
-  Distribution1D(const float* f, int n);
-  int count() const { return int(func_.size()); }
+  // Copies f's n values, or with view uses them in place: f must then outlive this object
+  // and its copies (an environment map's table in the archive, 32 MB for a 2048x1024 map).
+  Distribution1D(const float* f, int n, bool view = false);
+  Distribution1D(const Distribution1D& o) { *this = o; }
+  Distribution1D& operator=(const Distribution1D& o);
+  Distribution1D(Distribution1D&&) noexcept = default;  // a moved vector keeps its buffer
+  Distribution1D& operator=(Distribution1D&&) noexcept = default;
+
+  int count() const { return n_; }
   float integral() const { return integral_; }
   float value(int i) const { return func_[i]; }
   // A continuous sample in [0,1), its pdf, and the bucket it fell in.
@@ -69,7 +75,7 @@ class Distribution1D {
   // integral, so a flat copy kept elsewhere samples identically.
   static int sample_discrete(const float* func, const float* cdf, int n, float integral, float u,
                              float* pmf, float* remapped);
-  const float* func_data() const { return func_.data(); }
+  const float* func_data() const { return func_; }
   const float* cdf_data() const { return cdf_.data(); }
 
  private:
@@ -77,7 +83,10 @@ class Distribution1D {
   // sample_discrete's pmf and remapped u once the bucket i is known.
   static void discrete_result(const float* func, const float* cdf, int n, float integral, int i,
                               float u, float* pmf, float* remapped);
-  std::vector<float> func_, cdf_;
+  std::vector<float> own_;       // the values, when copied
+  const float* func_ = nullptr;  // own_'s or the viewed ones
+  int n_ = 0;
+  std::vector<float> cdf_;
   std::vector<int> guide_;  // n/8 + 1 cutpoints
   float integral_ = 0;
 };
@@ -85,9 +94,8 @@ class Distribution1D {
 class Distribution2D {
  public:
   Distribution2D() = default;
-  // nv rows of nu values, row(v, f) writing row v's into f: the whole table is never held
-  // (an environment map's is 4096 x 2048 floats).
-  Distribution2D(int nu, int nv, const std::function<void(int v, float* f)>& row);
+  // f is nv rows of nu values, copied or (view) used in place as Distribution1D does.
+  Distribution2D(const float* f, int nu, int nv, bool view = false);
   Vec2 sample_continuous(Vec2 u, float* pdf) const;
   float pdf(Vec2 p) const;
 

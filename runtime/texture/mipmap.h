@@ -52,6 +52,12 @@ class MipMap {
   int channels() const { return channels_; }
   ImageWrap wrap() const { return wrap_; }
 
+  // A level's texels, channels() floats each, rows top to bottom (as stored): in the
+  // archive itself when it holds f32 texels (viewed(): they live as long as the archive),
+  // else widened copies owned by this object and its copies.
+  const float* level_texels(int level) const { return levels_[level].data; }
+  bool viewed() const { return !widened_; }
+
   // Texel (s, t) of a level, (s, t) outside the level resolved by the wrap mode.
   Rgb texel(int level, int s, int t) const;
   float texel_float(int level, int s, int t) const;

@@ -66,3 +66,39 @@ TEST(DistributionGuide, SameBucketsAsFullSearch) {
 
 }  // namespace
 }  // namespace rt
+
+namespace rt {
+namespace {
+
+// A copying distribution owns its values, and so do its copies and moves; a viewing one
+// reads them where they are (an environment map's table in the archive), and so do its
+// copies.
+TEST(Distribution1D, CopiesOwnTheirValuesViewsDoNot) {
+  std::vector<float> f = {1, 3, 0, 4};
+  Distribution1D owned(f.data(), 4), viewed(f.data(), 4, true);
+  Distribution1D owned_copy, moved, viewed_copy;
+  {
+    Distribution1D a = owned, b = owned;
+    owned_copy = a;  // outlives its source
+    moved = std::move(b);
+  }
+  viewed_copy = viewed;
+  EXPECT_EQ(viewed.func_data(), f.data());
+  EXPECT_EQ(viewed_copy.func_data(), f.data());
+  EXPECT_NE(owned.func_data(), f.data());
+  for (const Distribution1D* d : {&owned_copy, &moved}) {
+    EXPECT_NE(d->func_data(), owned.func_data());
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(d->value(i), f[i]);
+    float pmf = 0, expect_pmf = 0;
+    EXPECT_EQ(d->sample_discrete(0.3f, &pmf), owned.sample_discrete(0.3f, &expect_pmf));
+    EXPECT_EQ(pmf, expect_pmf);
+  }
+  f[1] = 7;  // the views see it, the copies do not
+  EXPECT_EQ(viewed_copy.value(1), 7);
+  EXPECT_EQ(owned.value(1), 3);
+  EXPECT_EQ(owned_copy.value(1), 3);
+  EXPECT_EQ(moved.value(1), 3);
+}
+
+}  // namespace
+}  // namespace rt
