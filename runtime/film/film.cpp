@@ -117,7 +117,7 @@ void Film::build_for_sums(Point2i full_resolution, const Bounds2i& cropped, floa
 }
 
 void Film::clear_sums() {
-  for (auto& h : pixels_) h.assign(size_t(cropped_.area()), FilmPixelSum());
+  for (auto& h : pixels_) h.assign(size_t(cropped_.area()), FilmPixel());
   for (auto& h : splats_) h.clear();
   splats_enabled_ = false;
   pending_.reset();
@@ -150,9 +150,9 @@ void Film::merge_tile(const FilmTile& tile) {
       for (int x = b.min.x; x < b.max.x; ++x) {
         const FilmPixelSum& s =
             tile.pixels_[h][size_t(y - tb.min.y) * size_t(tb.width()) + size_t(x - tb.min.x)];
-        FilmPixelSum& d = pixels_[h][index({x, y})];
-        for (int c = 0; c < 3; ++c) d.rgb[c] += s.rgb[c];
-        d.weight += s.weight;
+        FilmPixel& d = pixels_[h][index({x, y})];
+        for (int c = 0; c < 3; ++c) d.rgb[c] = float(double(d.rgb[c]) + s.rgb[c]);
+        d.weight = float(double(d.weight) + s.weight);
       }
 }
 
@@ -215,7 +215,7 @@ void Film::set_pixel(Point2i p, Rgb v) {
   if (!cropped_.inside(p)) return;
   const size_t i = index(p);
   for (int h = 0; h < 2; ++h) {
-    FilmPixelSum& d = pixels_[h][i];
+    FilmPixel& d = pixels_[h][i];
     for (int c = 0; c < 3; ++c) d.rgb[c] = h == 0 ? v[c] : 0;
     d.weight = h == 0 ? 1 : 0;
     if (splats_enabled_)
@@ -226,11 +226,12 @@ void Film::set_pixel(Point2i p, Rgb v) {
 Rgb Film::pixel(Point2i p) const {
   if (!cropped_.inside(p)) return Rgb(0);
   const size_t i = index(p);
-  const FilmPixelSum &e = pixels_[0][i], &o = pixels_[1][i];
-  const double weight = e.weight + o.weight;
+  const FilmPixel &e = pixels_[0][i], &o = pixels_[1][i];
+  const double weight = double(e.weight) + double(o.weight);
   Rgb out;
   for (int c = 0; c < 3; ++c) {
-    double v = weight != 0 ? std::max(0.0, (e.rgb[c] + o.rgb[c]) / weight) : 0.0;
+    double v =
+        weight != 0 ? std::max(0.0, (double(e.rgb[c]) + double(o.rgb[c])) / weight) : 0.0;
     if (splats_enabled_)
       v += double(splat_scale_) * (double(splats_[0][3 * i + c]) + double(splats_[1][3 * i + c]));
     out[c] = float(v * double(scale_));
@@ -241,14 +242,14 @@ Rgb Film::pixel(Point2i p) const {
 Rgb Film::half_pixel(Point2i p, int half) const {
   if (!cropped_.inside(p)) return Rgb(0);
   const size_t i = index(p);
-  const FilmPixelSum& s = pixels_[half & 1][i];
+  const FilmPixel& s = pixels_[half & 1][i];
   // The half's splats over its own sample count: splat_scale is for all of them.
   const int64_t n_half = half_counts_[half & 1];
   const double splat_scale =
       n_half > 0 ? double(splat_scale_) * double(sample_count()) / double(n_half) : 0.0;
   Rgb out;
   for (int c = 0; c < 3; ++c) {
-    double v = s.weight != 0 ? std::max(0.0, s.rgb[c] / s.weight) : 0.0;
+    double v = s.weight != 0 ? std::max(0.0, double(s.rgb[c]) / double(s.weight)) : 0.0;
     if (splats_enabled_) v += splat_scale * splats_[half & 1][3 * i + c];
     out[c] = float(v * double(scale_));
   }

@@ -10,9 +10,12 @@
 // FilmTile::AddSample, filter read from a 16x16 table over one quadrant, as
 // pbrt-v3 does, so weights match its images exactly), and the renderer
 // merges finished tiles with merge_tile() in a fixed order (not thread-safe).
-// Sums are kept in double: the converged value does not depend on how many
-// samples a pixel got or how tiles split them (a constant radiance comes back
-// exactly). add_splat() (light tracing, bdpt) is thread-safe.
+// A tile adds its samples in double and the film keeps float sums, as pbrt-v3
+// keeps them (32 bytes a pixel, both halves): each pixel's sum is rounded once
+// per tile merged, so tiles of one pass merged in another order, or cut another
+// way, change pixels in their last bits only, and the renderer's fixed order
+// keeps every image reproducible. add_splat() (light tracing, bdpt) is
+// thread-safe.
 //
 // Two halves: every sum is kept twice, once for each half of a pixel's samples
 // (each sample goes to one, at no extra cost), so the render's own error can be
@@ -65,10 +68,15 @@ inline int sample_half(Point2i pixel, int64_t index) {
   return int((h ^ uint64_t(index)) & 1);
 }
 
-// Per-pixel accumulators (double: see the header comment).
+// A tile's per-pixel accumulators, and a render state's (render_state.h).
 struct FilmPixelSum {
   double rgb[3] = {0, 0, 0};
   double weight = 0;
+};
+// The film's (see the header comment).
+struct FilmPixel {
+  float rgb[3] = {0, 0, 0};
+  float weight = 0;
 };
 
 class FilmTile {
@@ -155,8 +163,8 @@ class Film {
   Rgb half_pixel(Point2i p, int half) const;
   // The raw sums of one half (render states, merging): pixel sums and committed splats
   // (3 per pixel, all zero without splats), in cropped-pixel row order.
-  std::vector<FilmPixelSum>& half_sums(int half) { return pixels_[half]; }
-  const std::vector<FilmPixelSum>& half_sums(int half) const { return pixels_[half]; }
+  std::vector<FilmPixel>& half_sums(int half) { return pixels_[half]; }
+  const std::vector<FilmPixel>& half_sums(int half) const { return pixels_[half]; }
   std::vector<float>& half_splats(int half) { return splats_[half]; }
   const std::vector<float>& half_splats(int half) const { return splats_[half]; }
   ImageRgb image() const;  // the cropped pixels with their windows
@@ -175,7 +183,7 @@ class Film {
   float scale_ = 1, max_luminance_ = kInfinity, diagonal_ = 0.035f, splat_scale_ = 1;
   std::string filename_;
   int64_t half_counts_[2] = {0, 0};
-  std::vector<FilmPixelSum> pixels_[2];  // even and odd samples
+  std::vector<FilmPixel> pixels_[2];  // even and odd samples
   // Light-tracing splats, 3 per pixel (empty without splats), in float as pbrt-v3 keeps its
   // splats: committed (a pass's sums added in double, then rounded) and, apart, the pass
   // under way's, which an abandoned pass drops. 48 bytes a pixel; in double they were 96.

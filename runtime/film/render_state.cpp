@@ -44,7 +44,8 @@ RenderState capture_state(const Film& film) {
   RenderState s;
   for (int h = 0; h < 2; ++h) {
     s.half_samples[h] = film.half_count(h);
-    s.sums[h] = film.half_sums(h);
+    for (const FilmPixel& p : film.half_sums(h))
+      s.sums[h].push_back({{p.rgb[0], p.rgb[1], p.rgb[2]}, p.weight});
     if (film.has_splats())
       s.splats[h].assign(film.half_splats(h).begin(), film.half_splats(h).end());
   }
@@ -78,7 +79,13 @@ bool restore_state(const RenderState& state, Film* film, std::string* error) {
     return false;
   }
   for (int h = 0; h < 2; ++h) {
-    film->half_sums(h) = state.sums[h];
+    // Exact for a state this film saved; a merge of states (summed in double) is rounded.
+    std::vector<FilmPixel>& sums = film->half_sums(h);
+    sums.resize(state.sums[h].size());
+    for (size_t i = 0; i < sums.size(); ++i) {
+      const FilmPixelSum& p = state.sums[h][i];
+      sums[i] = {{float(p.rgb[0]), float(p.rgb[1]), float(p.rgb[2])}, float(p.weight)};
+    }
     if (film->has_splats())
       film->half_splats(h).assign(state.splats[h].begin(), state.splats[h].end());
   }

@@ -1,10 +1,11 @@
 // The film: pbrt-v3's crop and sample rectangles (checked against the crops
 // of real reference renders), filtered splatting that returns a constant
-// radiance exactly, scale and maxsampleluminance, tile merging independent of
-// order, robustness of add_sample, splats, and output.
+// radiance exactly, scale and maxsampleluminance, tile merging that changes
+// only last bits with order, robustness of add_sample, splats, and output.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <thread>
 #include <vector>
@@ -210,7 +211,9 @@ TEST(Film, ScaleAndMaxSampleLuminance) {
   EXPECT_EQ(film.pixel({3, 0}), Rgb(0));        // no sample
 }
 
-TEST(Film, TileMergeOrderDoesNotChangePixels) {
+// The film's sums are float (pbrt-v3's), rounded once per tile merged: another order or
+// another cut of the same samples moves pixels by a few float roundings, never more.
+TEST(Film, TileMergeOrderChangesPixelsOnlyInTheirLastBits) {
   Film one, forward, backward;
   std::string error;
   float crop[4] = {0.1f, 0.95f, 0, 0.7f};
@@ -233,8 +236,10 @@ TEST(Film, TileMergeOrderDoesNotChangePixels) {
   for (int y = c.min.y; y < c.max.y; ++y)
     for (int x = c.min.x; x < c.max.x; ++x) {
       Rgb a = one.pixel({x, y});
-      ASSERT_EQ(a, forward.pixel({x, y})) << x << " " << y;
-      ASSERT_EQ(a, backward.pixel({x, y})) << x << " " << y;
+      for (const Film* f : {&forward, &backward})
+        for (int k = 0; k < 3; ++k)
+          ASSERT_NEAR(f->pixel({x, y})[k], a[k], 8 * std::numeric_limits<float>::epsilon() * a[k])
+              << x << " " << y;
       covered += a.r > 0;  // red is at least 0.5 everywhere
     }
   EXPECT_EQ(covered, c.area());

@@ -129,12 +129,12 @@ TEST(Passes, TilesMergedAsTheyFinishMakeTheWholePassFilm) {
   RenderJobOptions streamed = options(4, 3);
   streamed.resdiv = 4;
   streamed.time_limit = 1000;  // passes (02sequence renders in one otherwise)
-  // The film's double sums after each pass (the float image would hide their last bits).
+  // The film's sums after each pass (the image, divided, could hide their last bits).
   auto keep_sums = [](RenderJobOptions* o, std::vector<double>* sums) {
     o->on_pass = [sums](const Film& film, int64_t, double) {
       sums->clear();
       for (int h = 0; h < 2; ++h)
-        for (const FilmPixelSum& p : film.half_sums(h))
+        for (const FilmPixel& p : film.half_sums(h))
           sums->insert(sums->end(), {p.rgb[0], p.rgb[1], p.rgb[2], p.weight});
     };
   };
