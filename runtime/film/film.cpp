@@ -230,8 +230,7 @@ Rgb Film::pixel(Point2i p) const {
   const double weight = double(e.weight) + double(o.weight);
   Rgb out;
   for (int c = 0; c < 3; ++c) {
-    double v =
-        weight != 0 ? std::max(0.0, (double(e.rgb[c]) + double(o.rgb[c])) / weight) : 0.0;
+    double v = weight != 0 ? std::max(0.0, (double(e.rgb[c]) + double(o.rgb[c])) / weight) : 0.0;
     if (splats_enabled_)
       v += double(splat_scale_) * (double(splats_[0][3 * i + c]) + double(splats_[1][3 * i + c]));
     out[c] = float(v * double(scale_));

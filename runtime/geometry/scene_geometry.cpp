@@ -126,8 +126,14 @@ struct SceneGeometry::Impl {
     return inst ? children[inst->child].geoms[geom_id] : top_geoms[geom_id];
   }
 
+  // The interaction at triangle prim, which Embree hit at t_hit with barycentrics (u, v).
+  // Embree's kernels are chosen for the CPU (SSE, AVX2, AVX-512) and round t, u and v
+  // differently; so the triangle is measured again with pbrt-v3's watertight test
+  // (triangle_hit_values), on the ray taken to buffer space here, and the image is the same
+  // on every x86-64 CPU. Where that test misses (exactly on an edge in float), Embree's
+  // values stand. *t_hit is updated with the rest.
   void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
-                     const Ray& ray, SurfaceInteraction* si) const {
+                     const Ray& ray, float* t_hit, SurfaceInteraction* si) const {
     TriangleSpace space;
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
@@ -139,7 +145,24 @@ struct SceneGeometry::Impl {
     }
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
-    triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, si);
+    const ShapeInfo& s = (*shapes)[g.shape];
+    Vec3 o = ray.o, d = ray.d;
+    if (space.to_world) {
+      const Transform to_buffer = space.to_world->inverse();
+      o = to_buffer.point(o);
+      d = to_buffer.vector(d);
+    }
+    const uint32_t* idx = s.mesh.indices + 3 * size_t(prim);
+    auto vertex = [&](uint32_t k) {
+      return Vec3{g.positions[3 * k], g.positions[3 * k + 1], g.positions[3 * k + 2]};
+    };
+    float t, b1, b2;
+    if (triangle_hit_values(o, d, vertex(idx[0]), vertex(idx[1]), vertex(idx[2]), &t, &b1, &b2)) {
+      u = b1;
+      v = b2;
+      *t_hit = t;
+    }
+    triangle_interaction(s, space, prim, u, v, ray, si);
     if (inst && inst->step_error > 0)
       si->p_error += Vec3{inst->step_error, inst->step_error, inst->step_error};
   }
@@ -222,8 +245,9 @@ void alpha_filter(const RTCFilterFunctionNArguments* args, bool shadow) {
   const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
   const ShapeInfo& s = (*impl->shapes)[g->shape];
   SurfaceInteraction si;
+  float t_hit = reinterpret_cast<const RTCRay*>(args->ray)->tfar;
   impl->fill_triangle(*g, impl->instance_of(args->context->instID[0]), hit->primID, hit->u, hit->v,
-                      *ctx->ray, &si);
+                      *ctx->ray, &t_hit, &si);
   bool drop = has_alpha_mask(s) && impl->masked(s.alpha, s.alpha_texture, si);
   if (shadow && !drop && has_shadow_mask(s))
     drop = impl->masked(s.shadow_alpha, s.shadow_alpha_texture, si);
@@ -916,7 +940,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   impl_->archive = &archive;
   impl_->shapes = &shapes;
   impl_->textures = textures;
-  impl_->device = rtcNewDevice(nullptr);
+  impl_->device = rtcNewDevice(embree_config_.empty() ? nullptr : embree_config_.c_str());
   if (!impl_->device) {
     *error = "Embree: cannot create a device (error " +
              std::to_string(int(rtcGetDeviceError(nullptr))) + ")";
@@ -962,7 +986,7 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
     si->dpdx = si->dpdy = Vec3{};
     si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
   } else {
-    impl_->fill_triangle(*g, inst, rh.hit.primID, rh.hit.u, rh.hit.v, ray, si);
+    impl_->fill_triangle(*g, inst, rh.hit.primID, rh.hit.u, rh.hit.v, ray, &rh.ray.tfar, si);
   }
   si->shape = g->shape;
   si->instance = inst ? inst->archive_instance : kNone;

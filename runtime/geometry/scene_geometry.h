@@ -13,7 +13,9 @@
 //
 // intersect() rebuilds the closest hit in world space exactly as pbrt-v3's
 // Triangle::Intersect would (triangle_hit.h), so materials, lights and ray
-// spawning see pbrt-v3's numbers; occluded() answers any hit. Both take
+// spawning see pbrt-v3's numbers; Embree's triangle is measured again with
+// pbrt-v3's watertight test for that, since Embree's t and barycentrics depend
+// on the kernels it picks for the CPU. occluded() answers any hit. Both take
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under
@@ -30,6 +32,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "format/scene_archive.h"
 #include "runtime/core/interaction.h"
@@ -64,6 +67,10 @@ class SceneGeometry {
   // how many); the patches close those cracks at the cost of a box per
   // vertex in the BVH, so they are opt-in (pbrtrun --watertight).
   void set_watertight(bool on) { watertight_ = on; }
+  // Before build(): Embree's device configuration (rtcNewDevice's string), e.g.
+  // "max_isa=sse4.2" to use the kernels a CPU without AVX would. Hits do not depend on
+  // it (intersect() measures Embree's triangle again itself); tests check that.
+  void set_embree_config(std::string config) { embree_config_ = std::move(config); }
 
   // Closest hit in (0, ray.tmax): fills p, p_error, n, wo, time, uv, dpdu,
   // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
@@ -89,6 +96,7 @@ class SceneGeometry {
   std::unique_ptr<Impl> impl_;
   Bounds3 world_bounds_;
   bool watertight_ = false;
+  std::string embree_config_;
   GeometryStats stats_;
 };
 

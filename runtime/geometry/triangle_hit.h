@@ -1,7 +1,9 @@
 // runtime/geometry/triangle_hit.h — a triangle hit turned into pbrt-v3's SurfaceInteraction.
 //
-// Embree reports (primitive, u, v); everything else is rebuilt here in world
-// space the way pbrt-v3's Triangle::Intersect computes it: the three
+// Embree reports the primitive, whose barycentrics the caller measures again
+// with pbrt-v3's watertight test (watertight.h: Embree's own depend on the
+// CPU); everything else is rebuilt here in world space the way pbrt-v3's
+// Triangle::Intersect computes it: the three
 // vertices taken to world, p = b0 p0 + b1 p1 + b2 p2 with the book's error
 // bound gamma(7) sum |bi pi| (3.9.2), uv (default (0,0) (1,0) (1,1)), dp/du
 // and dp/dv (a coordinate system around the normal when the uv mapping is
