@@ -44,6 +44,7 @@ RenderState capture_state(const Film& film) {
   RenderState s;
   for (int h = 0; h < 2; ++h) {
     s.half_samples[h] = film.half_count(h);
+    s.sums[h].reserve(film.half_sums(h).size());
     for (const FilmPixel& p : film.half_sums(h))
       s.sums[h].push_back({{p.rgb[0], p.rgb[1], p.rgb[2]}, p.weight});
     if (film.has_splats())

@@ -126,12 +126,8 @@ struct SceneGeometry::Impl {
     return inst ? children[inst->child].geoms[geom_id] : top_geoms[geom_id];
   }
 
-  // The interaction at triangle prim, which Embree hit at t_hit with barycentrics (u, v).
-  // Embree's kernels are chosen for the CPU (SSE, AVX2, AVX-512) and round t, u and v
-  // differently; so the triangle is measured again with pbrt-v3's watertight test
-  // (triangle_hit_values), on the ray taken to buffer space here, and the image is the same
-  // on every x86-64 CPU. Where that test misses (exactly on an edge in float), Embree's
-  // values stand. *t_hit is updated with the rest.
+  // The interaction at triangle prim, which Embree hit at *t_hit with barycentrics (u, v);
+  // triangle_interaction measures them again (they depend on the CPU) and updates *t_hit.
   void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
                      const Ray& ray, float* t_hit, SurfaceInteraction* si) const {
     TriangleSpace space;
@@ -145,24 +141,7 @@ struct SceneGeometry::Impl {
     }
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
-    const ShapeInfo& s = (*shapes)[g.shape];
-    Vec3 o = ray.o, d = ray.d;
-    if (space.to_world) {
-      const Transform to_buffer = space.to_world->inverse();
-      o = to_buffer.point(o);
-      d = to_buffer.vector(d);
-    }
-    const uint32_t* idx = s.mesh.indices + 3 * size_t(prim);
-    auto vertex = [&](uint32_t k) {
-      return Vec3{g.positions[3 * k], g.positions[3 * k + 1], g.positions[3 * k + 2]};
-    };
-    float t, b1, b2;
-    if (triangle_hit_values(o, d, vertex(idx[0]), vertex(idx[1]), vertex(idx[2]), &t, &b1, &b2)) {
-      u = b1;
-      v = b2;
-      *t_hit = t;
-    }
-    triangle_interaction(s, space, prim, u, v, ray, si);
+    triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, t_hit, si);
     if (inst && inst->step_error > 0)
       si->p_error += Vec3{inst->step_error, inst->step_error, inst->step_error};
   }

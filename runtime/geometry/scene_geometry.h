@@ -13,9 +13,9 @@
 //
 // intersect() rebuilds the closest hit in world space exactly as pbrt-v3's
 // Triangle::Intersect would (triangle_hit.h), so materials, lights and ray
-// spawning see pbrt-v3's numbers; Embree's triangle is measured again with
-// pbrt-v3's watertight test for that, since Embree's t and barycentrics depend
-// on the kernels it picks for the CPU. occluded() answers any hit. Both take
+// spawning see pbrt-v3's numbers; the hit on Embree's triangle is measured
+// again there, since Embree's t and barycentrics depend on the kernels it
+// picks for the CPU. occluded() answers any hit. Both take
 // hits in (0, ray.tmax), are const and thread-safe, and allocate nothing.
 // A quadric with an animated transform is intersected where it is at each
 // ray's time, inside motion bounds; a moving mesh sits in its own scene under

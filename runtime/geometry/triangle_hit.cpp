@@ -61,10 +61,27 @@ bool keep_off_edges(const Vec3 p[3], Vec3 p_error, float* b0, float* b1, float* 
   return true;
 }
 
+// Embree's hit measured again on the world vertices: t and the barycentrics of the ray's
+// point in the triangle's plane (Moller-Trumbore: one division, no branches), in our own
+// arithmetic, which does not depend on the CPU as Embree's kernels do. False where the ray
+// is parallel to the plane or meets it at t <= 0; then nothing is written.
+bool hit_values(Vec3 o, Vec3 d, const Vec3 p[3], float* t, float* b0, float* b1, float* b2) {
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], pv = cross(d, e2);
+  const float det = dot(e1, pv);
+  const Vec3 tv = o - p[0], qv = cross(tv, e1);
+  const float inv = 1 / det, u = dot(tv, pv) * inv, v = dot(d, qv) * inv, th = dot(e2, qv) * inv;
+  if (!(th > 0) || !std::isfinite(inv)) return false;
+  *t = th;
+  *b0 = 1 - u - v;
+  *b1 = u;
+  *b2 = v;
+  return true;
+}
+
 }  // namespace
 
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
-                          float b2, const Ray& ray, SurfaceInteraction* si) {
+                          float b2, const Ray& ray, float* t_hit, SurfaceInteraction* si) {
   const MeshView& m = s.mesh;
   const uint32_t* idx = m.indices + 3 * size_t(prim);
   const uint32_t v[3] = {idx[0], idx[1], idx[2]};
@@ -75,6 +92,7 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     pb[i] = load3(space.positions, v[i]);
     p[i] = space.to_world ? space.to_world->point(pb[i]) : pb[i];
   }
+  hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
 
   // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
   si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];

@@ -1,10 +1,11 @@
 // runtime/geometry/triangle_hit.h — a triangle hit turned into pbrt-v3's SurfaceInteraction.
 //
-// Embree reports the primitive, whose barycentrics the caller measures again
-// with pbrt-v3's watertight test (watertight.h: Embree's own depend on the
-// CPU); everything else is rebuilt here in world space the way pbrt-v3's
-// Triangle::Intersect computes it: the three
-// vertices taken to world, p = b0 p0 + b1 p1 + b2 p2 with the book's error
+// Embree reports (primitive, u, v); everything else is rebuilt here in world
+// space the way pbrt-v3's Triangle::Intersect computes it: the three
+// vertices taken to world, the hit measured again on them in our own
+// arithmetic (Embree's kernels differ by CPU, SSE to AVX-512, and so do their
+// t, u and v; Embree's stand only where the ray is parallel to the plane),
+// p = b0 p0 + b1 p1 + b2 p2 with the book's error
 // bound gamma(7) sum |bi pi| (3.9.2), uv (default (0,0) (1,0) (1,1)), dp/du
 // and dp/dv (a coordinate system around the normal when the uv mapping is
 // degenerate), the geometric normal from the edges, the shading frame from N
@@ -38,9 +39,10 @@ struct TriangleSpace {
 };
 
 // Fills si (p, p_error, n, wo, time, uv, dpdu, dpdv, dndu, dndv, shading,
-// prim, face_index; not shape/instance, not differentials) for barycentrics
-// (1-b1-b2, b1, b2) on triangle prim of mesh shape s.
+// prim, face_index; not shape/instance, not differentials) for Embree's hit of
+// triangle prim of mesh shape s at *t_hit with barycentrics (1-b1-b2, b1, b2),
+// both measured again first (*t_hit is updated).
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
-                          float b2, const Ray& ray, SurfaceInteraction* si);
+                          float b2, const Ray& ray, float* t_hit, SurfaceInteraction* si);
 
 }  // namespace rt

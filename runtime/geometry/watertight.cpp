@@ -9,19 +9,12 @@
 
 namespace rt {
 
-namespace {
-
-// The triangle in ray space: origin at 0, the largest direction component as z, then a
-// shear that makes the ray the +z axis (book 3rd ed. 3.6.2). Edge functions of the sheared
-// vertices' xy decide the hit; the same shared-edge values come out for both triangles of
-// an edge, so nothing passes between them. False where the ray misses in float.
-struct RaySpace {
-  Vec3 a, b, c;           // the vertices, z scaled by 1 / d.z
-  float e0, e1, e2, det;  // edge functions, det = their sum (never 0)
-  float t_scaled;         // t * det
-};
-
-inline bool to_ray_space(Vec3 o, Vec3 d, Vec3 p0, Vec3 p1, Vec3 p2, RaySpace* r) {
+bool watertight_triangle(Vec3 o, Vec3 d, float tmax, Vec3 p0, Vec3 p1, Vec3 p2, float* t, float* b1,
+                         float* b2) {
+  // Ray space: origin at 0, the largest direction component as z, then a
+  // shear that makes the ray the +z axis. Edge functions of the sheared
+  // vertices' xy decide the hit; the same shared-edge values come out for
+  // both triangles of an edge, so nothing passes between them.
   Vec3 a = p0 - o, b = p1 - o, c = p2 - o;
   const int kz = max_dimension(abs(d)), kx = (kz + 1) % 3, ky = (kx + 1) % 3;
   d = permute(d, kx, ky, kz);
@@ -49,24 +42,13 @@ inline bool to_ray_space(Vec3 o, Vec3 d, Vec3 p0, Vec3 p1, Vec3 p2, RaySpace* r)
   a.z *= sz;
   b.z *= sz;
   c.z *= sz;
-  *r = {a, b, c, e0, e1, e2, det, e0 * a.z + e1 * b.z + e2 * c.z};
-  return true;
-}
-
-}  // namespace
-
-bool watertight_triangle(Vec3 o, Vec3 d, float tmax, Vec3 p0, Vec3 p1, Vec3 p2, float* t, float* b1,
-                         float* b2) {
-  RaySpace r;
-  if (!to_ray_space(o, d, p0, p1, p2, &r)) return false;
-  const float det = r.det, t_scaled = r.t_scaled;
+  const float t_scaled = e0 * a.z + e1 * b.z + e2 * c.z;
   if (det < 0 && (t_scaled >= 0 || t_scaled < tmax * det)) return false;
   if (det > 0 && (t_scaled <= 0 || t_scaled > tmax * det)) return false;
   const float inv_det = 1 / det;
   const float t_hit = t_scaled * inv_det;
   // t must exceed its own rounding error (book 3.9.6), so a ray leaving the
   // triangle never hits it again.
-  const Vec3 &a = r.a, &b = r.b, &c = r.c;
   const float max_zt = std::max({std::fabs(a.z), std::fabs(b.z), std::fabs(c.z)});
   const float max_xt = std::max({std::fabs(a.x), std::fabs(b.x), std::fabs(c.x)});
   const float max_yt = std::max({std::fabs(a.y), std::fabs(b.y), std::fabs(c.y)});
@@ -75,25 +57,14 @@ bool watertight_triangle(Vec3 o, Vec3 d, float tmax, Vec3 p0, Vec3 p1, Vec3 p2, 
   const float delta_y = gamma_bound(5) * (max_yt + max_zt);
   const float delta_e =
       2 * (gamma_bound(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-  const float max_e = std::max({std::fabs(r.e0), std::fabs(r.e1), std::fabs(r.e2)});
+  const float max_e = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
   const float delta_t = 3 * (gamma_bound(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) *
                         std::fabs(inv_det);
   if (!(t_hit > delta_t)) return false;
   *t = t_hit;
-  *b1 = r.e1 * inv_det;
-  *b2 = r.e2 * inv_det;
+  *b1 = e1 * inv_det;
+  *b2 = e2 * inv_det;
   return true;
-}
-
-bool triangle_hit_values(Vec3 o, Vec3 d, Vec3 p0, Vec3 p1, Vec3 p2, float* t, float* b1,
-                         float* b2) {
-  RaySpace r;
-  if (!to_ray_space(o, d, p0, p1, p2, &r)) return false;
-  const float inv_det = 1 / r.det;
-  *t = r.t_scaled * inv_det;
-  *b1 = r.e1 * inv_det;
-  *b2 = r.e2 * inv_det;
-  return *t > 0;
 }
 
 namespace {

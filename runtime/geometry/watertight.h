@@ -32,9 +32,6 @@ namespace rt {
 // On a hit: *t, and barycentrics b1, b2 (p = (1-b1-b2) p0 + b1 p1 + b2 p2).
 bool watertight_triangle(Vec3 o, Vec3 d, float tmax, Vec3 p0, Vec3 p1, Vec3 p2, float* t, float* b1,
                          float* b2);
-// The same test's t and barycentrics, for a hit already known (one Embree reported), without
-// the tmax and error-bound tests: false only where the ray misses in float or t <= 0.
-bool triangle_hit_values(Vec3 o, Vec3 d, Vec3 p0, Vec3 p1, Vec3 p2, float* t, float* b1, float* b2);
 
 // One mesh's patches; must outlive the Embree scene it is attached to
 // (Embree keeps a pointer to it as the geometry's user data).
