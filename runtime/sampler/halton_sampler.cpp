@@ -84,8 +84,9 @@ class HaltonSampler final : public GlobalSampler {
     if (stride_ > 1) {
       int pm[2] = {positive_mod(p.x, kMaxResolution), positive_mod(p.y, kMaxResolution)};
       for (int i = 0; i < 2; ++i) {
-        uint64_t dim_offset =
-            inverse_radical_inverse(i == 0 ? 2 : 3, uint64_t(pm[i]), base_exponents_[i]);
+        uint64_t dim_offset = i == 0
+                                  ? inverse_radical_inverse<2>(uint64_t(pm[i]), base_exponents_[i])
+                                  : inverse_radical_inverse<3>(uint64_t(pm[i]), base_exponents_[i]);
         pixel_offset_ += int64_t(dim_offset % uint64_t(base_scales_[i])) *
                          (stride_ / base_scales_[i]) % stride_ * mult_inverse_[i];
         pixel_offset_ %= stride_;

@@ -98,15 +98,6 @@ double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm
   return inv_base_n * (reversed + inv_base * perm[0] / (1 - inv_base));
 }
 
-uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits) {
-  uint64_t index = 0;
-  for (int i = 0; i < digits; ++i) {
-    index = index * base + inverse % base;
-    inverse /= base;
-  }
-  return index;
-}
-
 DigitPermutations::DigitPermutations(uint64_t seed)
     : seed_(seed),
       dims_(new Dimension[size_t(kHaltonDimensions)]),

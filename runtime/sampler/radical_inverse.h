@@ -34,8 +34,18 @@ double radical_inverse(uint32_t base, uint64_t a);
 // The same with every digit (including the infinite tail of zeros) mapped
 // through perm, a permutation of 0..base-1.
 double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm);
-// The index whose first `digits` base-b digits, mirrored, are `inverse`.
-uint64_t inverse_radical_inverse(uint32_t base, uint64_t inverse, int digits);
+// The index whose first `digits` base-kBase digits, mirrored, are `inverse`. The base is a
+// template argument so that the divisions become multiplications: Halton's start_pixel runs
+// this (bases 2 and 3) for every pixel of every pass.
+template <uint32_t kBase>
+uint64_t inverse_radical_inverse(uint64_t inverse, int digits) {
+  uint64_t index = 0;
+  for (int i = 0; i < digits; ++i) {
+    index = index * kBase + inverse % kBase;
+    inverse /= kBase;
+  }
+  return index;
+}
 
 // One random permutation of the digits per Halton dimension, with what
 // scrambled() needs to evaluate that dimension without a hardware divide.

@@ -21,7 +21,7 @@ TEST(RadicalInverse, KnownValuesAndInverse) {
   EXPECT_EQ(halton_prime(999), 7919u);
   // The first `digits` digits of radical_inverse(inverse_radical_inverse(x)) spell x.
   for (uint64_t x = 0; x < 81; ++x) {
-    uint64_t index = inverse_radical_inverse(3, x, 4);
+    uint64_t index = inverse_radical_inverse<3>(x, 4);
     EXPECT_NEAR(radical_inverse(3, index) * 81, double(x), 1e-9) << x;
   }
   // With the identity permutation the scrambled form is the plain one.
