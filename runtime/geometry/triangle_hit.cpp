@@ -64,13 +64,14 @@ bool keep_off_edges(const Vec3 p[3], Vec3 p_error, float* b0, float* b1, float* 
 // Embree's hit measured again on the world vertices: t and the barycentrics of the ray's
 // point in the triangle's plane (Moller-Trumbore: one division, no branches), in our own
 // arithmetic, which does not depend on the CPU as Embree's kernels do. False where the ray
-// is parallel to the plane or meets it at t <= 0; then nothing is written.
+// is parallel to the plane, meets it at t <= 0 or the values overflow; then nothing is
+// written.
 bool hit_values(Vec3 o, Vec3 d, const Vec3 p[3], float* t, float* b0, float* b1, float* b2) {
   const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0], pv = cross(d, e2);
   const float det = dot(e1, pv);
   const Vec3 tv = o - p[0], qv = cross(tv, e1);
   const float inv = 1 / det, u = dot(tv, pv) * inv, v = dot(d, qv) * inv, th = dot(e2, qv) * inv;
-  if (!(th > 0) || !std::isfinite(inv)) return false;
+  if (!(th > 0) || !std::isfinite(th + u + v)) return false;  // det 0, or a sliver's overflow
   *t = th;
   *b0 = 1 - u - v;
   *b1 = u;
