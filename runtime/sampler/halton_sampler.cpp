@@ -82,12 +82,13 @@ class HaltonSampler final : public GlobalSampler {
     // is found digit-inverted per base and combined by CRT.
     pixel_offset_ = 0;
     if (stride_ > 1) {
-      int pm[2] = {positive_mod(p.x, kMaxResolution), positive_mod(p.y, kMaxResolution)};
+      const uint64_t dim_offsets[2] = {
+          inverse_radical_inverse<2>(uint64_t(positive_mod(p.x, kMaxResolution)),
+                                     base_exponents_[0]),
+          inverse_radical_inverse<3>(uint64_t(positive_mod(p.y, kMaxResolution)),
+                                     base_exponents_[1])};
       for (int i = 0; i < 2; ++i) {
-        uint64_t dim_offset = i == 0
-                                  ? inverse_radical_inverse<2>(uint64_t(pm[i]), base_exponents_[i])
-                                  : inverse_radical_inverse<3>(uint64_t(pm[i]), base_exponents_[i]);
-        pixel_offset_ += int64_t(dim_offset % uint64_t(base_scales_[i])) *
+        pixel_offset_ += int64_t(dim_offsets[i] % uint64_t(base_scales_[i])) *
                          (stride_ / base_scales_[i]) % stride_ * mult_inverse_[i];
         pixel_offset_ %= stride_;
       }
