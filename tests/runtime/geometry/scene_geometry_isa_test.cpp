@@ -20,10 +20,7 @@ std::unique_ptr<LoadedScene> load(const std::string& path, const std::string& em
   auto s = std::make_unique<LoadedScene>();
   std::string error;
   EXPECT_TRUE(s->archive.load(path, 1, &error)) << error;
-  EXPECT_TRUE(s->shapes.build(s->archive, &s->error)) << s->error;
-  EXPECT_TRUE(s->textures.build(s->archive, &s->error)) << s->error;
-  s->geometry.set_embree_config(embree_config);
-  s->built = s->geometry.build(s->archive, s->shapes, &s->textures, &s->error);
+  build_geometry(s.get(), false, embree_config);
   EXPECT_TRUE(s->built) << s->error;
   return s;
 }

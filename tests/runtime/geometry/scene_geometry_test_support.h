@@ -24,6 +24,16 @@ struct LoadedScene {
   bool built = false;
 };
 
+// Builds s->archive's (loaded) shape and texture tables and its geometry, with Embree's
+// device configuration when one is given; s->built, or s->error saying what failed.
+inline void build_geometry(LoadedScene* s, bool watertight, const std::string& embree_config = "") {
+  if (!s->shapes.build(s->archive, &s->error)) return;
+  if (!s->textures.build(s->archive, &s->error)) return;
+  s->geometry.set_watertight(watertight);
+  s->geometry.set_embree_config(embree_config);
+  s->built = s->geometry.build(s->archive, s->shapes, &s->textures, &s->error);
+}
+
 // Compiles `world` (the text between WorldBegin and WorldEnd) and builds the
 // geometry; the archive must compile (the test fails otherwise), build() may
 // fail, leaving its message in error.
@@ -34,10 +44,7 @@ inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const st
   bool ok = testing_support::compile_text(testing_support::scratch_dir(name), text, &s->archive);
   EXPECT_TRUE(ok);
   if (!ok) return s;
-  if (!s->shapes.build(s->archive, &s->error)) return s;
-  if (!s->textures.build(s->archive, &s->error)) return s;
-  s->geometry.set_watertight(watertight);
-  s->built = s->geometry.build(s->archive, s->shapes, &s->textures, &s->error);
+  build_geometry(s.get(), watertight);
   return s;
 }
 
