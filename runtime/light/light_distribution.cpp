@@ -140,6 +140,10 @@ int LightDistribution::sample(Vec3 p, float u, float* pmf) const {
   return d.sample_discrete(u, pmf);
 }
 
+void LightDistribution::prefetch(Vec3 p) const {
+  if (flat_) __builtin_prefetch(flat_->base + voxel_index(p) * flat_->stride);
+}
+
 const Distribution1D& LightDistribution::voxel_distribution(size_t index) const {
   std::atomic<const Distribution1D*>& slot = cache_->slots[index];
   if (const Distribution1D* d = slot.load(std::memory_order_acquire)) return *d;

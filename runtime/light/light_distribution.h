@@ -41,6 +41,9 @@ class LightDistribution {
   const Distribution1D& lookup(Vec3 p) const;
   // A light for a point at p with probability *pmf, chosen by u.
   int sample(Vec3 p, float u, float* pmf) const;
+  // Starts loading the record sample(p, ...) will read: a spatial grid is megabytes, so its
+  // record is a cache miss that the work between a hit and its light sample can hide.
+  void prefetch(Vec3 p) const;
 
   // The spatial grid's resolution ({1, 1, 1} for the other strategies).
   std::array<int, 3> voxels() const { return nvoxels_; }

@@ -269,6 +269,7 @@ struct Kernels {
     for (int bounces = 0;; ++bounces) {
       SurfaceInteraction si;
       bool found = intersect(I, ray, &si, c);
+      if (found) I.distribution_.prefetch(si.p);
       if constexpr (kMedia) {
         bool scattered = false;
         Vec3 p;
