@@ -116,8 +116,8 @@ void archive_detail::BufferFree::operator()(uint8_t* p) const {
     ::operator delete[](p, std::align_val_t(kBufferAlignment));
 }
 
-archive_detail::Buffer archive_detail::allocate(uint64_t bytes) {
-  if (bytes >= kHugeBufferThreshold) {
+archive_detail::Buffer archive_detail::allocate(uint64_t bytes, bool heap_only) {
+  if (bytes >= kHugeBufferThreshold && !heap_only) {
     uint64_t mapped = 0;
     uint8_t* p = static_cast<uint8_t*>(map_huge(bytes, &mapped));
     return Buffer(p, BufferFree{p != nullptr ? mapped : 0});
@@ -126,6 +126,15 @@ archive_detail::Buffer archive_detail::allocate(uint64_t bytes) {
       static_cast<uint8_t*>(::operator new[](std::max<uint64_t>(bytes, 1),
                                              std::align_val_t(kBufferAlignment), std::nothrow)),
       BufferFree{0});
+}
+
+void archive_detail::shrink(Buffer* b, uint64_t bytes) {
+  const uint64_t mapped = b->get_deleter().mapped_size;
+  const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
+  const uint64_t keep = std::max<uint64_t>(page, (bytes + page - 1) / page * page);
+  if (mapped == 0 || keep >= mapped) return;
+  munmap(b->get() + keep, mapped - keep);
+  b->get_deleter().mapped_size = keep;
 }
 
 ArchiveReader::ArchiveReader() = default;

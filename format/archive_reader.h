@@ -84,8 +84,12 @@ struct BufferFree {
 using Buffer = std::unique_ptr<uint8_t[], BufferFree>;
 // Uninitialized memory, 64-byte aligned; from 256 KiB on a mapping of its own with transparent
 // huge pages asked for (format/huge_pages.h): a load writes every byte of it, and faulting it in
-// 4 KiB at a time costs more than decompressing. Empty when out of memory.
-Buffer allocate(uint64_t bytes);
+// 4 KiB at a time costs more than decompressing. Empty when out of memory. With heap_only, always
+// from the heap (only the pages touched are in memory).
+Buffer allocate(uint64_t bytes, bool heap_only = false);
+// Gives a mapped buffer's pages past its first bytes back (a heap one is left as it is): a huge
+// page a load only partly filled would otherwise stay whole in memory while the program runs.
+void shrink(Buffer* b, uint64_t bytes);
 }  // namespace archive_detail
 
 class ArchiveReader {

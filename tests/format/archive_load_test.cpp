@@ -7,7 +7,8 @@
 // whether its sections are compressed or used in place. The loading threads' zstd contexts and
 // scratch blocks are kept across loads: readers on several threads at once, loading archives
 // whose frames need larger and smaller blocks in turn, still decode exactly. A small file is read
-// whole at open instead of mapped.
+// whole at open instead of mapped. A decode buffer's pages past the bytes a load used go back.
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -317,6 +318,31 @@ TEST_F(ArchiveLoadDamage, UncompressedFileThatShrinksAfterOpenIsAnError) {
                        ": section 'geometry' (#1): truncated while loading: the file shrank after "
                        "it was opened");
   EXPECT_EQ(r.section_data(0), nullptr);
+}
+
+// A mapped decode buffer (a huge page asked for, the last one partly used) keeps its first bytes
+// and gives back the pages past them: mincore refuses the range, as it does unmapped memory.
+TEST(ArchiveLoad, ShrinkGivesBackThePagesPastTheBytesUsed) {
+  const uint64_t used = (uint64_t{2} << 20) + 300 * 1024;
+  archive_detail::Buffer b = archive_detail::allocate(used + 200 * 1024);
+  ASSERT_TRUE(b);
+  const uint64_t mapped = b.get_deleter().mapped_size;
+  ASSERT_GE(mapped, uint64_t{4} << 20);  // the 500 KiB past 2 MiB asked for as a huge page
+  std::memset(b.get(), 0x5a, mapped);
+  archive_detail::shrink(&b, used);
+  const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
+  const uint64_t keep = (used + page - 1) / page * page;
+  EXPECT_EQ(b.get_deleter().mapped_size, keep);
+  std::vector<unsigned char> resident((keep + page - 1) / page);
+  EXPECT_EQ(mincore(b.get(), keep, resident.data()), 0);
+  EXPECT_EQ(b.get()[used - 1], 0x5a);
+  unsigned char past = 0;
+  EXPECT_EQ(mincore(b.get() + keep, page, &past), -1);
+  // A heap buffer is left as it is.
+  archive_detail::Buffer h = archive_detail::allocate(used, true);
+  ASSERT_TRUE(h);
+  archive_detail::shrink(&h, 100);
+  EXPECT_EQ(h.get_deleter().mapped_size, 0u);
 }
 
 }  // namespace
