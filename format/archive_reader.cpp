@@ -132,7 +132,8 @@ void archive_detail::shrink(Buffer* b, uint64_t bytes) {
   const uint64_t mapped = b->get_deleter().mapped_size;
   const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
   const uint64_t keep = std::max<uint64_t>(page, (bytes + page - 1) / page * page);
-  if (mapped == 0 || keep >= mapped) return;
+  // Splitting a huge page costs 20-50 us: only worth it for a good part of one.
+  if (mapped == 0 || keep >= mapped || mapped - keep < (uint64_t{1} << 20)) return;
   munmap(b->get() + keep, mapped - keep);
   b->get_deleter().mapped_size = keep;
 }

@@ -87,8 +87,9 @@ using Buffer = std::unique_ptr<uint8_t[], BufferFree>;
 // 4 KiB at a time costs more than decompressing. Empty when out of memory. With heap_only, always
 // from the heap (only the pages touched are in memory).
 Buffer allocate(uint64_t bytes, bool heap_only = false);
-// Gives a mapped buffer's pages past its first bytes back (a heap one is left as it is): a huge
-// page a load only partly filled would otherwise stay whole in memory while the program runs.
+// Gives a mapped buffer's pages past its first bytes back when they are 1 MiB or more (a heap
+// one is left as it is): a huge page a load only partly filled would otherwise stay whole in
+// memory while the program runs.
 void shrink(Buffer* b, uint64_t bytes);
 }  // namespace archive_detail
 

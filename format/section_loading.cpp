@@ -301,8 +301,8 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
     tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
     arena.execute([&] { tbb::parallel_for(0, arena.max_concurrency(), [&](int) { take_all(); }); });
   }
-  // Past the sections, the huge page a load partly fills (up to 2 MiB) goes back: it costs
-  // 20-40 us (splitting the page) on teapot and killeroo, and gives back 1-2 MiB of their RSS.
+  // Past the sections, the huge page a load partly fills goes back: teapot's 1.1 MiB of peak RSS
+  // for 20 us of its load.
   if (decoded_) archive_detail::shrink(&decoded_, total);
   // Each section's first failure: its lowest-numbered failing part. (A section whose planning
   // failed has no tasks; one whose checksums do not combine has no other failure.)
