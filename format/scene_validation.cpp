@@ -21,6 +21,7 @@
 #include "format/draco_codec.h"
 #include "format/entity_rules.h"
 #include "format/fourier_table.h"
+#include "format/plain_values.h"
 #include "format/texel_format.h"
 
 namespace pbrta {
@@ -69,6 +70,8 @@ class Checker {
     return fail(s);
   }
   bool failed() const { return failed_; }
+  // True when nothing failed; otherwise false, with the message in *error.
+  bool done(std::string* error) const { return !failed_ || (*error = message_, false); }
   const std::string& message() const { return message_; }
 
  private:
@@ -113,6 +116,19 @@ inline uint64_t first_at_or_above(const uint32_t* v, uint64_t n, uint32_t limit)
   return n;
 }
 
+// What is wrong with one of a mesh record's arrays, and its message.
+enum ArrayFault { kArrayOk, kArrayFlagClear, kArrayUnaligned, kArrayOutside };
+[[gnu::cold, gnu::noinline]] bool array_failed(Checker& c, ArrayFault fault, uint32_t mesh,
+                                               const char* name, uint64_t offset, uint64_t bytes,
+                                               uint64_t size) {
+  if (fault == kArrayFlagClear)
+    return c.fail_with("mesh ", mesh, ": ", name, " offset set but flag clear");
+  if (fault == kArrayUnaligned)
+    return c.fail_with("mesh ", mesh, ": ", name, " offset is not 16-byte aligned");
+  return c.fail_with("mesh ", mesh, ": ", name, " (", bytes, " bytes at ", offset,
+                     ") lies outside its section (", size, " bytes)");
+}
+
 // A string table's n + 1 offsets (n >= 1) over data_size bytes of characters, as ARCHIVE.md
 // section 6 has both tables (strings, provenance): from 0, never decreasing, ending at the
 // data's end, and string 0 empty.
@@ -153,8 +169,7 @@ bool SceneArchive::validate_records(std::string* error) {
     if (where_kind[k] >= 0) {
       c.in(int(i));
       c.fail("appears twice (first as #" + std::to_string(where_kind[k]) + ")");
-      *error = c.message();
-      return false;
+      return c.done(error);
     }
     where_kind[k] = int(i);
   }
@@ -171,15 +186,13 @@ bool SceneArchive::validate_records(std::string* error) {
     if (r.section_size(s) != sizeof(SceneRecord) || r.entry(s).count != 1) {
       c.fail("size " + std::to_string(r.section_size(s)) + " is not one SceneRecord (" +
              std::to_string(sizeof(SceneRecord)) + " bytes)");
-      *error = c.message();
-      return false;
+      return c.done(error);
     }
     std::memcpy(&scene_, r.section_data(s), sizeof scene_);
     for (uint32_t v : scene_.reserved)
       if (v != 0) {
         c.fail("reserved field is not zero");
-        *error = c.message();
-        return false;
+        return c.done(error);
       }
   }
   // Strings.
@@ -204,10 +217,7 @@ bool SceneArchive::validate_records(std::string* error) {
       check_string_offsets(string_offsets_, n, size - head, c);
       num_strings_ = n;
     }
-    if (c.failed()) {
-      *error = c.message();
-      return false;
-    }
+    if (c.failed()) return c.done(error);
   }
   // Typed arrays: size and count agree with the scene record.
   auto array = [&](SectionKind k, auto* span, uint32_t expected, bool required) -> bool {
@@ -290,10 +300,7 @@ bool SceneArchive::validate_records(std::string* error) {
       }
     }
   }
-  if (!ok) {
-    *error = c.message();
-    return false;
-  }
+  if (c.failed()) return c.done(error);
 
   // Textures first: an entity's texture bindings, checked with its values, read them.
   c.in(sec(SectionKind::kTextures));
@@ -314,13 +321,19 @@ bool SceneArchive::validate_records(std::string* error) {
   const uint16_t minor = r.header().minor;
   const CategorySpec* specs[uint32_t(Category::kCount)];
   for (uint32_t k = 0; k < uint32_t(Category::kCount); ++k) specs[k] = &category_spec(Category(k));
-  static const std::vector<std::vector<CountRule>> rules = [] {
-    std::vector<std::vector<CountRule>> by_category(static_cast<size_t>(Category::kCount));
+  struct TypeChecks {
+    CountRule count_rule;
+    std::vector<PlainLanes> lanes;
+  };
+  static const std::vector<std::vector<TypeChecks>> type_checks = [] {
+    std::vector<std::vector<TypeChecks>> by_category(static_cast<size_t>(Category::kCount));
     for (uint32_t k = 0; k < uint32_t(Category::kCount); ++k)
       for (uint32_t t = 0; t < category_spec(Category(k)).num_types; ++t)
-        by_category[k].push_back(count_rule_of(Category(k), t));
+        by_category[k].push_back(
+            {count_rule_of(Category(k), t), plain_lanes(category_spec(Category(k)).types[t])});
     return by_category;
   }();
+  const bool filter = plain_filter_available();
   const int values_section = sec(SectionKind::kValues);
   const int entities_section = sec(SectionKind::kEntities);
   auto check_entity = [&](uint32_t i, Checker & c) __attribute__((always_inline))->bool {
@@ -344,7 +357,9 @@ bool SceneArchive::validate_records(std::string* error) {
                          values.size, " values)");
     const ValueRecord* vs = values.data + e.first_value;
     const uint64_t num_words = words.size;
-    for (uint32_t p = 0; p < ts.num_params; ++p) {
+    const TypeChecks& checks = type_checks[e.category][e.type];
+    const bool plain = filter && plain_values(vs, checks.lanes.data(), ts.num_params, num_words);
+    for (uint32_t p = 0; p < (plain ? 0 : ts.num_params); ++p) {
       const ValueRecord& v = vs[p];
       const ParamSpec& ps = ts.params[p];
       if (v.flags & ~uint32_t(kValueGiven))
@@ -380,7 +395,7 @@ bool SceneArchive::validate_records(std::string* error) {
                                words[v.offset + k], " out of range");
     }
     // Counts tied to other parameters (format/entity_rules.h), now that every value is sound.
-    const CountRule count_rule = rules[e.category][e.type];
+    const CountRule count_rule = checks.count_rule;
     if (count_rule == CountRule::kNone) return true;
     RuleViolation rule;
     if (count_rule == CountRule::kCurve) {
@@ -511,11 +526,7 @@ bool SceneArchive::validate_records(std::string* error) {
            (in.reserved == 0 ||
             c.fail("instance " + std::to_string(i) + ": reserved field is not zero"));
   });
-  if (c.failed()) {
-    *error = c.message();
-    return false;
-  }
-  return true;
+  return c.done(error);
 }
 
 bool SceneArchive::validate_geometry(int threads, std::string* error) {
@@ -548,15 +559,15 @@ bool SceneArchive::validate_geometry(int threads, std::string* error) {
                            " and ", dt);
     }
     const uint64_t size = r.section_size(m.section);
-    auto array_ok = [&](bool present, uint64_t offset, uint64_t bytes, const char* name)
+    // The fault's message is made apart, from values, so that the passing path keeps them in
+    // registers (teapot-like scenes check thousands of meshes).
+    auto array_ok = [ size, i, &c ](bool present, uint64_t offset, uint64_t bytes, const char* name)
         __attribute__((always_inline)) {
-      if (!present)
-        return offset == 0 || c.fail_with(at, i, ": ", name, " offset set but flag clear");
-      if (offset % 16 != 0) return c.fail_with(at, i, ": ", name, " offset is not 16-byte aligned");
-      if (offset > size || bytes > size - offset)
-        return c.fail_with(at, i, ": ", name, " (", bytes, " bytes at ", offset,
-                           ") lies outside its section (", size, " bytes)");
-      return true;
+      const ArrayFault fault = !present           ? (offset == 0 ? kArrayOk : kArrayFlagClear)
+                               : offset % 16 != 0 ? kArrayUnaligned
+                               : offset > size || bytes > size - offset ? kArrayOutside
+                                                                        : kArrayOk;
+      return fault == kArrayOk || array_failed(c, fault, i, name, offset, bytes, size);
     };
     const uint64_t nv = m.num_vertices, nt = m.num_triangles;
     return array_ok(true, m.positions, nv * 12, "positions") &&
@@ -703,11 +714,7 @@ bool SceneArchive::validate_geometry(int threads, std::string* error) {
     expect_levels(lights[i].image, true, "light", i, "pyramid");
   for (uint32_t i = 0; i < images.size && !c.failed(); ++i)
     expect_levels(images[i].distribution, false, "image", i, "distribution");
-  if (c.failed()) {
-    *error = c.message();
-    return false;
-  }
-  return true;
+  return c.done(error);
 }
 
 }  // namespace pbrta
