@@ -51,10 +51,8 @@ while read -r entry ref spp resdiv ci ours extra; do
     own/*) scene="$root/tests/convergence/$entry"; refpath="$(dirname "$scene")/$ref" ;;
     *) scene="$shared/scenes/$entry"; refpath="$shared/refs/$ref" ;;
   esac
-  # A 6th column "v3-no-hdr" (shared scenes): compile the scene as pbrt-v3 sees it. pbrt-v3
-  # cannot read .hdr maps and renders such an infinite light as its constant L, which is the
-  # scene without the map; the text is piped to pbrtc from the scene's directory, so relative
-  # paths still resolve. Everything else in the scene is checked as usual.
+  # A 6th column "v3-no-hdr" (shared scenes): compile the scene as pbrt-v3 sees it
+  # (tools/compile_as_v3.sh).
   as_v3=0
   if [ "$ours" = "v3-no-hdr" ]; then as_v3=1; ours=""; fi
   # "renders=N" after our spp (mlt, sppm: noise correlated between pixels): N renders of
@@ -69,11 +67,7 @@ while read -r entry ref spp resdiv ci ours extra; do
   log="$out/$name.log"
   ran=$((ran + 1))
   if [ "$as_v3" = 1 ]; then
-    compile() {
-      (cd "$(dirname "$scene")" &&
-        sed -E 's/"string mapname" *\[? *"[^"]*\.hdr" *\]?//' "$(basename "$scene")" |
-        "$build/pbrtc" -q - -o "$archive")
-    }
+    compile() { "$root/tools/compile_as_v3.sh" "$build/pbrtc" "$scene" "$archive"; }
   else
     compile() { "$build/pbrtc" -q "$scene" -o "$archive"; }
   fi
