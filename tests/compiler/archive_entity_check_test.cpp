@@ -68,8 +68,8 @@ std::string resealed_load_error(const std::string& bytes) {
 
 // Each value fault at every parameter of entity e of archive a (whose bytes are good): refused,
 // naming the entity, the type and the parameter; and each value's words moved to end exactly at
-// the table's end: sound. Values are checked two at a time where the CPU allows
-// (format/scene_validation.cpp), so each lane must refuse what the one-at-a-time check refuses
+// the table's end: sound. Values are filtered two at a time where the CPU allows
+// (format/plain_values.h), so each lane must refuse what the one-at-a-time check refuses
 // and accept its exact edges, and a lane past the entity's count must not judge it.
 void expect_every_value_fault_refused(const pbrta::SceneArchive& a, const std::string& good,
                                       const std::string& dir, uint32_t e) {
