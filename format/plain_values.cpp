@@ -13,7 +13,7 @@ std::vector<PlainLanes> plain_lanes(const TypeSpec& type) {
     lanes.push_back({uint32_t(kind_width(ps.kind)), text ? 0u : ps.arity,
                      !text && ps.arity == 0 ? ~0u : 0u, 0});
   }
-  if (lanes.size() % 2 != 0) lanes.push_back({});  // its value is never read
+  if (lanes.size() % 2 != 0) lanes.push_back({});  // loaded, but its lane is masked off
   return lanes;
 }
 

@@ -267,7 +267,7 @@ bool SceneArchive::validate_records(std::string* error) {
     uint32_t expected = sr.num_entities + sr.num_objects + sr.num_instances;
     if (s < 0) {
       c.in(-1);
-      ok = c.fail("no provenance section");
+      c.fail("no provenance section");
     } else {
       c.in(s);
       const uint8_t* d = r.section_data(uint32_t(s));
@@ -280,23 +280,22 @@ bool SceneArchive::validate_records(std::string* error) {
       uint64_t records_end = 8 + uint64_t(nrec) * sizeof(ProvenanceRecord);
       uint64_t head = records_end + (uint64_t(nstr) + 1) * 4;
       if (size < 8 || head > size) {
-        ok = c.fail("provenance tables do not fit (" + std::to_string(size) + " bytes)");
+        c.fail("provenance tables do not fit (" + std::to_string(size) + " bytes)");
       } else if (nrec != r.entry(uint32_t(s)).count || nrec < expected || nstr == 0) {
-        ok = c.fail("has " + std::to_string(nrec) + " records, needs " + std::to_string(expected));
+        c.fail("has " + std::to_string(nrec) + " records, needs " + std::to_string(expected));
       } else {
         provenance.data = reinterpret_cast<const ProvenanceRecord*>(d + 8);
         provenance.size = nrec;
         pstring_offsets_ = reinterpret_cast<const uint32_t*>(d + records_end);
         pstring_data_ = reinterpret_cast<const char*>(d + head);
         num_pstrings_ = nstr;
-        ok = check_string_offsets(pstring_offsets_, nstr, size - head, c);
+        check_string_offsets(pstring_offsets_, nstr, size - head, c);
         first_failure(nrec, c, [&](uint32_t i, Checker& c) {
           const ProvenanceRecord& p = provenance[i];
           return (p.file < nstr && p.name < nstr && p.path < nstr) ||
                  c.fail("record " + std::to_string(i) + ": string out of range (" +
                         std::to_string(nstr) + " strings)");
         });
-        ok = !c.failed();
       }
     }
   }
