@@ -508,7 +508,8 @@ class Builder {
 
   // Images: the records, then texels chunks holding whole images (every level of an image in
   // one chunk, each level 16-byte aligned), so large scenes decompress in parallel. The records
-  // name their chunk by table index, so the chunks follow the images section.
+  // name their chunk by table index, so the chunks follow the images section. Source images
+  // (the last ones) start a chunk of their own, which renderers need not decode.
   void add_images(pbrta::ArchiveWriter* w, const ArchiveOptions& opt, pbrta::Codec codec,
                   bool shuffle) {
     const std::vector<ImageDesc>& in = scene_.images;
@@ -518,6 +519,9 @@ class Builder {
     std::vector<uint32_t> chunk_counts;
     const uint32_t first_chunk = w->section_count() + 1;
     const std::vector<bool> is_distribution = distribution_images(scene_);
+    std::vector<bool> is_source(in.size(), false);
+    for (const ImageDesc& d : in)
+      if (d.source_image >= 0) is_source[size_t(d.source_image)] = true;
     for (size_t i = 0; i < in.size(); ++i) {
       const ImageDesc& d = in[i];
       const DecodedImage& im = d.image;
@@ -527,7 +531,7 @@ class Builder {
       uint64_t need = 0;
       for (const std::vector<float>& level : im.levels)
         need += (level.size() * bytes_per + 15) & ~15ull;
-      if (chunks.empty() ||
+      if (chunks.empty() || (is_source[i] && !is_source[i - 1]) ||
           (chunks.back().size() + need > opt.texel_chunk_bytes && !chunks.back().empty())) {
         chunks.emplace_back();
         chunk_counts.push_back(0);

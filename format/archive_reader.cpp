@@ -144,35 +144,10 @@ ArchiveReader::~ArchiveReader() {
   reset();
 }
 
-ArchiveReader::ArchiveReader(ArchiveReader&& other) noexcept {
-  *this = std::move(other);
-}
-
-ArchiveReader& ArchiveReader::operator=(ArchiveReader&& other) noexcept {
-  if (this == &other) return *this;
-  reset();
-  path_ = std::move(other.path_);
-  fd_ = other.fd_;
-  other.fd_ = -1;
-  map_ = other.map_;
-  map_size_ = other.map_size_;
-  copy_ = std::move(other.copy_);
-  decoded_ = std::move(other.decoded_);
-  base_ = other.base_;
-  size_ = other.size_;
-  header_ = other.header_;
-  entries_ = std::move(other.entries_);
-  sections_ = std::move(other.sections_);
-  other.map_ = nullptr;
-  other.map_size_ = 0;
-  other.reset();
-  return *this;
-}
-
 void ArchiveReader::reset() {
   sections_.clear();
   entries_.clear();
-  decoded_.reset();
+  decoded_.clear();
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   if (map_ != nullptr) munmap(map_, map_size_);

@@ -97,8 +97,6 @@ class ArchiveReader {
  public:
   ArchiveReader();
   ~ArchiveReader();
-  ArchiveReader(ArchiveReader&& other) noexcept;
-  ArchiveReader& operator=(ArchiveReader&& other) noexcept;
   ArchiveReader(const ArchiveReader&) = delete;
   ArchiveReader& operator=(const ArchiveReader&) = delete;
 
@@ -115,8 +113,11 @@ class ArchiveReader {
   // cores). Sections of kinds this reader does not know (allowed in a newer minor version) are
   // skipped. On failure the message is that of the lowest-numbered failing section among those
   // that failed first, in this order: the other sections, the Draco checksums, Draco decoding
-  // (later steps do not run once one fails).
-  [[nodiscard]] bool load_sections(int threads, std::string* error);
+  // (later steps do not run once one fails). With `wanted` (one flag per section), only the wanted
+  // sections not loaded yet: a caller may load in steps, and leave sections it will not read
+  // undecoded.
+  [[nodiscard]] bool load_sections(int threads, std::string* error,
+                                   const std::vector<bool>& wanted = {});
 
   // The archive as opened. header() and the entries are copies of the validated file structures.
   const Header& header() const { return header_; }
@@ -193,8 +194,9 @@ class ArchiveReader {
   size_t map_size_ = 0;
   Buffer copy_;  // a file read whole (up to 64 KiB, kept for the reader's life), or unaligned
                  // open_memory bytes
-  // The decoded (not in-place) sections, each at its own 64-byte aligned offset.
-  Buffer decoded_;
+  // The decoded (not in-place) sections, each at its own 64-byte aligned offset in the buffer
+  // of the load_sections call that decoded it.
+  std::vector<Buffer> decoded_;
   const uint8_t* base_ = nullptr;
   uint64_t size_ = 0;
   Header header_{};

@@ -128,11 +128,25 @@ bool SceneArchive::load_memory(std::string_view bytes, std::string_view name, in
 }
 
 bool SceneArchive::load_opened(int threads, std::string* error) {
-  if (reader_.load_sections(threads, error) && validate_records(error) &&
-      validate_geometry(threads, error))
+  // The records first: they say which texels sections a renderer needs.
+  std::vector<bool> records(reader_.section_count());
+  for (uint32_t i = 0; i < records.size(); ++i)
+    records[i] = reader_.entry(i).kind != uint32_t(SectionKind::kTexels);
+  if (reader_.load_sections(threads, error, records) && validate_records(error) &&
+      reader_.load_sections(threads, error, wanted_texels()) && validate_geometry(threads, error))
     return true;
   forget_records();  // nothing may read records that failed their checks
   return false;
+}
+
+std::vector<bool> SceneArchive::wanted_texels() const {
+  if (!skip_sources_) return {};
+  std::vector<bool> source(images.size, false), wanted(reader_.section_count(), false);
+  for (const ImageRecord& im : images)
+    if (im.source_image < images.size) source[im.source_image] = true;
+  for (uint32_t i = 0; i < images.size; ++i)  // validate_geometry() checks the sections later
+    if (!source[i] && images[i].section < wanted.size()) wanted[images[i].section] = true;
+  return wanted;
 }
 
 void SceneArchive::forget_records() {

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "format/archive.h"
 #include "format/archive_reader.h"
@@ -41,6 +42,10 @@ class SceneArchive {
   // The bytes must outlive this object: a 16-byte aligned image is used in place.
   [[nodiscard]] bool load_memory(std::string_view bytes, std::string_view name, int threads,
                                  std::string* error);
+
+  // For renderers, before load(): texels sections that only source images name (renderers never
+  // read them: ARCHIVE.md, ImageRecord) are left undecoded, their checksums unchecked.
+  void skip_source_texels() { skip_sources_ = true; }
 
   const ArchiveReader& reader() const { return reader_; }
   const Header& header() const { return reader_.header(); }
@@ -107,10 +112,14 @@ class SceneArchive {
   void forget_records();
   // What the records say, checked against the schema and each other.
   bool validate_records(std::string* error);
+  // The sections load_opened() decodes once the records are checked: every one left, or with
+  // skip_source_texels() the texels sections that an image other than a source names.
+  std::vector<bool> wanted_texels() const;
   // Then the meshes' layouts and triangle indices (with up to `threads` threads), and the images.
   bool validate_geometry(int threads, std::string* error);
 
   ArchiveReader reader_;
+  bool skip_sources_ = false;
   std::string path_;
   SceneRecord scene_{};
   const uint32_t* string_offsets_ = nullptr;

@@ -180,7 +180,8 @@ bool ArchiveReader::load_draco(const std::vector<uint32_t>& draco, const std::ve
   return ok;
 }
 
-bool ArchiveReader::load_sections(int threads, std::string* error) {
+bool ArchiveReader::load_sections(int threads, std::string* error,
+                                  const std::vector<bool>& wanted) {
   if (base_ == nullptr) {
     *error = fail("no archive is open");
     return false;
@@ -190,10 +191,13 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
 
   // Every decoded section in one buffer, in table order, each followed by its padding.
   // validate() bounded the sizes; the sums are checked anyway.
+  auto now = [&](uint32_t i) {
+    return !sections_[i].skipped && !sections_[i].data && (wanted.empty() || wanted[i]);
+  };
   std::vector<uint64_t> slot(n, 0);
   uint64_t total = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    if (sections_[i].skipped || entries_[i].codec == uint32_t(Codec::kRaw)) continue;
+    if (!now(i) || entries_[i].codec == uint32_t(Codec::kRaw)) continue;
     slot[i] = total;
     const uint64_t after = entries_[i].codec == uint32_t(Codec::kDraco)
                                ? kSectionPadding + kDracoCountsBytes
@@ -205,10 +209,11 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
     }
     total = total / kSlotAlignment * kSlotAlignment;
   }
-  decoded_.reset();
+  uint8_t* buffer = nullptr;
   if (total > 0) {
-    decoded_ = archive_detail::allocate(total);
-    if (!decoded_) {
+    decoded_.push_back(archive_detail::allocate(total));
+    buffer = decoded_.back().get();
+    if (!buffer) {
       *error = fail("cannot allocate " + std::to_string(total) + " bytes to decode the sections");
       return false;
     }
@@ -238,7 +243,7 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
   };
   uint64_t work = 0;  // validate() bounded every size: no overflow
   for (uint32_t i = 0; i < n; ++i) {
-    if (sections_[i].skipped) continue;
+    if (!now(i)) continue;
     const SectionEntry& e = entries_[i];
     const size_t first_task = tasks.size();
     if (e.codec == uint32_t(Codec::kRaw)) {
@@ -254,11 +259,11 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
                              false});
       work += e.raw_size / kRawWeight;
     } else if (e.codec == uint32_t(Codec::kDraco)) {
-      out[i] = decoded_.get() + slot[i];
+      out[i] = buffer + slot[i];
       draco.push_back(i);
       continue;
     } else {
-      out[i] = decoded_.get() + slot[i];
+      out[i] = buffer + slot[i];
       std::string why;
       if (!plan_frames(i, &tasks, &why)) errors[i] = section_error(i, why);
       work += e.stored_size + e.raw_size;
@@ -303,7 +308,7 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
   }
   // Past the sections, the huge page a load partly fills goes back: teapot's 1.1 MiB of peak RSS
   // for 20 us of its load.
-  if (decoded_) archive_detail::shrink(&decoded_, total);
+  if (buffer) archive_detail::shrink(&decoded_.back(), total);
   // Each section's first failure: its lowest-numbered failing part. (A section whose planning
   // failed has no tasks; one whose checksums do not combine has no other failure.)
   std::vector<uint32_t> failed_part(n, UINT32_MAX);
@@ -325,7 +330,7 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
       const uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
       for (uint32_t i = 0; i < n; ++i) {
         const SectionEntry& e = entries_[i];
-        if (e.codec == uint32_t(Codec::kRaw)) continue;
+        if (e.codec == uint32_t(Codec::kRaw) || !out[i]) continue;  // or not loaded now
         const uintptr_t begin = reinterpret_cast<uintptr_t>(base_ + e.offset);
         const uintptr_t first = (begin + page - 1) / page * page;
         const uintptr_t last = (begin + e.stored_size) / page * page;
@@ -344,7 +349,7 @@ bool ArchiveReader::load_sections(int threads, std::string* error) {
     s.in_place = false;
     s.decoded_counts[0] = s.decoded_counts[1] = 0;
   }
-  decoded_.reset();
+  decoded_.clear();
   return false;
 }
 

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   job.interrupt = rt::install_interrupt_handlers();
 
   pbrta::SceneArchive archive;
+  archive.skip_source_texels();
   if (!archive.load(args.input, threads, &error)) return fail("error: " + error);
   double t_archive = rt::seconds_since(t_start);
 

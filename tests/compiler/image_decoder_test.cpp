@@ -671,6 +671,68 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
             images_prefix + "image 0: 1 levels, but as texture 0's pyramid it has 4");
 }
 
+// Source images (ARCHIVE.md, ImageRecord) sit in texels sections of their own, which a renderer's
+// load leaves undecoded: a damaged byte there fails pbrtc --verify's load, not pbrtrun's. Any
+// other texels section is decoded and checked either way.
+TEST(SceneImages, RenderersLeaveSourceTexelsUndecoded) {
+  const std::string dir = testing_support::scratch_dir("image_sources_skipped");
+  uint8_t px[5][3][3];
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 3; ++x)
+      for (int k = 0; k < 3; ++k) px[y][x][k] = uint8_t(40 * y + 10 * x + 3 * k);
+  write_image(dir + "/a.png", 3, 5, 3, OIIO::TypeDesc::UINT8, px);
+  write_image(dir + "/p.png", 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+  Built b;
+  build(dir,
+        "Texture \"t1\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\"\n"
+        "Texture \"t2\" \"float\" \"imagemap\" \"string filename\" \"p.png\"\n"
+        "LightSource \"projection\" \"string mapname\" \"a.png\"\n",
+        &b);
+  ASSERT_TRUE(b.ok) << (b.diag.all().empty() ? "" : b.diag.all()[0].text);
+  const std::string path = dir + "/a.pbrta";
+  ArchiveOptions opt;
+  opt.compress = false;  // raw sections: the test damages texels in place
+  std::string error;
+  ASSERT_TRUE(write_archive(b.scene, b.files, dir, path, opt, nullptr, &error)) << error;
+  pbrta::SceneArchive full, renderer;
+  renderer.skip_source_texels();
+  ASSERT_TRUE(full.load(path, 1, &error)) << error;
+  ASSERT_TRUE(renderer.load(path, 1, &error)) << error;
+  // Images 0-2 are the pyramids, 3 and 4 the sources of 0 and 2.
+  ASSERT_EQ(full.images.size, 5u);
+  ASSERT_EQ(full.images[0].source_image, 3u);
+  ASSERT_EQ(full.images[2].source_image, 4u);
+  const uint32_t pyramids = full.images[0].section, sources = full.images[3].section;
+  EXPECT_NE(pyramids, sources);
+  for (uint32_t i = 0; i < 5; ++i)
+    EXPECT_EQ(full.images[i].section, i < 3 ? pyramids : sources) << "image " << i;
+  EXPECT_NE(full.reader().section_data(sources), nullptr);
+  EXPECT_EQ(renderer.reader().section_data(sources), nullptr);
+  ASSERT_NE(renderer.reader().section_data(pyramids), nullptr);
+  EXPECT_EQ(std::memcmp(renderer.reader().section_data(pyramids),
+                        full.reader().section_data(pyramids), full.reader().section_size(pyramids)),
+            0);
+
+  const std::string good = testing_support::read_file(path);
+  auto damaged_in = [&](uint32_t section, bool skip) {
+    std::string bytes = good;
+    bytes[full.reader().entry(section).offset + 5] ^= 1;
+    testing_support::write_file(dir + "/bad.pbrta", bytes);
+    pbrta::SceneArchive a;
+    if (skip) a.skip_source_texels();
+    std::string why;
+    return a.load(dir + "/bad.pbrta", 1, &why) ? std::string("loaded") : why;
+  };
+  auto mismatch = [&](uint32_t section) {
+    return dir + "/bad.pbrta: section 'texels' (#" + std::to_string(section) +
+           "): checksum mismatch";
+  };
+  EXPECT_EQ(damaged_in(sources, false), mismatch(sources));
+  EXPECT_EQ(damaged_in(sources, true), "loaded");
+  EXPECT_EQ(damaged_in(pyramids, false), mismatch(pyramids));
+  EXPECT_EQ(damaged_in(pyramids, true), mismatch(pyramids));
+}
+
 TEST(SceneImages, UnreadableImageIsAnErrorAtItsDirective) {
   const std::string dir = testing_support::scratch_dir("image_unreadable");
   testing_support::write_file(dir + "/bad.png", "this is no PNG");

@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
   auto t0 = std::chrono::steady_clock::now();
   pbrta::SceneArchive archive;
+  archive.skip_source_texels();
   if (!archive.load(input, threads, &error)) return fail("error: " + error);
   double load_seconds = rt::seconds_since(t0);
   std::printf("pbrt-converge: %s: archive loaded in %.4f s\n", name.c_str(), load_seconds);

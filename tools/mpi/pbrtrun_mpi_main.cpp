@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
   auto t_start = std::chrono::steady_clock::now();
 
   pbrta::SceneArchive archive;
+  archive.skip_source_texels();
   const std::string path = rank_path(args.input, g_rank);
   const bool loaded = broadcast ? load_broadcast(path, threads, &archive, &error)
                                 : archive.load(path, threads, &error);

@@ -72,6 +72,7 @@ std::string manifest_key(const SceneSource& source) {
 std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, SceneCache* cache,
                                                     int threads, bool quiet, ObtainStats* stats) {
   auto archive = std::make_unique<pbrta::SceneArchive>();
+  archive->skip_source_texels();  // it renders
   std::string error;
   std::vector<std::string> inputs;
   if (!cache) {
@@ -122,6 +123,7 @@ std::unique_ptr<pbrta::SceneArchive> obtain_archive(const SceneSource& source, S
       cache->discard(key, path);
       stats->outcome = outdated ? CacheOutcome::kOutdated : CacheOutcome::kRebuilt;
       archive = std::make_unique<pbrta::SceneArchive>();
+      archive->skip_source_texels();
     }
   }
 
