@@ -17,17 +17,6 @@ namespace rt {
 
 namespace {
 
-struct WorldTriangle {
-  Vec3 p0, p1, p2;
-};
-
-WorldTriangle world_triangle(const ShapeInfo& s, uint32_t prim) {
-  const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
-  const Transform& m = s.object_to_world;
-  return {m.point(s.mesh.position(v[0])), m.point(s.mesh.position(v[1])),
-          m.point(s.mesh.position(v[2]))};
-}
-
 Vec3 mesh_normal(const ShapeInfo& s, uint32_t vertex) {
   const float* n = s.mesh.normals + 3 * size_t(vertex);
   return s.object_to_world.normal({n[0], n[1], n[2]});
@@ -79,8 +68,8 @@ bool ref_inside_sphere(const ShapeInfo& s, float radius, const Interaction& ref,
 
 // pbrt-v3's Shape::Sample(ref, u): the area sample's pdf as solid angle.
 Interaction area_sample_as_solid_angle(const ShapeInfo& s, uint32_t prim, const Interaction& ref,
-                                       Vec2 u, float* pdf) {
-  Interaction it = sample_shape_area(s, prim, u, pdf);
+                                       Vec2 u, float* pdf, const WorldTriangle* t) {
+  Interaction it = sample_shape_area(s, prim, u, pdf, t);
   Vec3 wi = it.p - ref.p;
   float d2 = length_squared(wi);
   if (*pdf == 0 || d2 == 0) {
@@ -95,28 +84,39 @@ Interaction area_sample_as_solid_angle(const ShapeInfo& s, uint32_t prim, const 
 
 }  // namespace
 
-float shape_area(const ShapeInfo& s, uint32_t prim) {
-  if (s.kind == ShapeKind::kTriangles) {
-    WorldTriangle t = world_triangle(s, prim);
-    return 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0));
-  }
+WorldTriangle world_triangle(const ShapeInfo& s, uint32_t prim) {
+  const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
+  const Transform& m = s.object_to_world;
+  WorldTriangle t;
+  t.p0 = m.point(s.mesh.position(v[0]));
+  t.p1 = m.point(s.mesh.position(v[1]));
+  t.p2 = m.point(s.mesh.position(v[2]));
+  const Vec3 c = cross(t.p1 - t.p0, t.p2 - t.p0);
+  t.n = normalize(c);
+  t.area = 0.5f * length(c);
+  return t;
+}
+
+float shape_area(const ShapeInfo& s, uint32_t prim, const WorldTriangle* t) {
+  if (s.kind == ShapeKind::kTriangles) return t ? t->area : world_triangle(s, prim).area;
   if (s.kind == ShapeKind::kCurve) return 0;
   QuadricShape q = make_quadric_shape(s);
   return q.valid ? quadric_area(q) : 0;
 }
 
-Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* pdf_area) {
+Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* pdf_area,
+                              const WorldTriangle* tri) {
   Interaction it;
   *pdf_area = 0;
   if (!can_sample(s.kind)) return it;
   const Transform& m = s.object_to_world;
   if (s.kind == ShapeKind::kTriangles) {
-    WorldTriangle t = world_triangle(s, prim);
+    const WorldTriangle t = tri ? *tri : world_triangle(s, prim);
     Vec2 b = uniform_sample_triangle(u);
     float b2 = 1 - b.x - b.y;
     it.p = b.x * t.p0 + b.y * t.p1 + b2 * t.p2;
     it.p_error = gamma_bound(6) * (abs(b.x * t.p0) + abs(b.y * t.p1) + abs(b2 * t.p2));
-    it.n = normalize(cross(t.p1 - t.p0, t.p2 - t.p0));
+    it.n = t.n;
     if (s.mesh.normals) {
       const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
       Vec3 ns = b.x * mesh_normal(s, v[0]) + b.y * mesh_normal(s, v[1]) + b2 * mesh_normal(s, v[2]);
@@ -124,8 +124,7 @@ Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* 
     } else if (s.flip_normals()) {
       it.n = -it.n;
     }
-    float area = 0.5f * length(cross(t.p1 - t.p0, t.p2 - t.p0));
-    *pdf_area = area > 0 && !it.n.has_nan() ? 1 / area : 0;
+    *pdf_area = t.area > 0 && !it.n.has_nan() ? 1 / t.area : 0;
     return it;
   }
   QuadricShape q = make_quadric_shape(s);
@@ -167,15 +166,15 @@ Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* 
 }
 
 Interaction sample_shape_from(const ShapeInfo& s, uint32_t prim, const Interaction& ref, Vec2 u,
-                              float* pdf) {
+                              float* pdf, const WorldTriangle* t) {
   *pdf = 0;
   if (!can_sample(s.kind)) return Interaction{};
-  if (s.kind != ShapeKind::kSphere) return area_sample_as_solid_angle(s, prim, ref, u, pdf);
+  if (s.kind != ShapeKind::kSphere) return area_sample_as_solid_angle(s, prim, ref, u, pdf, t);
 
   float radius = s.q.radius;
   Vec3 center;
   if (ref_inside_sphere(s, radius, ref, &center))
-    return area_sample_as_solid_angle(s, prim, ref, u, pdf);
+    return area_sample_as_solid_angle(s, prim, ref, u, pdf, nullptr);
 
   // Outside: sample the cone of directions the sphere subtends, then find
   // the point on the sphere from the angle alpha at the centre (pbrt-v3,
@@ -203,7 +202,7 @@ Interaction sample_shape_from(const ShapeInfo& s, uint32_t prim, const Interacti
 }
 
 float shape_pdf_from(const ShapeInfo& s, uint32_t prim, const Interaction& ref, Vec3 wi,
-                     const Interaction& on_shape) {
+                     const Interaction& on_shape, const WorldTriangle* t) {
   if (!can_sample(s.kind)) return 0;
   if (s.kind == ShapeKind::kSphere) {
     Vec3 center;
@@ -213,7 +212,7 @@ float shape_pdf_from(const ShapeInfo& s, uint32_t prim, const Interaction& ref, 
       return std::isfinite(pdf) ? pdf : 0;
     }
   }
-  float area = shape_area(s, prim);
+  float area = shape_area(s, prim, t);
   float pdf = distance_squared(ref.p, on_shape.p) / (abs_dot(on_shape.n, -wi) * area);
   return std::isfinite(pdf) ? pdf : 0;
 }

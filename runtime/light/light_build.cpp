@@ -245,6 +245,9 @@ bool LightSet::add_area_lights(const pbrta::SceneArchive& a, std::string* error)
     area_first_[s] = count();
     uint32_t n = info.kind == ShapeKind::kTriangles ? info.mesh.num_triangles : 1;
     for (uint32_t p = 0; p < n; ++p) entries_.push_back({LightKind::kArea, info.area_light, s, p});
+    if (info.kind != ShapeKind::kTriangles) continue;
+    triangles_.resize(count());
+    for (uint32_t p = 0; p < n; ++p) triangles_[area_first_[s] + p] = world_triangle(info, p);
   }
   return true;
 }

@@ -91,7 +91,7 @@ Rgb LightSet::sample_le(uint32_t light, Vec2 u1, Vec2 u2, float time, Ray* ray, 
     case LightKind::kArea: {
       const ShapeInfo& shape = (*shapes_)[e.shape];
       float pdf_area = 0;
-      Interaction it = sample_shape_area(shape, e.prim, u1, &pdf_area);
+      Interaction it = sample_shape_area(shape, e.prim, u1, &pdf_area, triangle(light, shape));
       if (pdf_area == 0) return Rgb();
       it.time = time;
       const AreaEmitter& em = emitters_[e.data];
@@ -148,7 +148,7 @@ void LightSet::pdf_le(uint32_t light, const Ray& ray, Vec3 n_light, float* pdf_p
       return;
     case LightKind::kArea: {
       const ShapeInfo& shape = (*shapes_)[e.shape];
-      float area = shape_area(shape, e.prim);
+      float area = shape_area(shape, e.prim, triangle(light, shape));
       *pdf_pos = area > 0 ? 1 / area : 0;
       float cos_theta = dot(n_light, ray.d);
       // pbrt-v3 lets a one-sided light's pdf go negative behind it, where it

@@ -137,7 +137,7 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
     case LightKind::kArea: {
       const ShapeInfo& shape = (*shapes_)[e.shape];
       float pdf = 0;
-      Interaction it = sample_shape_from(shape, e.prim, ref, u, &pdf);
+      Interaction it = sample_shape_from(shape, e.prim, ref, u, &pdf, triangle(light, shape));
       it.time = ref.time;
       if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
       s->wi = normalize(it.p - ref.p);
@@ -165,7 +165,8 @@ float LightSet::pdf_li(uint32_t light, const Interaction& ref, Vec3 wi,
   const Entry& e = entries_[light];
   if (e.kind == LightKind::kArea) {
     if (!hit) return 0;
-    return shape_pdf_from((*shapes_)[e.shape], e.prim, ref, wi, *hit);
+    const ShapeInfo& shape = (*shapes_)[e.shape];
+    return shape_pdf_from(shape, e.prim, ref, wi, *hit, triangle(light, shape));
   }
   if (e.kind == LightKind::kInfinite) return infinite_pdf(infinite_[e.data], wi);
   return 0;
@@ -220,7 +221,8 @@ Rgb LightSet::power(uint32_t light) const {
       return distant_[e.data].l * kPi * world_radius_ * world_radius_;
     case LightKind::kArea: {
       const AreaEmitter& em = emitters_[e.data];
-      float area = shape_area((*shapes_)[e.shape], e.prim);
+      const ShapeInfo& shape = (*shapes_)[e.shape];
+      float area = shape_area(shape, e.prim, triangle(light, shape));
       return (em.twosided ? 2.f : 1.f) * em.l * area * kPi;
     }
     case LightKind::kInfinite: {

@@ -41,6 +41,7 @@
 #include "runtime/core/rgb.h"
 #include "runtime/core/sampling.h"
 #include "runtime/core/transform.h"
+#include "runtime/geometry/shape_sampling.h"
 #include "runtime/geometry/shape_table.h"
 #include "runtime/texture/mipmap.h"
 
@@ -173,7 +174,13 @@ class LightSet {
   std::vector<uint32_t> infinite_lights_;  // their light indices
   std::vector<MipMap> maps_;
   std::vector<uint32_t> area_first_;  // per shape: its first light index, or kNone
-  std::vector<uint32_t> media_;       // per archive light: the medium it emits into
+  // By light index, for emitting triangles (empty when there are none): the world-space
+  // triangle every sample and pdf of that light would otherwise transform and measure again.
+  std::vector<WorldTriangle> triangles_;
+  const WorldTriangle* triangle(uint32_t light, const ShapeInfo& shape) const {
+    return shape.kind == ShapeKind::kTriangles ? &triangles_[light] : nullptr;
+  }
+  std::vector<uint32_t> media_;  // per archive light: the medium it emits into
 };
 
 }  // namespace rt

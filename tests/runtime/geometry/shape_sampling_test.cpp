@@ -288,7 +288,21 @@ WorldEnd
       Interaction s2 = sample_shape_from(table[k], 0, ref, next2(rng), &spdf);
       Vec3 wi = normalize(s2.p - ref.p);
       EXPECT_NEAR(shape_pdf_from(table[k], 0, ref, wi, s2), spdf, 1e-4f * spdf);
+      // The triangle a light makes once gives exactly what each call would make itself.
+      const WorldTriangle t = world_triangle(table[k], 0);
+      Rng again(uint64_t(i) * 7 + k);
+      const Vec2 u = next2(again);
+      float pdf_made, pdf_given;
+      Interaction made = sample_shape_from(table[k], 0, ref, u, &pdf_made);
+      Interaction given = sample_shape_from(table[k], 0, ref, u, &pdf_given, &t);
+      EXPECT_EQ(given.p, made.p);
+      EXPECT_EQ(given.p_error, made.p_error);
+      EXPECT_EQ(given.n, made.n);
+      EXPECT_EQ(pdf_given, pdf_made);
+      EXPECT_EQ(shape_pdf_from(table[k], 0, ref, wi, s2, &t),
+                shape_pdf_from(table[k], 0, ref, wi, s2));
     }
+    EXPECT_EQ(world_triangle(table[k], 0).area, shape_area(table[k], 0));
     float area = shape_area(table[k], 0);
     EXPECT_NEAR(sum / n, area, 1e-4 * area);
     // Uniform over the triangle: the centroid is a third of the legs.
