@@ -189,7 +189,7 @@ bool ArchiveReader::load_sections(int threads, std::string* error,
   if (!unchanged_size(error)) return false;
   const uint32_t n = section_count();
 
-  // Every decoded section in one buffer, in table order, each followed by its padding.
+  // The sections this call decodes in one buffer, in table order, each followed by its padding.
   // validate() bounded the sizes; the sums are checked anyway.
   auto now = [&](uint32_t i) {
     return !sections_[i].skipped && !sections_[i].data && (wanted.empty() || wanted[i]);
