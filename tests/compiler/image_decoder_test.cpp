@@ -561,16 +561,22 @@ TEST(SceneImages, EnvironmentMapGetsItsDistribution) {
   EXPECT_NEAR(b.scene.images[0].image.levels[0][0], 1.f, 1e-5);
 }
 
-// Image parameters describe the stored texels: gamma and scale are applied, then stored as
-// "no curve, scale 1"; lights keep their parameters. Resampled maps name their decoded texels.
-TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
-  const std::string dir = testing_support::scratch_dir("image_normalized");
+// a.png (3 x 5, resampled to a pyramid, so it keeps a source image) and p.png (2 x 2, its own
+// level 0), 8-bit RGB with texel (x, y) channel k = 40 y + 10 x + 3 k.
+void write_a_and_p(const std::string& dir) {
   uint8_t px[5][3][3];
   for (int y = 0; y < 5; ++y)
     for (int x = 0; x < 3; ++x)
       for (int k = 0; k < 3; ++k) px[y][x][k] = uint8_t(40 * y + 10 * x + 3 * k);
   write_image(dir + "/a.png", 3, 5, 3, OIIO::TypeDesc::UINT8, px);
   write_image(dir + "/p.png", 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+}
+
+// Image parameters describe the stored texels: gamma and scale are applied, then stored as
+// "no curve, scale 1"; lights keep their parameters. Resampled maps name their decoded texels.
+TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
+  const std::string dir = testing_support::scratch_dir("image_normalized");
+  write_a_and_p(dir);
   Built b;
   build(dir,
         "Texture \"t1\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\" "
@@ -676,12 +682,7 @@ TEST(SceneImages, DecodeParametersAreNormalizedAndSourcesKept) {
 // other texels section is decoded and checked either way.
 TEST(SceneImages, RenderersLeaveSourceTexelsUndecoded) {
   const std::string dir = testing_support::scratch_dir("image_sources_skipped");
-  uint8_t px[5][3][3];
-  for (int y = 0; y < 5; ++y)
-    for (int x = 0; x < 3; ++x)
-      for (int k = 0; k < 3; ++k) px[y][x][k] = uint8_t(40 * y + 10 * x + 3 * k);
-  write_image(dir + "/a.png", 3, 5, 3, OIIO::TypeDesc::UINT8, px);
-  write_image(dir + "/p.png", 2, 2, 3, OIIO::TypeDesc::UINT8, px);
+  write_a_and_p(dir);
   Built b;
   build(dir,
         "Texture \"t1\" \"spectrum\" \"imagemap\" \"string filename\" \"a.png\"\n"
