@@ -33,6 +33,13 @@ struct RayDifferential : Ray {
   }
 };
 
+// A transformed ray's origin o, off by up to o_err, moved forward along its direction d past
+// that error (pbrt-v3's ray transform): what lies at t > 0 is then in front of the true origin.
+inline Vec3 origin_past_error(Vec3 o, Vec3 d, Vec3 o_err) {
+  const float len2 = length_squared(d);
+  return len2 > 0 ? o + d * (dot(abs(d), o_err) / len2) : o;
+}
+
 inline Vec3 offset_ray_origin(Vec3 p, Vec3 p_error, Vec3 n, Vec3 w) {
   float d = dot(abs(n), p_error);
   Vec3 offset = n * d;

@@ -32,8 +32,7 @@ struct ObjectRay {
 
 [[gnu::always_inline]] inline ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
   ObjectRay r;
-  float len2 = length_squared(d);
-  if (len2 > 0) o += d * (dot(abs(d), o_err) / len2);
+  o = origin_past_error(o, d, o_err);
   r.o = o;
   r.d = d;
   r.ox = EFloat(o.x, o_err.x);

@@ -124,18 +124,17 @@ bool Camera::build_realistic(const pbrta::SceneArchive& a, uint32_t e, std::stri
 namespace {
 
 // pbrt-v3 takes camera rays to world space with its ray transform, which moves the origin
-// forward along the ray past the bound of the transform's rounding. The move differs from ray
-// to ray, and so does the rounding of what the ray meets far away. Without it, every camera
-// ray's origin, taken to a shape's object space, rounds the same way: a quadric's hit points
-// then all err to one side, by up to the part of the root's error pbrt-v3's interval leaves
-// out (the discriminant's cancellation), and shadow rays leaving them hit the surface again
-// at once. textures/constant.pbrt seen from 22 units: 7.7% of the paraboloid's shadow rays
-// without the move, 1.6% with it; pbrt-v3's image has about that 1.6%.
+// forward along the ray past the bound of the transform's rounding (origin_past_error). The
+// move differs from ray to ray, and so does the rounding of what the ray meets far away.
+// Without it, every camera ray's origin, taken to a shape's object space, rounds the same way:
+// a quadric's hit points then all err to one side, by up to the part of the root's error
+// pbrt-v3's interval leaves out (the discriminant's cancellation), and shadow rays leaving them
+// hit the surface again at once. textures/constant.pbrt seen from 22 units: 7.7% of the
+// paraboloid's shadow rays without the move, 1.6% with it; pbrt-v3's image has about that 1.6%.
 Vec3 world_origin(const Transform& w, Vec3 o, Vec3 d_world) {
   Vec3 err;
   const Vec3 ow = w.point(o, &err);
-  const float len2 = length_squared(d_world);
-  return len2 > 0 ? ow + d_world * (dot(abs(d_world), err) / len2) : ow;
+  return origin_past_error(ow, d_world, err);
 }
 
 }  // namespace
