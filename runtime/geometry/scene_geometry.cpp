@@ -10,7 +10,6 @@
 #include <deque>
 #include <map>
 #include <mutex>
-#include <optional>
 #include <vector>
 
 #include "runtime/core/clock.h"
@@ -133,15 +132,18 @@ struct SceneGeometry::Impl {
     TriangleSpace space;
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
-    space.to_world = inst ? &inst->to_world : nullptr;
-    std::optional<Transform> moving;  // made only for a moving instance: this is per hit
-    if (inst && inst->motion) {
-      moving = inst->at(ray.time);
-      space.to_world = &*moving;
-    }
     space.instance = inst && (inst->archive_instance != kNone || inst->motion);
     space.instance_mirrors = inst && inst->mirrors;
-    triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, t_hit, si);
+    // A moving instance's transform is made per hit. (Not a std::optional<Transform>: GCC
+    // zeroes its 136 bytes on every call, moving or not.)
+    if (inst && inst->motion) {
+      const Transform moving = inst->at(ray.time);
+      space.to_world = &moving;
+      triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, t_hit, si);
+    } else {
+      space.to_world = inst ? &inst->to_world : nullptr;
+      triangle_interaction((*shapes)[g.shape], space, prim, u, v, ray, t_hit, si);
+    }
     if (inst && inst->step_error > 0)
       si->p_error += Vec3{inst->step_error, inst->step_error, inst->step_error};
   }
