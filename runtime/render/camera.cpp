@@ -160,6 +160,13 @@ float Camera::realistic_ray(const CameraSample& s, Ray* ray) const {
   return (shutter_close_ - shutter_open_) * (cos4 * area) / (rz * rz);
 }
 
+CameraSampleUse Camera::sample_use(uint64_t effects) const {
+  CameraSampleUse use;
+  use.time = (effects & pbrta::kEffectMotionBlur) != 0 || motion_.animated();
+  use.lens = type_ == Type::kRealistic || lens_radius_ > 0;
+  return use;
+}
+
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
   if (type_ == Type::kRealistic) {
     const Transform w = to_world(lerp(s.time, shutter_open_, shutter_close_));

@@ -49,14 +49,27 @@ struct CameraSample {
   float time = 0;
 };
 
+// Which of a camera sample's values anything reads (Camera::sample_use).
+struct CameraSampleUse {
+  bool time = true;
+  bool lens = true;
+};
+
 // pbrt-v3's Sampler::GetCameraSample: the film offset within pixel, time and lens point, drawn
-// in that order from the sampler's current sample.
-inline CameraSample pixel_camera_sample(Sampler& sampler, Point2i pixel) {
+// in that order from the sampler's current sample. A value `use` says nothing reads has its
+// dimensions skipped, not computed, and stays 0: later dimensions are the same either way.
+inline CameraSample pixel_camera_sample(Sampler& sampler, Point2i pixel, CameraSampleUse use = {}) {
   CameraSample cs;
   const Vec2 u = sampler.get_2d();
   cs.p_film = {float(pixel.x) + u.x, float(pixel.y) + u.y};
-  cs.time = sampler.get_1d();
-  cs.p_lens = sampler.get_2d();
+  if (use.time)
+    cs.time = sampler.get_1d();
+  else
+    sampler.skip_1d();
+  if (use.lens)
+    cs.p_lens = sampler.get_2d();
+  else
+    sampler.skip_2d();
   return cs;
 }
 
@@ -83,6 +96,10 @@ class Camera {
   // The time u in [0, 1) names within the shutter interval (light tracing's photon times).
   float shutter_time(float u) const { return lerp(u, shutter_open_, shutter_close_); }
   Type type() const { return type_; }
+  // The lens point is read by a realistic camera and a thin lens (lensradius > 0); the time
+  // only where something moves: `effects` has the archive's motion-blur bit (the camera, a
+  // shape or an instance moves; ARCHIVE.md section 4).
+  CameraSampleUse sample_use(uint64_t effects) const;
   const LensSystem& lens() const { return lens_; }  // realistic only
 
   // Camera importance, pbrt-v3's (perspective only; the others give 0).

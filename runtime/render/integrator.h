@@ -94,6 +94,7 @@ class Integrator {
     return kernel_(*this, ray, sampler, counters);
   }
   const IntegratorSettings& settings() const { return settings_; }
+  const RenderScene& scene() const { return *scene_; }  // after init()
   // bdpt's strategy images (visualizestrategies / visualizeweights) into `directory`; nothing
   // for the other integrators.
   [[nodiscard]] bool write_extra_images(const std::string& directory, std::string* error) const;

@@ -209,7 +209,7 @@ class SppmRender {
     PixelState& px = pixels_[i];
     sampler.start_pixel(p);
     sampler.set_sample_number(iteration);
-    const CameraSample cs = pixel_camera_sample(sampler, p);
+    const CameraSample cs = pixel_camera_sample(sampler, p, camera_.sample_use(scene_.effects));
     RayDifferential ray;
     const float weight = camera_.generate_ray_differential(cs, &ray);
     ++tc->rays.camera_rays;

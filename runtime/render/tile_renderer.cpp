@@ -23,6 +23,7 @@ TileRenderer::TileRenderer(const Camera& camera, const Sampler& sampler,
       prototype_(sampler),
       integrator_(integrator),
       film_(film),
+      sample_use_(camera.sample_use(integrator.scene().effects)),
       diff_scale_(1 / std::sqrt(float(differential_spp > 0 ? differential_spp
                                                            : sampler.samples_per_pixel()))),
       threads_(std::make_unique<tbb::enumerable_thread_specific<ThreadState>>()) {
@@ -67,7 +68,7 @@ bool TileRenderer::render(int64_t first, int64_t last, int begin, int end, const
               Point2i pixel{x, y};
               sampler.start_pixel(pixel);
               do {
-                const CameraSample cs = pixel_camera_sample(sampler, pixel);
+                const CameraSample cs = pixel_camera_sample(sampler, pixel, sample_use_);
                 RayDifferential ray;
                 float w = camera_.generate_ray_differential(cs, &ray);
                 ray.scale_differentials(diff_scale_);

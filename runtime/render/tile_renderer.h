@@ -69,6 +69,7 @@ class TileRenderer {
   Film* film_;
   Bounds2i bounds_;
   int nx_ = 0, ny_ = 0;
+  CameraSampleUse sample_use_;  // what of each camera sample is drawn
   float diff_scale_;
   std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
   std::atomic<double> first_tile_seconds_{-1};

@@ -17,6 +17,15 @@ class GlobalSampler : public Sampler {
   bool set_sample_number(int64_t n) override;
   float get_1d() override;
   Vec2 get_2d() override;
+  void skip_1d() override {
+    if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
+    ++dimension_;
+  }
+  void skip_2d() override {
+    if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_)
+      dimension_ = array_end_dim_;
+    dimension_ += 2;
+  }
 
  protected:
   explicit GlobalSampler(int64_t spp) : Sampler(spp) {}

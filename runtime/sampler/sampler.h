@@ -55,6 +55,11 @@ class Sampler {
   virtual bool set_sample_number(int64_t n);
   virtual float get_1d() = 0;  // next dimension, in [0,1)
   virtual Vec2 get_2d() = 0;
+  // The next dimension(s) passed over as get_1d()/get_2d() would take them, for a value nothing
+  // reads (a pinhole camera's lens point, a still scene's time): the later values stay the
+  // same, and samplers that compute values per dimension skip computing this one.
+  virtual void skip_1d() { get_1d(); }
+  virtual void skip_2d() { get_2d(); }
   void request_1d_array(int n);  // before rendering, as pbrt-v3's arrays
   void request_2d_array(int n);
   virtual int round_count(int n) const { return n; }

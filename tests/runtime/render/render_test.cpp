@@ -90,6 +90,43 @@ TEST(Render, SameImageForAnyThreadCount) {
   EXPECT_EQ(one.stats.samples, 48u * 32u * 8u);
 }
 
+// A camera sample's time is drawn only where something moves, its lens point only for a lens:
+// other scenes skip those dimensions (pbrt-v3 draws them and reads nothing).
+TEST(Render, CameraSamplesDrawOnlyWhatTheSceneReads) {
+  struct Case {
+    const char* name;
+    const char* camera;
+    const char* world;
+    bool time, lens;
+  };
+  const Case cases[] = {
+      {"pinhole", R"(Camera "perspective")", "", false, false},
+      {"thin_lens", R"(Camera "perspective" "float lensradius" 0.1 "float focaldistance" 3)", "",
+       false, true},
+      {"ortho_lens", R"(Camera "orthographic" "float lensradius" 0.1)", "", false, true},
+      {"environment", R"(Camera "environment")", "", false, false},
+      {"moving_camera",
+       "ActiveTransform EndTime\nTranslate 0 0 1\nActiveTransform All\nCamera \"perspective\"", "",
+       true, false},
+      {"moving_shape", R"(Camera "perspective")",
+       "ActiveTransform EndTime\nTranslate 0 1 0\nActiveTransform All\n", true, false},
+  };
+  for (const Case& c : cases) {
+    pbrta::SceneArchive a;
+    const std::string text = std::string("LookAt 0 0 5  0 0 0  0 1 0\n") + c.camera +
+                             "\nWorldBegin\n" + c.world + "Shape \"sphere\"\nWorldEnd\n";
+    ASSERT_TRUE(testing_support::compile_text(
+        testing_support::scratch_dir(std::string("sample_use_") + c.name), text, &a))
+        << c.name;
+    Camera camera;
+    std::string error;
+    ASSERT_TRUE(camera.build(a, {32, 32}, &error)) << c.name << ": " << error;
+    const CameraSampleUse use = camera.sample_use(a.header().effects);
+    EXPECT_EQ(use.time, c.time) << c.name;
+    EXPECT_EQ(use.lens, c.lens) << c.name;
+  }
+}
+
 TEST(Render, SeedChangesTheNoiseNotTheImage) {
   Rendered a = render_text("render_seed1", kSpheres, 2, 1);
   Rendered b = render_text("render_seed2", kSpheres, 2, 2);

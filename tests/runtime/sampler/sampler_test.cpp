@@ -3,6 +3,7 @@
 // pixel order, arrays, and integration error against the random sampler.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -110,6 +111,72 @@ TEST(Samplers, SameValuesWhateverThePixelOrderOrClone) {
     other->request_1d_array(other->round_count(3));
     other->request_2d_array(other->round_count(5));
     EXPECT_NE(trace_pixel(*other, {3, 4}), a1) << c.name;
+  }
+}
+
+// One pixel's values as a camera sample and a path draw them, with some dimensions skipped
+// (skip_1d/skip_2d, as pixel_camera_sample does for a pinhole camera's lens point or a still
+// scene's time); a skipped value is recorded as NaN.
+std::vector<float> trace_skipping(Sampler& s, Point2i p, bool skip) {
+  std::vector<float> out;
+  const float nan = std::nanf("");
+  auto one = [&](bool skip_this) {
+    if (skip && skip_this) {
+      s.skip_1d();
+      out.push_back(nan);
+    } else {
+      out.push_back(s.get_1d());
+    }
+  };
+  auto two = [&](bool skip_this) {
+    if (skip && skip_this) {
+      s.skip_2d();
+      out.insert(out.end(), {nan, nan});
+    } else {
+      const Vec2 v = s.get_2d();
+      out.insert(out.end(), {v.x, v.y});
+    }
+  };
+  s.start_pixel(p);
+  do {
+    two(false);  // film
+    one(true);   // time
+    one(false);
+    two(true);  // across the arrays' first dimension, which global samplers jump
+    if (const float* a = s.get_1d_array(s.round_count(3))) out.insert(out.end(), a, a + 3);
+    for (int d = 0; d < 8; ++d) {
+      one(d == 2);
+      two(d == 3 || d == 6);
+    }
+  } while (s.start_next_sample());
+  return out;
+}
+
+// Skipping a dimension leaves every later value as drawing it would, for every sampler, in
+// the camera's dimensions, across the arrays' reserved dimensions and past the precomputed
+// ones.
+TEST(Samplers, SkippedDimensionsLeaveTheLaterValuesAlone) {
+  for (const Case& c : kAll) {
+    auto s = sampler_from_text(std::string("skip_") + c.name, c.line);
+    ASSERT_TRUE(s) << c.name;
+    s->request_1d_array(s->round_count(3));
+    auto a = s->clone(), b = s->clone();
+    for (Point2i p : {Point2i{3, 4}, Point2i{40, 9}}) {
+      const std::vector<float> all = trace_skipping(*a, p, false);
+      const std::vector<float> skipped = trace_skipping(*b, p, true);
+      ASSERT_EQ(all.size(), skipped.size()) << c.name;
+      int compared = 0, left_out = 0;
+      for (size_t i = 0; i < all.size(); ++i) {
+        if (std::isnan(skipped[i])) {
+          ++left_out;
+          continue;
+        }
+        ++compared;
+        ASSERT_EQ(all[i], skipped[i]) << c.name << " value " << i;
+      }
+      EXPECT_EQ(left_out, 16 * 8) << c.name;
+      EXPECT_GT(compared, left_out) << c.name;
+    }
   }
 }
 
