@@ -30,16 +30,12 @@ bool GlobalSampler::set_sample_number(int64_t n) {
 }
 
 float GlobalSampler::get_1d() {
-  if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
-  return sample_dimension(interval_index_, dimension_++);
+  return sample_dimension(interval_index_, next_dimension_1d());
 }
 
 Vec2 GlobalSampler::get_2d() {
-  if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
-  Vec2 p{sample_dimension(interval_index_, dimension_),
-         sample_dimension(interval_index_, dimension_ + 1)};
-  dimension_ += 2;
-  return p;
+  const int d = next_dimension_2d();
+  return {sample_dimension(interval_index_, d), sample_dimension(interval_index_, d + 1)};
 }
 
 }  // namespace rt

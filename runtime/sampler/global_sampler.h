@@ -17,15 +17,8 @@ class GlobalSampler : public Sampler {
   bool set_sample_number(int64_t n) override;
   float get_1d() override;
   Vec2 get_2d() override;
-  void skip_1d() override {
-    if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
-    ++dimension_;
-  }
-  void skip_2d() override {
-    if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_)
-      dimension_ = array_end_dim_;
-    dimension_ += 2;
-  }
+  void skip_1d() override { next_dimension_1d(); }
+  void skip_2d() override { next_dimension_2d(); }
 
  protected:
   explicit GlobalSampler(int64_t spp) : Sampler(spp) {}
@@ -36,6 +29,19 @@ class GlobalSampler : public Sampler {
   // Coordinate `dim` of sequence point `index`; dims 0 and 1 are relative to
   // the current pixel (the offset inside it).
   virtual float sample_dimension(int64_t index, int dim) const = 0;
+
+  // The dimension the next get_1d() reads, or the first of get_2d()'s two (both past the
+  // arrays' reserved dimensions), and the count moved past it.
+  int next_dimension_1d() {
+    if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
+    return dimension_++;
+  }
+  int next_dimension_2d() {
+    if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_)
+      dimension_ = array_end_dim_;
+    dimension_ += 2;
+    return dimension_ - 2;
+  }
 
   static constexpr int kArrayStartDim = 5;
   int dimension_ = 0;

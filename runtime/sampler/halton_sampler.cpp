@@ -104,16 +104,10 @@ class HaltonSampler final : public GlobalSampler {
  public:
   // GlobalSampler's bookkeeping, with the sequence values computed without a
   // virtual call (these run for every dimension of every sample).
-  float get_1d() override {
-    if (dimension_ >= kArrayStartDim && dimension_ < array_end_dim_) dimension_ = array_end_dim_;
-    return value(interval_index_, dimension_++);
-  }
+  float get_1d() override { return value(interval_index_, next_dimension_1d()); }
   Vec2 get_2d() override {
-    if (dimension_ + 1 >= kArrayStartDim && dimension_ < array_end_dim_)
-      dimension_ = array_end_dim_;
-    Vec2 p{value(interval_index_, dimension_), value(interval_index_, dimension_ + 1)};
-    dimension_ += 2;
-    return p;
+    const int d = next_dimension_2d();
+    return {value(interval_index_, d), value(interval_index_, d + 1)};
   }
 
  private:
