@@ -1,12 +1,12 @@
 // runtime/geometry/scene_geometry.h — the archive's shapes in Embree, hits as pbrt-v3 interactions.
 //
-// build() puts every shape into Embree 3: triangle meshes share the
-// archive's own (object-space, 16-byte padded) arrays, world meshes with the
-// identity transform sit in the top-level scene, the others are grouped by
-// transform into child scenes instanced with that transform; each object
-// definition is one child scene, instanced once per ObjectInstance (a mesh
-// with its own transform inside an object is copied through that transform:
-// Embree here has a single instance level); quadrics are user geometries
+// build() puts every shape into Embree 3: still world meshes sit in the
+// top-level scene, on the archive's own (16-byte padded) arrays when their
+// transform is the identity, else on a copy of their positions through it (as
+// pbrt-v3 transforms meshes at load); each object definition is one child
+// scene, instanced once per ObjectInstance (a mesh with its own transform
+// inside an object is copied through that transform: Embree here has a single
+// instance level); quadrics are user geometries
 // calling runtime/geometry/quadric_intersect.h, curves are user geometries of
 // their pieces (curve_hit.h). Alpha and shadowalpha are
 // Embree filters that drop hits where the value is exactly 0.

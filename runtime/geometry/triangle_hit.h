@@ -29,9 +29,10 @@ struct TriangleSpace {
   // The buffer's positions already include s.object_to_world: normals and
   // tangents must still go through it.
   bool buffer_has_shape_transform = false;
-  // Buffer space to world (instance or transform group), or null: identity.
+  // Buffer space to world (an object instance, or a moving mesh's motion at the ray's time),
+  // or null: identity.
   const Transform* to_world = nullptr;
-  // to_world is an object instance's transform (not a world transform group).
+  // to_world is an instance's transform (pbrt-v3's TransformedPrimitive).
   bool instance = false;
   // ... and it mirrors: pbrt-v3 transforms the instance-space normal as a
   // normal, which is the world-edge cross product flipped.

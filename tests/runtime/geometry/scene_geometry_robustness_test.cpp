@@ -1,6 +1,6 @@
 // Rays spawned from hits never re-hit their own triangle, even far from the
 // origin (coordinates ~1e4) where float spacing is ~1e-3, through every path
-// a mesh can take into Embree: in place at the top level, a transform group,
+// a mesh can take into Embree: in place at the top level, copied through its transform,
 // an object instance, and a copied mesh inside an instance.
 #include <gtest/gtest.h>
 
@@ -74,7 +74,7 @@ TEST(SceneGeometryRobustness, InPlaceMeshFarFromOrigin) {
   expect_no_self_hits(*s, c, 20, kRays);
 }
 
-TEST(SceneGeometryRobustness, TransformGroupFarFromOrigin) {
+TEST(SceneGeometryRobustness, TransformedMeshFarFromOrigin) {
   auto s = load_world("sg_robust_group", "Translate 1.2e4 -0.9e4 1.1e4\nRotate 27 0.3 1 0.4\n" +
                                              sphere_mesh({3, 1, -2}, 20, 24, 48));
   ASSERT_TRUE(s->built) << s->error;
