@@ -33,11 +33,16 @@ struct RayDifferential : Ray {
   }
 };
 
+// How far along d (in units of t) an origin off by up to o_err must move to pass that error.
+inline float past_error_distance(Vec3 d, Vec3 o_err) {
+  const float len2 = length_squared(d);
+  return len2 > 0 ? dot(abs(d), o_err) / len2 : 0.f;
+}
+
 // A transformed ray's origin o, off by up to o_err, moved forward along its direction d past
 // that error (pbrt-v3's ray transform): what lies at t > 0 is then in front of the true origin.
 inline Vec3 origin_past_error(Vec3 o, Vec3 d, Vec3 o_err) {
-  const float len2 = length_squared(d);
-  return len2 > 0 ? o + d * (dot(abs(d), o_err) / len2) : o;
+  return o + d * past_error_distance(d, o_err);
 }
 
 inline Vec3 offset_ray_origin(Vec3 p, Vec3 p_error, Vec3 n, Vec3 w) {

@@ -43,6 +43,7 @@ struct InstanceData {
   // A moving mesh inside an object definition, flattened into the top level once per instance
   // of its object (Embree here nests one instance level): the instance's transform, or its
   // motion, is composed onto the mesh's motion, as pbrt-v3's two TransformedPrimitives do.
+  // Only set with motion.
   bool composed = false;
   Transform outer;
   const AnimatedTransform* outer_motion = nullptr;
@@ -265,9 +266,9 @@ Ray ray_to_instance(const Transform& world_to_instance, const Ray& r) {
   Vec3 o_err;
   const Vec3 o = world_to_instance.point(r.o, &o_err);
   ri.d = world_to_instance.vector(r.d);
-  ri.o = origin_past_error(o, ri.d, o_err);
-  const float len2 = length_squared(ri.d);
-  ri.tmax = len2 > 0 ? r.tmax - dot(abs(ri.d), o_err) / len2 : r.tmax;
+  const float past = past_error_distance(ri.d, o_err);
+  ri.o = o + ri.d * past;
+  ri.tmax = r.tmax - past;
   ri.time = r.time;
   return ri;
 }
@@ -319,7 +320,7 @@ bool world_quadric_hit(const GeomData& g, unsigned inst_id, uint32_t /*prim*/, c
   if (s.motion)
     return intersect_quadric(s, g.prepared.shape, world_from_shape_at(s, inst, r.time).inverse(), r,
                              t, si);
-  if (inst->motion || inst->composed) return quadric_hit_in(inst->at(r.time), g, s, r, t, si);
+  if (inst->motion) return quadric_hit_in(inst->at(r.time), g, s, r, t, si);
   return quadric_hit_in(inst->to_world, g, s, r, t, si);
 }
 

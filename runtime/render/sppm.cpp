@@ -104,6 +104,7 @@ class SppmRender {
              const RenderOptions& options)
       : scene_(scene),
         camera_(camera),
+        sample_use_(camera.sample_use(scene.effects)),
         film_(film),
         settings_(s),
         bounds_(film->cropped_pixel_bounds()),
@@ -209,7 +210,7 @@ class SppmRender {
     PixelState& px = pixels_[i];
     sampler.start_pixel(p);
     sampler.set_sample_number(iteration);
-    const CameraSample cs = pixel_camera_sample(sampler, p, camera_.sample_use(scene_.effects));
+    const CameraSample cs = pixel_camera_sample(sampler, p, sample_use_);
     RayDifferential ray;
     const float weight = camera_.generate_ray_differential(cs, &ray);
     ++tc->rays.camera_rays;
@@ -381,6 +382,7 @@ class SppmRender {
 
   const RenderScene& scene_;
   const Camera& camera_;
+  const CameraSampleUse sample_use_;  // what of each camera sample is drawn
   Film* film_;
   SppmSettings settings_;
   Bounds2i bounds_;
