@@ -114,9 +114,9 @@ const Distribution1D& LightDistribution::lookup(Vec3 p) const {
   return voxel_distribution(voxel_index(p));
 }
 
-int LightDistribution::sample(Vec3 p, float u, float* pmf) const {
+int LightDistribution::sample(Site site, float u, float* pmf) const {
   if (!spatial_) return single_.sample_discrete(u, pmf);
-  const size_t index = voxel_index(p);
+  const size_t index = site.voxel;
   if (!flat_) return voxel_distribution(index).sample_discrete(u, pmf);
   uint32_t* rec = flat_->base + index * flat_->stride;
   const int n = flat_->n;
@@ -140,8 +140,8 @@ int LightDistribution::sample(Vec3 p, float u, float* pmf) const {
   return d.sample_discrete(u, pmf);
 }
 
-void LightDistribution::prefetch(Vec3 p) const {
-  if (flat_) __builtin_prefetch(flat_->base + voxel_index(p) * flat_->stride);
+void LightDistribution::prefetch(Site site) const {
+  if (flat_) __builtin_prefetch(flat_->base + site.voxel * flat_->stride);
 }
 
 const Distribution1D& LightDistribution::voxel_distribution(size_t index) const {

@@ -39,11 +39,18 @@ class LightDistribution {
   [[nodiscard]] bool build(const LightSet& lights, const Bounds3& world_bounds,
                            std::string_view strategy, std::string* error);
   const Distribution1D& lookup(Vec3 p) const;
-  // A light for a point at p with probability *pmf, chosen by u.
-  int sample(Vec3 p, float u, float* pmf) const;
-  // Starts loading the record sample(p, ...) will read: a spatial grid is megabytes, so its
+  // Where in the grid a point's distribution is: found once per hit and used twice (three
+  // divisions each time were 3% of a path-traced room).
+  struct Site {
+    size_t voxel = 0;
+  };
+  Site site(Vec3 p) const { return {spatial_ ? voxel_index(p) : 0}; }
+  // A light for a point at p (at site) with probability *pmf, chosen by u.
+  int sample(Vec3 p, float u, float* pmf) const { return sample(site(p), u, pmf); }
+  int sample(Site site, float u, float* pmf) const;
+  // Starts loading the record sample(site, ...) will read: a spatial grid is megabytes, so its
   // record is a cache miss that the work between a hit and its light sample can hide.
-  void prefetch(Vec3 p) const;
+  void prefetch(Site site) const;
 
   // The spatial grid's resolution ({1, 1, 1} for the other strategies).
   std::array<int, 3> voxels() const { return nvoxels_; }

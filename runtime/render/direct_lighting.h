@@ -6,7 +6,8 @@
 // folded in) or, with kMedia, a medium's phase function (bsdf null).
 // estimate_direct() takes one light sample and one scattering sample and weights
 // them by the power heuristic; sample_one_light() picks the light from a
-// distribution (uniformly when it is null) and divides by its pmf, drawing the
+// distribution (uniformly when it is null; at the given site of it, if any, else at
+// the interaction's point) and divides by its pmf, drawing the
 // light choice (1D), the light point (2D) and the scattering sample (2D) in
 // pbrt-v3's order, so a sampler's dimensions line up with pbrt-v3's.
 //
@@ -147,13 +148,16 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
 
 template <bool kAreaLights, bool kInfinite, bool kMedia>
 Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
-                     Sampler& sampler, const LightDistribution* distribution, RayCounters* c) {
+                     Sampler& sampler, const LightDistribution* distribution, RayCounters* c,
+                     const LightDistribution::Site* site = nullptr) {
   uint32_t n = scene.lights.count();
   if (n == 0) return Rgb();
   uint32_t light;
   float light_pmf;
   if (distribution) {
-    light = uint32_t(distribution->sample(it.p, sampler.get_1d(), &light_pmf));
+    const float u = sampler.get_1d();
+    light = uint32_t(site ? distribution->sample(*site, u, &light_pmf)
+                          : distribution->sample(it.p, u, &light_pmf));
     if (light_pmf == 0) return Rgb();
   } else {
     light = std::min(uint32_t(sampler.get_1d() * n), n - 1);

@@ -145,9 +145,9 @@ struct Kernels {
   template <bool kMedia>
   static Rgb sample_one_light(const Self& I, const Interaction& it, const Scatter& sc,
                               Sampler& sampler, const LightDistribution* distribution,
-                              RayCounters* c) {
+                              RayCounters* c, const LightDistribution::Site* site = nullptr) {
     return rt::sample_one_light<kAreaLights, kInfinite, kMedia>(*I.scene_, it, sc, sampler,
-                                                                distribution, c);
+                                                                distribution, c, site);
   }
 
   static Rgb sample_all_lights(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
@@ -269,7 +269,11 @@ struct Kernels {
     for (int bounces = 0;; ++bounces) {
       SurfaceInteraction si;
       bool found = intersect(I, ray, &si, c);
-      if (found) I.distribution_.prefetch(si.p);
+      LightDistribution::Site light_site;
+      if (found) {
+        light_site = I.distribution_.site(si.p);
+        I.distribution_.prefetch(light_site);
+      }
       if constexpr (kMedia) {
         bool scattered = false;
         Vec3 p;
@@ -314,7 +318,7 @@ struct Kernels {
       }
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
         l += beta * sample_one_light<kMedia>(I, si, surface_scatter(I, si, bsdf, medium), sampler,
-                                             &I.distribution_, c);
+                                             &I.distribution_, c, &light_site);
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;
