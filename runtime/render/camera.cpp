@@ -40,6 +40,7 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
     return false;
   }
   camera_to_world_ = camera_from_world.inverse();
+  origin_world_ = camera_to_world_.point({0, 0, 0}, &origin_error_);
   motion_ = AnimatedTransform(t.start, t.end, float(t.start_time), float(t.end_time), true);
   resolution_ = res;
   if (!sample_bounds_given_) sample_bounds_ = {{0, 0}, res};
@@ -248,20 +249,29 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     }
     r.has_differentials = true;
   }
-  // To world space.
-  const Transform w = to_world(r.time);
-  const Vec3 dw = w.vector(r.d);
-  out->o = world_origin(w, r.o, dw);
-  out->d = normalize(dw);
-  out->tmax = kInfinity;
-  out->time = r.time;
-  out->has_differentials = r.has_differentials;
-  if (r.has_differentials) {
-    out->rx_o = w.point(r.rx_o);
-    out->ry_o = w.point(r.ry_o);
-    out->rx_d = normalize(w.vector(r.rx_d));
-    out->ry_d = normalize(w.vector(r.ry_d));
-  }
+  // To world space: a still camera's transform is read in place, and where every ray leaves
+  // from the camera-space origin its world point was taken there once, in build().
+  const bool fixed_origin = !motion_.animated() && lens_radius_ == 0 &&
+                            (type_ == Type::kPerspective || type_ == Type::kEnvironment);
+  auto to_world_ray = [&](const Transform& w) {
+    const Vec3 dw = w.vector(r.d);
+    out->o = fixed_origin ? origin_past_error(origin_world_, dw, origin_error_)
+                          : world_origin(w, r.o, dw);
+    out->d = normalize(dw);
+    out->tmax = kInfinity;
+    out->time = r.time;
+    out->has_differentials = r.has_differentials;
+    if (r.has_differentials) {
+      out->rx_o = fixed_origin ? origin_world_ : w.point(r.rx_o);
+      out->ry_o = fixed_origin ? origin_world_ : w.point(r.ry_o);
+      out->rx_d = normalize(w.vector(r.rx_d));
+      out->ry_d = normalize(w.vector(r.ry_d));
+    }
+  };
+  if (motion_.animated())
+    to_world_ray(motion_.at(r.time));
+  else
+    to_world_ray(camera_to_world_);
   return 1;
 }
 

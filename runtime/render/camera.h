@@ -136,6 +136,8 @@ class Camera {
   Transform to_world(float time) const {
     return motion_.animated() ? motion_.at(time) : camera_to_world_;
   }
+  // The camera-space origin in world space (still camera) and its rounding bound.
+  Vec3 origin_world_, origin_error_;
   Transform raster_to_camera_;
   Vec3 dx_camera_, dy_camera_;
   float lens_radius_ = 0, focal_distance_ = 1e6f;
