@@ -5,7 +5,12 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <new>
 #include <vector>
+
+#include <sys/mman.h>
+
+#include "format/huge_pages.h"
 
 namespace rt {
 
@@ -52,16 +57,21 @@ struct LightDistribution::VoxelCache {
   size_t size;
 };
 
+// In huge pages where the kernel gives them: a lookup lands on a random voxel of a grid of
+// megabytes, and in 4 KiB pages its address translation missed as often as its data.
 struct LightDistribution::FlatTable {
-  FlatTable(size_t voxels, int lights)
-      : n(lights), stride(size_t(flat_stride(lights))), words(voxels * stride + 16, 0u) {
-    // Start on a 64-byte boundary so no record straddles two cache lines.
-    uintptr_t at = reinterpret_cast<uintptr_t>(words.data());
-    base = words.data() + ((64 - at % 64) % 64) / sizeof(uint32_t);
+  FlatTable(size_t voxels, int lights) : n(lights), stride(size_t(flat_stride(lights))) {
+    // Mapped fresh and zeroed (every record kFlatEmpty), on a huge-page boundary, so no record
+    // straddles two cache lines.
+    base = static_cast<uint32_t*>(pbrta::map_huge(voxels * stride * sizeof(uint32_t), &mapped));
+    if (!base) throw std::bad_alloc();
   }
+  ~FlatTable() { munmap(base, mapped); }
+  FlatTable(const FlatTable&) = delete;
+  FlatTable& operator=(const FlatTable&) = delete;
   int n;
   size_t stride;
-  std::vector<uint32_t> words;
+  uint64_t mapped = 0;
   uint32_t* base;
 };
 
