@@ -1,8 +1,9 @@
 // Light selection: uniform, power (in proportion to luminance of power) and
 // spatial (valid distributions, the nearby light favoured, the same result
-// from two builds and from concurrent lookups).
+// from two builds and from concurrent lookups; sample() equal to lookup()).
 #include <gtest/gtest.h>
 
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -116,6 +117,35 @@ TEST(LightDistribution, NoLightsAndOneLight) {
   ASSERT_TRUE(load_light_scene("distribution_one", "LightSource \"point\"", world(), &one));
   ASSERT_TRUE(d.build(one.lights, world(), "spatial", &error)) << error;
   EXPECT_FLOAT_EQ(d.lookup({3, 0, 0}).discrete_pdf(0), 1);
+}
+
+// sample() reads a flat copy of each voxel's distribution (up to kFlatLights lights), made by
+// the first sample() there; with more lights it reads the distribution itself. Either way, by
+// point or by a Site found beforehand (the path integrator's prefetch), its choice and pmf are
+// lookup(p).sample_discrete's, bit for bit.
+TEST(LightDistribution, SampleMatchesLookupByPointAndBySite) {
+  std::string many = kTwoPoints;
+  for (int i = 0; i < 6; ++i)
+    many += "LightSource \"point\" \"rgb I\" [0.5 1 2] \"point from\" [" +
+            std::to_string(-7 + 3 * i) + " 0.5 -0.5]\n";
+  for (const char* scene : {kTwoPoints, many.c_str()}) {
+    LightScene s;
+    ASSERT_TRUE(load_light_scene("distribution_sample", scene, world(), &s));
+    std::string error;
+    LightDistribution d;
+    ASSERT_TRUE(d.build(s.lights, world(), "spatial", &error)) << error;
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 p{-10.5f + 0.07f * i, -1.2f + 0.008f * i, 1.1f - 0.0075f * i};
+      for (float u : {0.f, 0.013f * float(i % 71), 0.37f, 0.999999f}) {
+        float pmf_lookup = -1, pmf_point = -1, pmf_site = -1;
+        const int expected = d.lookup(p).sample_discrete(u, &pmf_lookup);
+        EXPECT_EQ(d.sample(p, u, &pmf_point), expected) << s.lights.count() << " " << i;
+        EXPECT_EQ(d.sample(d.site(p), u, &pmf_site), expected) << s.lights.count() << " " << i;
+        EXPECT_EQ(pmf_point, pmf_lookup);
+        EXPECT_EQ(pmf_site, pmf_lookup);
+      }
+    }
+  }
 }
 
 }  // namespace
