@@ -90,16 +90,16 @@ while read -r entry ref spp resdiv ci ours _; do
     echo "| $entry | $spp | - | compile failed: $(tail -n1 "$out/compile.log") | | | | | | |"
     continue
   fi
-  # mlt: that tiny run still does pbrt-v3's whole bootstrap (its paths do not depend on the
-  # resolution), so its whole time less that leaves no render time to compare: only the
-  # whole-process ratio means anything there.
+  # mlt: pbrt-v3's tiny load run below would still do its whole bootstrap (its paths do not
+  # depend on the resolution), leaving no render time to compare: only the whole-process ratio
+  # means anything there, so that run is skipped.
   mlt=0
   grep -Eq '^[[:space:]]*Integrator[[:space:]]+"mlt"' "$scene" && mlt=1
   for t in $threads; do
     # pbrt-v3's load (parse, build, one tiny pass), best of the rounds, at this thread count:
     # part of it runs in parallel (the realistic camera's exit pupil bounds, seconds of work).
     v3_load=""
-    for ((r = 0; r < rounds; ++r)); do
+    for ((r = 0; r < rounds && mlt == 0; ++r)); do
       s=$(timed "$v3" --quiet --nthreads "$t" --spp 1 --resdiv 64 --outfile "$out/tiny.exr" \
           "$scene") || break
       v3_load="$v3_load ${s%% *}"
