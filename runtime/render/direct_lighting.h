@@ -163,8 +163,11 @@ Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const Vert
     light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
     light_pmf = 1.f / n;
   }
-  Vec2 u_light = sampler.get_2d();
-  Vec2 u_scattering = sampler.get_2d();
+  // A delta light reads neither value (its one direction needs no sample, and no BSDF sample
+  // can hit it).
+  const bool delta = scene.lights.is_delta(light);
+  Vec2 u_light = sampler.get_2d_if(!delta);
+  Vec2 u_scattering = sampler.get_2d_if(!delta);
   return estimate_direct<kAreaLights, kInfinite, kMedia>(scene, it, sc, u_scattering, light,
                                                          u_light, sampler, c) /
          light_pmf;

@@ -160,7 +160,8 @@ struct Kernels {
       const Vec2* u_light = sampler.get_2d_array(ns);
       const Vec2* u_scattering = sampler.get_2d_array(ns);
       if (!u_light || !u_scattering) {
-        Vec2 ul = sampler.get_2d(), us = sampler.get_2d();
+        const bool delta = I.scene_->lights.is_delta(j);
+        Vec2 ul = sampler.get_2d_if(!delta), us = sampler.get_2d_if(!delta);
         l += estimate_direct<false>(I, it, sc, us, j, ul, sampler, c);
       } else {
         Rgb ld;
@@ -227,7 +228,7 @@ struct Kernels {
     if (I.settings_.type == IntegratorType::kWhitted) {
       for (uint32_t j = 0; j < lights.count(); ++j) {
         LightSample ls;
-        Rgb li = lights.sample_li(j, si, sampler.get_2d(), &ls);
+        Rgb li = lights.sample_li(j, si, sampler.get_2d_if(!lights.is_delta(j)), &ls);
         if (li.is_black() || ls.pdf == 0) continue;
         Rgb f = bsdf.f(si.wo, ls.wi);
         if (f.is_black()) continue;
@@ -242,10 +243,16 @@ struct Kernels {
         l += sample_one_light<false>(I, si, surface_scatter(I, si, bsdf, kNone), sampler, nullptr,
                                      c);
     }
-    if (depth + 1 < I.settings_.max_depth) {
-      l += specular(I, ray, si, bsdf, sampler, depth, false, c);
-      l += specular(I, ray, si, bsdf, sampler, depth, true, c);
-    }
+    if (depth + 1 < I.settings_.max_depth)
+      for (bool transmit : {false, true}) {
+        // Without a lobe to sample, pbrt-v3's SpecularReflect/Transmit still draw their 2-D
+        // sample; so do we, as a skip (the dimensions after it stay where they are), without
+        // computing it: at every diffuse hit of a whitted or direct-lighting render.
+        if (bsdf.num_components(uint8_t((transmit ? kTransmission : kReflection) | kSpecular)))
+          l += specular(I, ray, si, bsdf, sampler, depth, transmit, c);
+        else
+          sampler.skip_2d();
+      }
     return l;
   }
 

@@ -374,7 +374,8 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
     float light_pmf = 0;
     const int light = choice->sample_discrete(sampler.get_1d(), &light_pmf);
     LightSample ls;
-    Rgb lw = scene.lights.sample_li(uint32_t(light), pt.si, sampler.get_2d(), &ls);
+    Rgb lw = scene.lights.sample_li(
+        uint32_t(light), pt.si, sampler.get_2d_if(!scene.lights.is_delta(uint32_t(light))), &ls);
     if (ls.pdf > 0 && light_pmf > 0 && !lw.is_black()) {
       sampled.type = VertexType::kLight;
       sampled.light = uint32_t(light);

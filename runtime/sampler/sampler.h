@@ -60,6 +60,13 @@ class Sampler {
   // same, and samplers that compute values per dimension skip computing this one.
   virtual void skip_1d() { get_1d(); }
   virtual void skip_2d() { get_2d(); }
+  // get_2d() where the value is read, skip_2d() (and zero) where it is not: a delta light's
+  // sample, which pbrt-v3 draws and never reads.
+  Vec2 get_2d_if(bool read) {
+    if (read) return get_2d();
+    skip_2d();
+    return {0, 0};
+  }
   void request_1d_array(int n);  // before rendering, as pbrt-v3's arrays
   void request_2d_array(int n);
   virtual int round_count(int n) const { return n; }

@@ -115,8 +115,8 @@ TEST(Samplers, SameValuesWhateverThePixelOrderOrClone) {
 }
 
 // One pixel's values as a camera sample and a path draw them, with some dimensions skipped
-// (skip_1d/skip_2d, as pixel_camera_sample does for a pinhole camera's lens point or a still
-// scene's time); a skipped value is recorded as NaN.
+// (as pixel_camera_sample skips a pinhole camera's lens point or a still scene's time, and light
+// sampling a delta light's values); a skipped value is recorded as NaN.
 std::vector<float> trace_skipping(Sampler& s, Point2i p, bool skip) {
   std::vector<float> out;
   const float nan = std::nanf("");
@@ -128,14 +128,13 @@ std::vector<float> trace_skipping(Sampler& s, Point2i p, bool skip) {
       out.push_back(s.get_1d());
     }
   };
-  auto two = [&](bool skip_this) {
-    if (skip && skip_this) {
-      s.skip_2d();
-      out.insert(out.end(), {nan, nan});
-    } else {
-      const Vec2 v = s.get_2d();
+  auto two = [&](bool skip_this) {  // through get_2d_if, which skips what is not read
+    const bool read = !(skip && skip_this);
+    const Vec2 v = s.get_2d_if(read);
+    if (read)
       out.insert(out.end(), {v.x, v.y});
-    }
+    else
+      out.insert(out.end(), {nan, nan});
   };
   s.start_pixel(p);
   do {
