@@ -34,27 +34,51 @@ uint32_t halton_prime(int d) {
 
 namespace {
 
-// The generic loop with the base known at compile time, so the division
-// becomes a multiplication; the same operations, so the same result.
-template <uint32_t kBase>
-double radical_inverse_in(uint64_t a) {
-  const double inv_base = 1.0 / kBase;
+// Base 3 (Halton's second dimension, every camera sample) five digits at a time: the loop's
+// reversed digits are an exact integer and its scale is 3^-n rounded after each of n
+// multiplications, so a table of 5-digit reversals, one of the last (shorter) chunk with its
+// digit count, and the n-th scale as the loop rounds it give the loop's value bit for bit.
+struct Base3 {
+  static constexpr uint32_t kChunk = 243;  // 3^5
+  uint8_t reversed5[kChunk];               // digits d0..d4 of r as d0 d1 d2 d3 d4
+  uint8_t reversed_short[kChunk];          // r's own digits (no leading zeros) reversed
+  uint8_t digits_short[kChunk];            // how many there are
+  uint64_t pow[6];                         // 3^k, k = 0..5
+  double scale[42];                        // 3^-n as the loop rounds it (3^41 > 2^64)
+};
+
+const Base3& base3() {
+  static const Base3 table = [] {
+    Base3 t{};
+    for (uint32_t r = 0; r < Base3::kChunk; ++r) {
+      uint32_t x = r, rev = 0, n = 0;
+      for (int k = 0; k < 5; ++k, x /= 3) rev = rev * 3 + x % 3;
+      t.reversed5[r] = uint8_t(rev);
+      for (x = r, rev = 0; x; x /= 3, ++n) rev = rev * 3 + x % 3;
+      t.reversed_short[r] = uint8_t(rev);
+      t.digits_short[r] = uint8_t(n);
+    }
+    t.pow[0] = 1;
+    for (int k = 1; k < 6; ++k) t.pow[k] = t.pow[k - 1] * 3;
+    t.scale[0] = 1;
+    for (int n = 1; n < 42; ++n) t.scale[n] = t.scale[n - 1] * (1.0 / 3);
+    return t;
+  }();
+  return table;
+}
+
+double radical_inverse_base3(uint64_t a) {
+  const Base3& t = base3();
   uint64_t reversed = 0;
-  double inv_base_n = 1;
-  while (a > 0xffffffffull) {
-    uint64_t next = a / kBase;
-    reversed = reversed * kBase + (a - next * kBase);
-    inv_base_n *= inv_base;
+  int n = 0;
+  for (; a >= Base3::kChunk; n += 5) {
+    const uint64_t next = a / Base3::kChunk;
+    reversed = reversed * Base3::kChunk + t.reversed5[a - next * Base3::kChunk];
     a = next;
   }
-  // The rest in 32 bits, where the division by a constant is cheaper.
-  for (uint32_t a32 = uint32_t(a); a32;) {
-    uint32_t next = a32 / kBase;
-    reversed = reversed * kBase + (a32 - next * kBase);
-    inv_base_n *= inv_base;
-    a32 = next;
-  }
-  return double(reversed) * inv_base_n;
+  const int last = t.digits_short[a];
+  reversed = reversed * t.pow[last] + t.reversed_short[a];
+  return double(reversed) * t.scale[n + last];
 }
 
 // Bases up to this have a table of digit pairs (61^2 entries fit in 16 bits).
@@ -71,7 +95,7 @@ double radical_inverse(uint32_t base, uint64_t a) {
     // Mirroring binary digits is a bit reversal.
     return double(reverse_bits(a)) * 0x1p-64;
   }
-  if (base == 3) return radical_inverse_in<3>(a);  // Halton's second dimension
+  if (base == 3) return radical_inverse_base3(a);
   const double inv_base = 1.0 / base;
   uint64_t reversed = 0;
   double inv_base_n = 1;
