@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "runtime/core/clock.h"
+#include "runtime/core/code_pages.h"
 #include "runtime/film/atomic_file.h"
 #include "runtime/film/error_estimate.h"
 #include "runtime/film/film.h"
@@ -117,6 +118,7 @@ const char* stop_text(StopReason r) {
 
 bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& options,
                     RenderJobResult* result, std::string* error) {
+  release_code_pages();  // starting the program and reading the archive: done
   auto t_start = std::chrono::steady_clock::now();
   FilmOptions film_options;
   film_options.resdiv = options.resdiv;
@@ -169,6 +171,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   Integrator integrator;
   if (!integrator.init(scene, settings, error, &camera, &film)) return false;
   integrator.preprocess(sampler.get());
+  release_code_pages();  // the loader's and the BVH builders' code: rendering runs none of it
   result->build_seconds = seconds_since(t_build);
   result->setup_seconds = seconds_since(t_start);
 
@@ -279,6 +282,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   }
 
   if (options.keep_image) result->image = film.image();
+  release_code_pages();  // the renderer's: writing the image runs other code
   if (!write_outputs(error)) {
     *error = "error: " + *error;
     return false;
