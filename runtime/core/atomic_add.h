@@ -16,4 +16,14 @@ inline void atomic_add(std::atomic<T>* a, typename std::atomic<T>::value_type v)
   }
 }
 
+// The same on a plain float that other threads add to as well (the film's splats in a
+// one-pass render), with the compiler's atomic builtins.
+inline void atomic_add(float* a, float v) {
+  float old;
+  __atomic_load(a, &old, __ATOMIC_RELAXED);
+  float sum = old + v;
+  while (!__atomic_compare_exchange(a, &old, &sum, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+    sum = old + v;
+}
+
 }  // namespace rt

@@ -160,9 +160,14 @@ void Film::enable_splats() {
   if (splats_enabled_) return;
   const size_t n = 3 * size_t(cropped_.area());
   for (auto& h : splats_) h.assign(n, 0.f);
-  pending_.reset(new std::atomic<float>[2 * n]);
-  for (size_t i = 0; i < 2 * n; ++i) pending_[i].store(0, std::memory_order_relaxed);
   splats_enabled_ = true;
+}
+
+void Film::keep_pass_splats_apart() {
+  if (!splats_enabled_ || pending_) return;
+  const size_t n = 2 * splats_[0].size();
+  pending_.reset(new std::atomic<float>[n]);
+  for (size_t i = 0; i < n; ++i) pending_[i].store(0, std::memory_order_relaxed);
 }
 
 void Film::add_splat(Vec2 p_film, Rgb v, int half) {
@@ -175,12 +180,17 @@ void Film::add_splat(Vec2 p_film, Rgb v, int half) {
         fy < float(cropped_.max.y)))
     return;
   if (lum > max_luminance_) v *= max_luminance_ / lum;
-  size_t i = size_t(half & 1) * 3 * size_t(cropped_.area()) + 3 * index({int(fx), int(fy)});
-  for (int c = 0; c < 3; ++c) atomic_add(&pending_[i + c], v[c]);
+  const size_t i = 3 * index({int(fx), int(fy)});
+  if (pending_) {
+    const size_t at = size_t(half & 1) * splats_[0].size() + i;
+    for (int c = 0; c < 3; ++c) atomic_add(&pending_[at + c], v[c]);
+  } else {
+    for (int c = 0; c < 3; ++c) atomic_add(&splats_[half & 1][i + c], v[c]);
+  }
 }
 
 void Film::commit_splats() {
-  if (!splats_enabled_) return;
+  if (!splats_enabled_ || !pending_) return;
   const size_t n = splats_[0].size();
   for (int h = 0; h < 2; ++h)
     for (size_t i = 0; i < n; ++i) {
@@ -192,13 +202,17 @@ void Film::commit_splats() {
 
 void Film::discard_splats() {
   if (!splats_enabled_) return;
+  if (!pending_) {  // the one pass there is: no splats at all
+    for (auto& h : splats_) std::fill(h.begin(), h.end(), 0.f);
+    return;
+  }
   for (size_t i = 0; i < 2 * splats_[0].size(); ++i)
     pending_[i].store(0, std::memory_order_relaxed);
 }
 
 std::vector<double> Film::pending_splats() const {
   std::vector<double> out;
-  if (!splats_enabled_) return out;
+  if (!splats_enabled_ || !pending_) return out;
   out.resize(2 * splats_[0].size());
   for (size_t i = 0; i < out.size(); ++i)
     out[i] = double(pending_[i].load(std::memory_order_relaxed));
@@ -206,7 +220,7 @@ std::vector<double> Film::pending_splats() const {
 }
 
 void Film::set_pending_splats(const std::vector<double>& values) {
-  if (!splats_enabled_ || values.size() != 2 * splats_[0].size()) return;
+  if (!splats_enabled_ || !pending_ || values.size() != 2 * splats_[0].size()) return;
   for (size_t i = 0; i < values.size(); ++i)
     pending_[i].store(float(values[i]), std::memory_order_relaxed);
 }

@@ -24,8 +24,9 @@
 // random per pixel and pair: by parity alone, low-discrepancy samplers would put the
 // even samples in one part of the pixel and the odd in another, and the halves would
 // differ at every edge however many samples they had. Splats (enable_splats() first)
-// go to a pending buffer that commit_splats() adds to the image at the end of a
-// pass, or discard_splats() drops when a pass is abandoned.
+// go straight to the image in a one-pass render; in passes, to a pending buffer that
+// commit_splats() adds to the image at the end of a pass, or discard_splats() drops when a
+// pass is abandoned.
 //
 // pixel(): weighted sum / weight sum (0 where the weight is 0) clamped at 0
 // (negative filter lobes), plus splats times the splat scale, times the film
@@ -134,14 +135,19 @@ class Film {
   void merge_tile(const FilmTile& tile);  // not thread-safe
 
   // Light-tracing contributions at p_film (pbrt-v3's AddSplat; thread-safe), after
-  // enable_splats() (a no-op before). They count once committed.
+  // enable_splats() (a no-op before). By default they go straight into the image: for a
+  // render that is one pass, kept or dropped whole (discard_splats() then clears them all).
+  // After keep_pass_splats_apart() (before the first splat; not thread-safe) they wait in a
+  // pending buffer, 24 bytes a pixel more, until the pass under way is committed or dropped.
   void enable_splats();
+  void keep_pass_splats_apart();
   bool has_splats() const { return splats_enabled_; }
   void add_splat(Vec2 p_film, Rgb v, int half = 0);
   void commit_splats();   // pending splats join the image (not thread-safe)
   void discard_splats();  // pending splats are dropped (an abandoned pass)
-  // The pending splats as plain values (2 halves x 3 per pixel; empty without splats) and
-  // back (not thread-safe): to add up the splats of processes rendering one pass.
+  // The pending splats as plain values (2 halves x 3 per pixel; empty without splats or
+  // passes apart) and back (not thread-safe): to add up the splats of processes rendering
+  // one pass.
   std::vector<double> pending_splats() const;
   void set_pending_splats(const std::vector<double>& values);
   void set_splat_scale(float s) { splat_scale_ = s; }
@@ -185,11 +191,12 @@ class Film {
   int64_t half_counts_[2] = {0, 0};
   std::vector<FilmPixel> pixels_[2];  // even and odd samples
   // Light-tracing splats, 3 per pixel (empty without splats), in float as pbrt-v3 keeps its
-  // splats: committed (a pass's sums added in double, then rounded) and, apart, the pass
-  // under way's, which an abandoned pass drops. 48 bytes a pixel; in double they were 96.
+  // splats: committed (a pass's sums added in double, then rounded) and, with passes apart,
+  // the pass under way's, which an abandoned pass drops. 24 bytes a pixel, 48 with passes
+  // apart; in double they were 96.
   std::vector<float> splats_[2];
   bool splats_enabled_ = false;
-  std::unique_ptr<std::atomic<float>[]> pending_;  // 2 halves x 3 per pixel
+  std::unique_ptr<std::atomic<float>[]> pending_;  // 2 halves x 3 per pixel, or none
 };
 
 }  // namespace rt

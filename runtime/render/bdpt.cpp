@@ -40,6 +40,7 @@ bool Bdpt::init(const RenderScene& scene, const Camera& camera, Film* film, int 
                       film->diagonal() * 1000, name, error))
           return false;
         f->enable_splats();
+        f->keep_pass_splats_apart();  // end_pass() commits or drops each pass
         strategy_films_[size_t(buffer_index(s, t))] = std::move(f);
       }
   }

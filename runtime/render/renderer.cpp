@@ -56,6 +56,8 @@ RenderStats run_passes(Film* film, const Integrator& integrator, int64_t total, 
   const bool one_pass = whole && options.target_error <= 0 && options.time_limit <= 0 &&
                         options.checkpoint_every <= 0 && !options.on_pass &&
                         (options.first_sample == 0 || options.end_sample > 0);
+  // Passes that may end the render, be looked at or be dropped keep their splats apart.
+  if (!one_pass) film->keep_pass_splats_apart();
   auto interrupted = [&] {
     return options.interrupt && options.interrupt->load(std::memory_order_relaxed);
   };

@@ -58,6 +58,7 @@ rt::RenderStats lead(const rt::Camera& camera, const rt::Sampler& sampler,
                      const rt::RenderOptions& options, int size, int threads,
                      const Slowdown& slow) {
   rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
+  film->keep_pass_splats_apart();  // each pass's splats are summed over the ranks
   const int ntiles = tiles.tile_count();
   // Per rank: the tiles it asks for at a time, and how many of its asks are unanswered.
   std::vector<int> chunk(size_t(size), 1), asks(size_t(size), 0);
@@ -173,6 +174,7 @@ rt::RenderStats follow(const rt::Camera& camera, const rt::Sampler& sampler,
                        const rt::RenderOptions& options, int rank, int threads,
                        const Slowdown& slow) {
   rt::TileRenderer tiles(camera, sampler, integrator, film, options.differential_spp);
+  film->keep_pass_splats_apart();  // each pass's splats are summed over the ranks
   // Two tiles per thread per request: one per thread left the Cornell box 3-10% slower
   // than threads at 2 ranks x 1 thread (a message per 2-5 ms tile), two brought it to
   // 0.99-1.04x (README).

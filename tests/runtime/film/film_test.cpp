@@ -275,6 +275,7 @@ TEST(Film, SplatsAddAcrossThreadsTimesTheSplatScale) {
   ASSERT_TRUE(film.build({8, 8}, kFull, box(), 2, 10, 35, "x.exr", &error)) << error;
   film.add_splat({3.5f, 4.25f}, Rgb(7));  // before enable_splats(): nothing
   film.enable_splats();
+  film.keep_pass_splats_apart();
   std::vector<std::thread> threads;
   for (int t = 0; t < 4; ++t)
     threads.emplace_back([&, t] {
@@ -298,6 +299,35 @@ TEST(Film, SplatsAddAcrossThreadsTimesTheSplatScale) {
   film.discard_splats();
   film.commit_splats();
   EXPECT_EQ(film.pixel({5, 5}), Rgb(0));
+}
+
+// Without passes apart (a one-pass render) splats count at once, in the same sums as a
+// pass committed whole, and dropping the pass drops them all.
+TEST(Film, OnePassSplatsGoStraightIntoTheImage) {
+  Film apart, direct;
+  std::string error;
+  for (Film* f : {&apart, &direct}) {
+    ASSERT_TRUE(f->build({8, 8}, kFull, box(), 1, kInfinity, 35, "x.exr", &error)) << error;
+    f->enable_splats();
+  }
+  apart.keep_pass_splats_apart();
+  for (Film* f : {&apart, &direct}) {
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 2; ++t)
+      threads.emplace_back([f, t] {
+        for (int i = 0; i < 500; ++i) f->add_splat({2.5f, 6.5f}, Rgb(0.25f, 0.5f, 1), t);
+      });
+    for (auto& t : threads) t.join();
+    f->set_splat_scale(0.01f);
+  }
+  EXPECT_EQ(direct.pixel({2, 6}), Rgb(2.5f, 5, 10));  // 1000 splats at once
+  EXPECT_EQ(apart.pixel({2, 6}), Rgb(0));
+  apart.commit_splats();
+  direct.commit_splats();  // nothing pending: no change
+  for (int h = 0; h < 2; ++h) EXPECT_EQ(direct.half_splats(h), apart.half_splats(h)) << h;
+  EXPECT_TRUE(direct.pending_splats().empty());
+  direct.discard_splats();
+  EXPECT_EQ(direct.pixel({2, 6}), Rgb(0));
 }
 
 // The two halves hold disjoint samples and add up to the image; each pair of samples
