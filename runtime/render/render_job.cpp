@@ -156,6 +156,7 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   RenderScene scene;
   scene.geometry.set_watertight(options.watertight);
   if (!load_render_scene(archive, &scene, error)) return false;
+  release_code_pages();  // the loader's and the BVH builders' code: rendering runs none of it
   result->integrator = std::string(archive.type_name(archive.scene().integrator));
   const bool media_ignored =
       (scene.effects & pbrta::kEffectMedia) && !simulates_media(settings.type);
@@ -171,7 +172,6 @@ bool render_archive(const pbrta::SceneArchive& archive, const RenderJobOptions& 
   Integrator integrator;
   if (!integrator.init(scene, settings, error, &camera, &film)) return false;
   integrator.preprocess(sampler.get());
-  release_code_pages();  // the loader's and the BVH builders' code: rendering runs none of it
   result->build_seconds = seconds_since(t_build);
   result->setup_seconds = seconds_since(t_start);
 
