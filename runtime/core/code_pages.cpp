@@ -13,6 +13,8 @@
 namespace rt {
 namespace {
 
+constexpr uintptr_t kMinBytes = 64 << 10;  // Linux's fault-around: 64 KiB
+
 bool traced() {
   std::FILE* f = std::fopen("/proc/self/status", "r");
   if (!f) return true;  // cannot tell: keep everything
@@ -46,15 +48,31 @@ int release_object(dl_phdr_info* info, size_t, void* page_size) {
     relro_lo = (info->dlpi_addr + ph.p_vaddr) & ~(page - 1);
     relro_hi = (info->dlpi_addr + ph.p_vaddr + ph.p_memsz + page - 1) & ~(page - 1);
   }
+  // Consecutive read-only segments (headers, code, constants) go in one call: each call costs
+  // tens of microseconds however little it drops (it flushes every thread's TLB), so runs of
+  // less than what one fault maps back are left alone. The loader maps an object's whole span,
+  // so what lies between its segments is its own (PROT_NONE padding).
+  uintptr_t run_lo = 0, run_hi = 0;
+  auto flush = [&] {
+    if (run_hi >= run_lo + kMinBytes)
+      madvise(reinterpret_cast<void*>(run_lo), run_hi - run_lo, MADV_DONTNEED);
+    run_lo = run_hi = 0;
+  };
   for (int i = 0; i < info->dlpi_phnum; ++i) {
     const ElfW(Phdr)& ph = info->dlpi_phdr[i];
-    if (ph.p_type != PT_LOAD || (ph.p_flags & PF_W) || ph.p_filesz < ph.p_memsz) continue;
+    if (ph.p_type != PT_LOAD) continue;
     // Whole pages inside the segment only.
     const uintptr_t lo = (info->dlpi_addr + ph.p_vaddr + page - 1) & ~(page - 1);
     const uintptr_t hi = (info->dlpi_addr + ph.p_vaddr + ph.p_filesz) & ~(page - 1);
-    if (hi <= lo || (lo < relro_hi && relro_lo < hi)) continue;
-    madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_DONTNEED);
+    if ((ph.p_flags & PF_W) || ph.p_filesz < ph.p_memsz || hi <= lo ||
+        (lo < relro_hi && relro_lo < hi)) {
+      flush();
+      continue;
+    }
+    if (run_hi == 0) run_lo = lo;
+    run_hi = hi;
   }
+  flush();
   return 0;
 }
 
