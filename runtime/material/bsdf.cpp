@@ -14,7 +14,7 @@ void Bsdf::init(const SurfaceInteraction& si, float eta_) {
 
 bool Bsdf::add(const Bxdf& lobe) {
   if (n_ == kMaxLobes) return false;
-  lobes_[n_++] = lobe;
+  new (lobes_.bytes + size_t(n_++) * sizeof(Bxdf)) Bxdf(lobe);
   return true;
 }
 

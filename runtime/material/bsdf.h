@@ -10,6 +10,9 @@
 // Russian roulette's eta-scale bookkeeping), 1 for opaque materials.
 #pragma once
 
+#include <new>
+#include <type_traits>
+
 #include "runtime/core/interaction.h"
 #include "runtime/material/bxdf.h"
 
@@ -56,9 +59,22 @@ class Bsdf {
   float eta = 1;
 
  private:
+  // Room for the lobes, each constructed as it is added: a render makes a Bsdf at every hit,
+  // most with one or two lobes, and constructing all eight up front cost a whitted render a
+  // fortieth of its time. Bxdf is plain data (trivially copyable and destructible).
+  struct LobeStorage {
+    alignas(Bxdf) unsigned char bytes[kMaxLobes * sizeof(Bxdf)];
+    Bxdf* data() { return std::launder(reinterpret_cast<Bxdf*>(bytes)); }
+    const Bxdf* data() const { return std::launder(reinterpret_cast<const Bxdf*>(bytes)); }
+    Bxdf& operator[](int i) { return data()[i]; }
+    const Bxdf& operator[](int i) const { return data()[i]; }
+    operator const Bxdf*() const { return data(); }
+  };
+  static_assert(std::is_trivially_copyable_v<Bxdf> && std::is_trivially_destructible_v<Bxdf>);
+
   BsdfFrame frame_;
   int n_ = 0;
-  Bxdf lobes_[kMaxLobes];
+  LobeStorage lobes_;
 };
 
 }  // namespace rt
