@@ -8,18 +8,20 @@ void GlobalSampler::start_pixel(Point2i p) {
   dimension_ = 0;
   interval_index_ = index_for_sample(first_);
   array_end_dim_ = kArrayStartDim + int(sizes_1d_.size()) + 2 * int(sizes_2d_.size());
-  for (size_t i = 0; i < sizes_1d_.size(); ++i) {
-    const int64_t n = sizes_1d_[i];
-    for (int64_t j = first_ * n; j < end_ * n; ++j)
-      arrays_1d_[i][size_t(j)] = sample_dimension(index_for_sample(j), kArrayStartDim + int(i));
-  }
-  int dim = kArrayStartDim + int(sizes_1d_.size());
-  for (size_t i = 0; i < sizes_2d_.size(); ++i, dim += 2) {
-    const int64_t n = sizes_2d_[i];
-    for (int64_t j = first_ * n; j < end_ * n; ++j) {
-      int64_t index = index_for_sample(j);
-      arrays_2d_[i][size_t(j)] = {sample_dimension(index, dim), sample_dimension(index, dim + 1)};
-    }
+}
+
+void GlobalSampler::fill_1d_array(size_t i) {
+  const int64_t n = sizes_1d_[i];
+  for (int64_t j = first_ * n; j < end_ * n; ++j)
+    arrays_1d_[i][size_t(j)] = sample_dimension(index_for_sample(j), kArrayStartDim + int(i));
+}
+
+void GlobalSampler::fill_2d_array(size_t i) {
+  const int64_t n = sizes_2d_[i];
+  const int dim = kArrayStartDim + int(sizes_1d_.size()) + 2 * int(i);
+  for (int64_t j = first_ * n; j < end_ * n; ++j) {
+    const int64_t index = index_for_sample(j);
+    arrays_2d_[i][size_t(j)] = {sample_dimension(index, dim), sample_dimension(index, dim + 1)};
   }
 }
 

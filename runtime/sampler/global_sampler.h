@@ -21,6 +21,8 @@ class GlobalSampler : public Sampler {
   void skip_2d() override { next_dimension_2d(); }
 
  protected:
+  void fill_1d_array(size_t i) override;
+  void fill_2d_array(size_t i) override;
   explicit GlobalSampler(int64_t spp) : Sampler(spp) {}
   GlobalSampler(const GlobalSampler&) = default;
 

@@ -3,8 +3,9 @@
 // together at start_pixel() (so they can be stratified across the pixel's
 // samples); later dimensions are independent uniform values.
 //
-// Subclasses fill dims_1d_/dims_2d_ (spp values each) and the requested arrays
-// in start_pixel(), drawing from pixel_rng (seeded from (seed, pixel) only).
+// Subclasses fill dims_1d_/dims_2d_ (spp values each) in start_pixel(), drawing
+// from pixel_rng (seeded from (seed, pixel) only), and each requested array when
+// it is first handed out in the pixel (fill_*_array), from its own array_rng.
 // Past the precomputed dimensions, values come from a generator reseeded from
 // (seed, pixel, sample) at every sample start, so they never depend on what
 // earlier samples consumed.

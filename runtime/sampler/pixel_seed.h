@@ -19,7 +19,7 @@ enum class SeedPurpose : uint64_t {
   kPerSample = 2,     // values past the precomputed dimensions
   kGlobalTable = 3,   // sampler-wide scrambles and permutations
   kHashedDim = 4,     // global samplers past their tables
-  kSampleArrays = 5,  // the random sampler's arrays, one stream per sample
+  kArrayPattern = 6,  // a pixel sampler's requested arrays, one stream per array
 };
 
 inline uint64_t pixel_key(Point2i p) {
@@ -34,6 +34,14 @@ inline uint64_t mix_seed(uint64_t seed, SeedPurpose purpose, uint64_t a = 0, uin
 
 inline Rng pixel_rng(uint64_t seed, Point2i p) {
   return Rng(mix_seed(seed, SeedPurpose::kPixelPattern, pixel_key(p)));
+}
+
+// The generator of a requested array's values in pixel p (dims 1 or 2, its index among the
+// arrays of that kind, and for the random sampler the sample): one stream per array, so the
+// arrays can be made in any order, or not at all.
+inline Rng array_rng(uint64_t seed, Point2i p, int dims, size_t array, int64_t sample = 0) {
+  return Rng(mix_seed(seed, SeedPurpose::kArrayPattern, pixel_key(p),
+                      (uint64_t(array) << 2 | uint64_t(dims)) ^ (uint64_t(sample) << 32)));
 }
 
 inline Rng sample_rng(uint64_t seed, Point2i p, int64_t sample) {

@@ -16,23 +16,7 @@ class RandomSampler final : public Sampler {
 
   std::unique_ptr<Sampler> clone() const override { return std::make_unique<RandomSampler>(*this); }
 
-  // Each sample's arrays come from its own generator, so a pass fills only its samples.
   void start_pixel(Point2i p) override {
-    for (int64_t s = first_; s < end_; ++s) {
-      Rng rng(mix_seed(seed_, SeedPurpose::kSampleArrays, pixel_key(p), uint64_t(s)));
-      for (size_t i = 0; i < sizes_1d_.size(); ++i) {
-        const size_t n = size_t(sizes_1d_[i]);
-        for (size_t j = 0; j < n; ++j) arrays_1d_[i][size_t(s) * n + j] = rng.next_float();
-      }
-      for (size_t i = 0; i < sizes_2d_.size(); ++i) {
-        const size_t n = size_t(sizes_2d_[i]);
-        for (size_t j = 0; j < n; ++j) {
-          Vec2& v = arrays_2d_[i][size_t(s) * n + j];
-          v.x = rng.next_float();
-          v.y = rng.next_float();
-        }
-      }
-    }
     Sampler::start_pixel(p);
     rng_ = sample_rng(seed_, p, first_);
   }
@@ -46,6 +30,27 @@ class RandomSampler final : public Sampler {
   Vec2 get_2d() override {
     float x = rng_.next_float();
     return {x, rng_.next_float()};
+  }
+
+ protected:
+  // Each sample's array from its own generator, so a pass fills only its samples.
+  void fill_1d_array(size_t i) override {
+    const size_t n = size_t(sizes_1d_[i]);
+    for (int64_t s = first_; s < end_; ++s) {
+      Rng rng = array_rng(seed_, pixel_, 1, i, s);
+      for (size_t j = 0; j < n; ++j) arrays_1d_[i][size_t(s) * n + j] = rng.next_float();
+    }
+  }
+  void fill_2d_array(size_t i) override {
+    const size_t n = size_t(sizes_2d_[i]);
+    for (int64_t s = first_; s < end_; ++s) {
+      Rng rng = array_rng(seed_, pixel_, 2, i, s);
+      for (size_t j = 0; j < n; ++j) {
+        Vec2& v = arrays_2d_[i][size_t(s) * n + j];
+        v.x = rng.next_float();
+        v.y = rng.next_float();
+      }
+    }
   }
 
  private:

@@ -8,6 +8,7 @@ namespace rt {
 
 void Sampler::start_pixel(Point2i p) {
   pixel_ = p;
+  ++pixel_serial_;
   sample_index_ = first_;
   next_1d_array_ = next_2d_array_ = 0;
 }
@@ -30,22 +31,32 @@ bool Sampler::set_sample_number(int64_t n) {
 void Sampler::request_1d_array(int n) {
   sizes_1d_.push_back(n);
   arrays_1d_.emplace_back(size_t(n) * size_t(spp_));
+  filled_1d_.push_back(0);
 }
 
 void Sampler::request_2d_array(int n) {
   sizes_2d_.push_back(n);
   arrays_2d_.emplace_back(size_t(n) * size_t(spp_));
+  filled_2d_.push_back(0);
 }
 
 const float* Sampler::get_1d_array(int n) {
   if (next_1d_array_ == arrays_1d_.size() || sample_index_ >= spp_) return nullptr;
   if (sizes_1d_[next_1d_array_] != n) return nullptr;  // asked out of request order
+  if (filled_1d_[next_1d_array_] != pixel_serial_) {
+    filled_1d_[next_1d_array_] = pixel_serial_;
+    fill_1d_array(next_1d_array_);
+  }
   return &arrays_1d_[next_1d_array_++][size_t(sample_index_) * size_t(n)];
 }
 
 const Vec2* Sampler::get_2d_array(int n) {
   if (next_2d_array_ == arrays_2d_.size() || sample_index_ >= spp_) return nullptr;
   if (sizes_2d_[next_2d_array_] != n) return nullptr;
+  if (filled_2d_[next_2d_array_] != pixel_serial_) {
+    filled_2d_[next_2d_array_] = pixel_serial_;
+    fill_2d_array(next_2d_array_);
+  }
   return &arrays_2d_[next_2d_array_++][size_t(sample_index_) * size_t(n)];
 }
 

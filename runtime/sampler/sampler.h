@@ -78,6 +78,12 @@ class Sampler {
 
  protected:
   explicit Sampler(int64_t spp) : spp_(spp), end_(spp) {}
+  // Array i's values for the current pixel's samples [first_, end_), made when the array is
+  // first handed out in the pixel rather than at start_pixel(): integrators request arrays
+  // for every depth they might reach (pbrt-v3's directlighting: two per light per depth), and
+  // most paths end long before.
+  virtual void fill_1d_array(size_t /*i*/) {}
+  virtual void fill_2d_array(size_t /*i*/) {}
   Sampler(const Sampler&) = default;
   Sampler& operator=(const Sampler&) = delete;
 
@@ -86,11 +92,15 @@ class Sampler {
   int64_t sample_index_ = 0;
   int64_t first_ = 0, end_;  // set_sample_range()
   // Requested array sizes, and per request n * spp values (sample s's array
-  // starts at s * n), filled by the subclass in start_pixel().
+  // starts at s * n), filled by the subclass's fill_*_array().
   std::vector<int> sizes_1d_, sizes_2d_;
   std::vector<std::vector<float>> arrays_1d_;
   std::vector<std::vector<Vec2>> arrays_2d_;
   size_t next_1d_array_ = 0, next_2d_array_ = 0;
+
+ private:
+  uint64_t pixel_serial_ = 0;                    // start_pixel() calls so far
+  std::vector<uint64_t> filled_1d_, filled_2d_;  // the pixel_serial_ each array was filled at
 };
 
 std::unique_ptr<Sampler> make_sampler(const pbrta::SceneArchive& archive, int spp_override,

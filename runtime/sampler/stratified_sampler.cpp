@@ -36,20 +36,24 @@ class StratifiedSampler final : public PixelSampler {
       stratified_2d(d.data(), xsamples_, ysamples_, pixel_rng_, jitter_);
       shuffle_points(d.data(), spp, 1, pixel_rng_);
     }
-    for (size_t i = 0; i < sizes_1d_.size(); ++i) {
-      int n = sizes_1d_[i];
-      for (int s = 0; s < spp; ++s) {
-        float* a = &arrays_1d_[i][size_t(s) * size_t(n)];
-        stratified_1d(a, n, pixel_rng_, jitter_);
-        shuffle_blocks(a, n, 1, pixel_rng_);
-      }
-    }
-    for (size_t i = 0; i < sizes_2d_.size(); ++i) {
-      int n = sizes_2d_[i];
-      for (int s = 0; s < spp; ++s)
-        latin_hypercube(&arrays_2d_[i][size_t(s) * size_t(n)].x, n, 2, pixel_rng_);
-    }
     PixelSampler::start_pixel(p);
+  }
+
+ protected:
+  void fill_1d_array(size_t i) override {
+    Rng rng = array_rng(seed_, pixel_, 1, i);
+    const int n = sizes_1d_[i];
+    for (int64_t s = 0; s < spp_; ++s) {
+      float* a = &arrays_1d_[i][size_t(s) * size_t(n)];
+      stratified_1d(a, n, rng, jitter_);
+      shuffle_blocks(a, n, 1, rng);
+    }
+  }
+  void fill_2d_array(size_t i) override {
+    Rng rng = array_rng(seed_, pixel_, 2, i);
+    const int n = sizes_2d_[i];
+    for (int64_t s = 0; s < spp_; ++s)
+      latin_hypercube(&arrays_2d_[i][size_t(s) * size_t(n)].x, n, 2, rng);
   }
 
  private:

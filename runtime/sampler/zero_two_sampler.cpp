@@ -29,11 +29,17 @@ class ZeroTwoSampler final : public PixelSampler {
     int spp = int(spp_);
     for (auto& d : dims_1d_) van_der_corput_pattern(1, spp, d.data(), pixel_rng_);
     for (auto& d : dims_2d_) sobol_2d_pattern(1, spp, d.data(), pixel_rng_);
-    for (size_t i = 0; i < sizes_1d_.size(); ++i)
-      van_der_corput_pattern(sizes_1d_[i], spp, arrays_1d_[i].data(), pixel_rng_);
-    for (size_t i = 0; i < sizes_2d_.size(); ++i)
-      sobol_2d_pattern(sizes_2d_[i], spp, arrays_2d_[i].data(), pixel_rng_);
     PixelSampler::start_pixel(p);
+  }
+
+ protected:
+  void fill_1d_array(size_t i) override {
+    Rng rng = array_rng(seed_, pixel_, 1, i);
+    van_der_corput_pattern(sizes_1d_[i], int(spp_), arrays_1d_[i].data(), rng);
+  }
+  void fill_2d_array(size_t i) override {
+    Rng rng = array_rng(seed_, pixel_, 2, i);
+    sobol_2d_pattern(sizes_2d_[i], int(spp_), arrays_2d_[i].data(), rng);
   }
 };
 

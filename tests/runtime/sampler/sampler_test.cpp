@@ -3,6 +3,7 @@
 // pixel order, arrays, and integration error against the random sampler.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -78,6 +79,39 @@ TEST(Samplers, ValuesInUnitIntervalAndSampleCount) {
     EXPECT_EQ(s->get_1d_array(s->round_count(3)), nullptr) << c.name;
     EXPECT_NE(s->get_2d_array(s->round_count(5)), nullptr) << c.name;
     EXPECT_EQ(s->get_2d_array(s->round_count(5)), nullptr) << c.name;
+  }
+}
+
+// A pixel's arrays, read from sample `from` on (the samples before read no array).
+std::vector<float> arrays_from(Sampler& s, Point2i p, int from) {
+  std::vector<float> out;
+  s.start_pixel(p);
+  do {
+    if (s.current_sample_number() < from) continue;
+    const float* a = s.get_1d_array(s.round_count(3));
+    const Vec2* b = s.get_2d_array(s.round_count(5));
+    if (!a || !b) return {};
+    out.insert(out.end(), a, a + s.round_count(3));
+    for (int i = 0; i < s.round_count(5); ++i) out.insert(out.end(), {b[i].x, b[i].y});
+  } while (s.start_next_sample());
+  return out;
+}
+
+// Arrays are made when a pixel first reads them: the values must not depend on when that
+// happens, nor on what another pixel read before.
+TEST(Samplers, ArraysMadeWhenFirstReadAreThePixelsOwn) {
+  for (const Case& c : kAll) {
+    auto s = sampler_from_text(std::string("lazy_") + c.name, c.line);
+    ASSERT_TRUE(s) << c.name;
+    s->request_1d_array(s->round_count(3));
+    s->request_2d_array(s->round_count(5));
+    const std::vector<float> all = arrays_from(*s, {5, 6}, 0);
+    ASSERT_FALSE(all.empty()) << c.name;
+    const std::vector<float> other = arrays_from(*s, {9, 1}, 0);
+    EXPECT_NE(other, all) << c.name;
+    const std::vector<float> late = arrays_from(*s, {5, 6}, 9);
+    ASSERT_EQ(late.size(), all.size() * 7 / 16) << c.name;
+    EXPECT_TRUE(std::equal(late.begin(), late.end(), all.end() - ptrdiff_t(late.size()))) << c.name;
   }
 }
 
