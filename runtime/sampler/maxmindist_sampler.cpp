@@ -51,16 +51,16 @@ const uint32_t kMaxMinDist[17][16] = {
      0x00010000},
 };
 
-class MaxMinDistSampler final : public PixelSampler {
+class MaxMinDistSampler final : public ZeroTwoArraysSampler {
  public:
   MaxMinDistSampler(int64_t spp, int dimensions, uint64_t seed)
-      : PixelSampler(spp, dimensions, seed), columns_(kMaxMinDist[log2_int(uint32_t(spp))]) {}
+      : ZeroTwoArraysSampler(spp, dimensions, seed),
+        columns_(kMaxMinDist[log2_int(uint32_t(spp))]) {}
   MaxMinDistSampler(const MaxMinDistSampler&) = default;
 
   std::unique_ptr<Sampler> clone() const override {
     return std::make_unique<MaxMinDistSampler>(*this);
   }
-  int round_count(int n) const override { return int(round_up_pow2(uint32_t(std::max(n, 1)))); }
 
   void start_pixel(Point2i p) override {
     pixel_rng_ = pixel_rng(seed_, p);
@@ -80,16 +80,6 @@ class MaxMinDistSampler final : public PixelSampler {
     for (size_t i = 1; i < dims_2d_.size(); ++i)
       sobol_2d_pattern(1, spp, dims_2d_[i].data(), pixel_rng_);
     PixelSampler::start_pixel(p);
-  }
-
- protected:
-  void fill_1d_array(size_t i) override {
-    Rng rng = array_rng(seed_, pixel_, 1, i);
-    van_der_corput_pattern(sizes_1d_[i], int(spp_), arrays_1d_[i].data(), rng);
-  }
-  void fill_2d_array(size_t i) override {
-    Rng rng = array_rng(seed_, pixel_, 2, i);
-    sobol_2d_pattern(sizes_2d_[i], int(spp_), arrays_2d_[i].data(), rng);
   }
 
  private:

@@ -1,7 +1,10 @@
 // pbrt-v3's PixelSampler bookkeeping, with per-pixel / per-sample seeding.
 #include "runtime/sampler/pixel_sampler.h"
 
+#include <algorithm>
+
 #include "runtime/sampler/pixel_seed.h"
+#include "runtime/sampler/sample_patterns.h"
 
 namespace rt {
 
@@ -26,6 +29,20 @@ float PixelSampler::get_1d() {
   if (next_dim_1d_ < dims_1d_.size() && sample_index_ < spp_)
     return dims_1d_[next_dim_1d_++][size_t(sample_index_)];
   return sample_rng_.next_float();
+}
+
+int ZeroTwoArraysSampler::round_count(int n) const {
+  return int(round_up_pow2(uint32_t(std::max(n, 1))));
+}
+
+void ZeroTwoArraysSampler::fill_1d_array(size_t i) {
+  Rng rng = array_rng(seed_, pixel_, 1, i);
+  van_der_corput_pattern(sizes_1d_[i], int(spp_), arrays_1d_[i].data(), rng);
+}
+
+void ZeroTwoArraysSampler::fill_2d_array(size_t i) {
+  Rng rng = array_rng(seed_, pixel_, 2, i);
+  sobol_2d_pattern(sizes_2d_[i], int(spp_), arrays_2d_[i].data(), rng);
 }
 
 Vec2 PixelSampler::get_2d() {

@@ -36,4 +36,16 @@ class PixelSampler : public Sampler {
   Rng sample_rng_;  // values past the precomputed dimensions
 };
 
+// A pixel sampler whose counts are powers of two and whose requested arrays are scrambled,
+// shuffled (0,2)-sequence patterns (pbrt-v3's ZeroTwoSequenceSampler and MaxMinDistSampler).
+class ZeroTwoArraysSampler : public PixelSampler {
+ public:
+  int round_count(int n) const override;
+
+ protected:
+  using PixelSampler::PixelSampler;
+  void fill_1d_array(size_t i) override;
+  void fill_2d_array(size_t i) override;
+};
+
 }  // namespace rt

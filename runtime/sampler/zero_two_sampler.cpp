@@ -13,16 +13,15 @@
 namespace rt {
 namespace {
 
-class ZeroTwoSampler final : public PixelSampler {
+class ZeroTwoSampler final : public ZeroTwoArraysSampler {
  public:
   ZeroTwoSampler(int64_t spp, int dimensions, uint64_t seed)
-      : PixelSampler(spp, dimensions, seed) {}
+      : ZeroTwoArraysSampler(spp, dimensions, seed) {}
   ZeroTwoSampler(const ZeroTwoSampler&) = default;
 
   std::unique_ptr<Sampler> clone() const override {
     return std::make_unique<ZeroTwoSampler>(*this);
   }
-  int round_count(int n) const override { return int(round_up_pow2(uint32_t(std::max(n, 1)))); }
 
   void start_pixel(Point2i p) override {
     pixel_rng_ = pixel_rng(seed_, p);
@@ -30,16 +29,6 @@ class ZeroTwoSampler final : public PixelSampler {
     for (auto& d : dims_1d_) van_der_corput_pattern(1, spp, d.data(), pixel_rng_);
     for (auto& d : dims_2d_) sobol_2d_pattern(1, spp, d.data(), pixel_rng_);
     PixelSampler::start_pixel(p);
-  }
-
- protected:
-  void fill_1d_array(size_t i) override {
-    Rng rng = array_rng(seed_, pixel_, 1, i);
-    van_der_corput_pattern(sizes_1d_[i], int(spp_), arrays_1d_[i].data(), rng);
-  }
-  void fill_2d_array(size_t i) override {
-    Rng rng = array_rng(seed_, pixel_, 2, i);
-    sobol_2d_pattern(sizes_2d_[i], int(spp_), arrays_2d_[i].data(), rng);
   }
 };
 
