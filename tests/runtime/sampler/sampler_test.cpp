@@ -28,6 +28,14 @@ const Case kAll[] = {
     {"maxmindist", R"(Sampler "maxmindist" "integer pixelsamples" 16)"},
 };
 
+// The arrays the tests below request and read: this many 1-D and 2-D values a sample (before
+// the sampler's round_count).
+constexpr int kArray1d = 3, kArray2d = 5;
+void request_arrays(Sampler& s) {
+  s.request_1d_array(s.round_count(kArray1d));
+  s.request_2d_array(s.round_count(kArray2d));
+}
+
 // Everything one pixel's samples return, in call order (arrays included).
 std::vector<float> trace_pixel(Sampler& s, Point2i p) {
   std::vector<float> out;
@@ -37,12 +45,12 @@ std::vector<float> trace_pixel(Sampler& s, Point2i p) {
     Vec2 c = s.get_2d();
     out.push_back(c.x);
     out.push_back(c.y);
-    if (const float* a = s.get_1d_array(s.round_count(3)))
-      out.insert(out.end(), a, a + s.round_count(3));
+    if (const float* a = s.get_1d_array(s.round_count(kArray1d)))
+      out.insert(out.end(), a, a + s.round_count(kArray1d));
     else
       out.push_back(-1);
-    if (const Vec2* a = s.get_2d_array(s.round_count(5)))
-      for (int i = 0; i < s.round_count(5); ++i) {
+    if (const Vec2* a = s.get_2d_array(s.round_count(kArray2d)))
+      for (int i = 0; i < s.round_count(kArray2d); ++i) {
         out.push_back(a[i].x);
         out.push_back(a[i].y);
       }
@@ -63,8 +71,7 @@ TEST(Samplers, ValuesInUnitIntervalAndSampleCount) {
     auto s = sampler_from_text(std::string("range_") + c.name, c.line, 0, 11, {{-1, -2}, {37, 21}});
     ASSERT_TRUE(s) << c.name;
     EXPECT_EQ(s->samples_per_pixel(), 16) << c.name;
-    s->request_1d_array(s->round_count(3));
-    s->request_2d_array(s->round_count(5));
+    request_arrays(*s);
     for (Point2i p : {Point2i{-1, -2}, Point2i{0, 0}, Point2i{36, 20}, Point2i{17, 5}}) {
       std::vector<float> v = trace_pixel(*s, p);
       EXPECT_EQ(s->current_sample_number(), 16) << c.name;
@@ -75,10 +82,10 @@ TEST(Samplers, ValuesInUnitIntervalAndSampleCount) {
     }
     // Past the requested arrays there are none.
     s->start_pixel({0, 0});
-    EXPECT_NE(s->get_1d_array(s->round_count(3)), nullptr) << c.name;
-    EXPECT_EQ(s->get_1d_array(s->round_count(3)), nullptr) << c.name;
-    EXPECT_NE(s->get_2d_array(s->round_count(5)), nullptr) << c.name;
-    EXPECT_EQ(s->get_2d_array(s->round_count(5)), nullptr) << c.name;
+    EXPECT_NE(s->get_1d_array(s->round_count(kArray1d)), nullptr) << c.name;
+    EXPECT_EQ(s->get_1d_array(s->round_count(kArray1d)), nullptr) << c.name;
+    EXPECT_NE(s->get_2d_array(s->round_count(kArray2d)), nullptr) << c.name;
+    EXPECT_EQ(s->get_2d_array(s->round_count(kArray2d)), nullptr) << c.name;
   }
 }
 
@@ -88,11 +95,11 @@ std::vector<float> arrays_from(Sampler& s, Point2i p, int from) {
   s.start_pixel(p);
   do {
     if (s.current_sample_number() < from) continue;
-    const float* a = s.get_1d_array(s.round_count(3));
-    const Vec2* b = s.get_2d_array(s.round_count(5));
+    const float* a = s.get_1d_array(s.round_count(kArray1d));
+    const Vec2* b = s.get_2d_array(s.round_count(kArray2d));
     if (!a || !b) return {};
-    out.insert(out.end(), a, a + s.round_count(3));
-    for (int i = 0; i < s.round_count(5); ++i) out.insert(out.end(), {b[i].x, b[i].y});
+    out.insert(out.end(), a, a + s.round_count(kArray1d));
+    for (int i = 0; i < s.round_count(kArray2d); ++i) out.insert(out.end(), {b[i].x, b[i].y});
   } while (s.start_next_sample());
   return out;
 }
@@ -103,8 +110,7 @@ TEST(Samplers, ArraysMadeWhenFirstReadAreThePixelsOwn) {
   for (const Case& c : kAll) {
     auto s = sampler_from_text(std::string("lazy_") + c.name, c.line);
     ASSERT_TRUE(s) << c.name;
-    s->request_1d_array(s->round_count(3));
-    s->request_2d_array(s->round_count(5));
+    request_arrays(*s);
     const std::vector<float> all = arrays_from(*s, {5, 6}, 0);
     ASSERT_FALSE(all.empty()) << c.name;
     const std::vector<float> other = arrays_from(*s, {9, 1}, 0);
@@ -119,8 +125,7 @@ TEST(Samplers, SameValuesWhateverThePixelOrderOrClone) {
   for (const Case& c : kAll) {
     auto s = sampler_from_text(std::string("det_") + c.name, c.line);
     ASSERT_TRUE(s) << c.name;
-    s->request_1d_array(s->round_count(3));
-    s->request_2d_array(s->round_count(5));
+    request_arrays(*s);
     auto a = s->clone(), b = s->clone();
     std::vector<float> a1 = trace_pixel(*a, {3, 4});
     std::vector<float> a2 = trace_pixel(*a, {40, 9});
@@ -142,8 +147,7 @@ TEST(Samplers, SameValuesWhateverThePixelOrderOrClone) {
     EXPECT_EQ(a->get_1d(), first) << c.name;
     // Another seed changes the values.
     auto other = sampler_from_text(std::string("det2_") + c.name, c.line, 0, 12345);
-    other->request_1d_array(other->round_count(3));
-    other->request_2d_array(other->round_count(5));
+    request_arrays(*other);
     EXPECT_NE(trace_pixel(*other, {3, 4}), a1) << c.name;
   }
 }
@@ -176,7 +180,8 @@ std::vector<float> trace_skipping(Sampler& s, Point2i p, bool skip) {
     one(true);   // time
     one(false);
     two(true);  // across the arrays' first dimension, which global samplers jump
-    if (const float* a = s.get_1d_array(s.round_count(3))) out.insert(out.end(), a, a + 3);
+    if (const float* a = s.get_1d_array(s.round_count(kArray1d)))
+      out.insert(out.end(), a, a + kArray1d);
     for (int d = 0; d < 8; ++d) {
       one(d == 2);
       two(d == 3 || d == 6);
@@ -192,7 +197,7 @@ TEST(Samplers, SkippedDimensionsLeaveTheLaterValuesAlone) {
   for (const Case& c : kAll) {
     auto s = sampler_from_text(std::string("skip_") + c.name, c.line);
     ASSERT_TRUE(s) << c.name;
-    s->request_1d_array(s->round_count(3));
+    s->request_1d_array(s->round_count(kArray1d));
     auto a = s->clone(), b = s->clone();
     for (Point2i p : {Point2i{3, 4}, Point2i{40, 9}}) {
       const std::vector<float> all = trace_skipping(*a, p, false);
