@@ -78,10 +78,11 @@ int release_object(dl_phdr_info* info, size_t, void* page_size) {
 
 }  // namespace
 
-void release_code_pages() {
-  if (traced()) return;
+bool release_code_pages() {
+  if (traced()) return false;
   uintptr_t page = uintptr_t(sysconf(_SC_PAGESIZE));
   dl_iterate_phdr(release_object, &page);
+  return true;
 }
 
 }  // namespace rt

@@ -9,11 +9,11 @@
 // without text relocations) leave the resident set (MADV_DONTNEED). They are unmodified file
 // pages, so whatever runs next maps its own again from the page cache, unchanged; nothing
 // else is touched. Skipped under a debugger, whose breakpoints are private copies of code
-// pages that the call would drop.
+// pages that the call would drop: false then.
 #pragma once
 
 namespace rt {
 
-void release_code_pages();
+bool release_code_pages();
 
 }  // namespace rt

@@ -24,16 +24,6 @@ long resident_kib() {
   return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-bool under_debugger() {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  char line[256];
-  long tracer = 0;
-  while (f && std::fgets(line, sizeof line, f))
-    if (std::sscanf(line, "TracerPid: %ld", &tracer) == 1) break;
-  if (f) std::fclose(f);
-  return tracer != 0;
-}
-
 struct Shape {
   virtual ~Shape() = default;
   virtual int sides() const = 0;
@@ -54,13 +44,12 @@ std::string work() {
 }
 
 TEST(CodePages, DropsCodeFromTheResidentSetAndTheProgramRunsOn) {
-  if (under_debugger()) GTEST_SKIP() << "release_code_pages() does nothing under a debugger";
   counter = 41;
   const std::string before = work();
   EXPECT_EQ(before, "beta 4 84 0.500000");
   counter = 41;
   const long resident = resident_kib();
-  release_code_pages();
+  if (!release_code_pages()) GTEST_SKIP() << "release_code_pages() does nothing under a debugger";
   const long after = resident_kib();
   EXPECT_EQ(counter, 41);  // written data stays as written
   ASSERT_GT(resident, 0);
