@@ -114,7 +114,10 @@ bool write_exr(const std::string& path, const ImageRgb& image, std::string* erro
   try {
     Imath::Box2i dw = to_box(image.data_window);
     Imf::Header header(to_box(image.display_window), dw);
-    header.compression() = Imf::ZIP_COMPRESSION;
+    // RLE after OpenEXR's byte split and predictor: a rendered image's float noise leaves
+    // deflate (ZIP) little to find, 2-7% smaller files at five times the time (a 400x400
+    // render: 58 ms against 10 ms, a sixth of hm-lights/point's whole run at 8 spp).
+    header.compression() = Imf::RLE_COMPRESSION;
     Imf::FrameBuffer fb;
     const bool layer = !image.layer.empty() && image.layer_rgb.size() == image.rgb.size();
     for (int l = 0; l < (layer ? 2 : 1); ++l)

@@ -5,7 +5,7 @@
 // is the full frame (a crop render's data window sits inside it). Writers
 // write to a temporary file beside the target and rename it over the target
 // only when everything succeeded, so a failure never leaves a half-written or
-// empty output. EXR output is float32 RGB (ZIP), so values above half's 65504
+// empty output. EXR output is float32 RGB (RLE), so values above half's 65504
 // survive; the reader accepts half or float (and a luminance-only Y file as
 // grey). PNG output is an 8-bit sRGB preview of the data window (clamped to
 // [0,1], sRGB transfer curve). Every function returns false with a message
