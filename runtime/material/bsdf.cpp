@@ -76,17 +76,23 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
   Vec3 wo = world_to_local(wo_world), wi;
   if (wo.z == 0) return Rgb(0);
   uint8_t sampled = chosen->flags;
-  Rgb f = chosen->sample_f(wo, &wi, u_remapped, pdf, &sampled);
+  // A non-specular lobe's own value is replaced by the sum over the lobes below.
+  const bool specular = chosen->flags & kSpecular;
+  Rgb f;
+  if (specular)
+    f = chosen->sample_f(wo, &wi, u_remapped, pdf, &sampled);
+  else
+    chosen->sample_wi(wo, &wi, u_remapped, pdf, &sampled);
   if (*pdf == 0) return Rgb(0);
   if (sampled_flags) *sampled_flags = sampled;
   *wi_world = local_to_world(wi);
 
-  if (!(chosen->flags & kSpecular) && matching > 1)
+  if (!specular && matching > 1)
     for (int i = 0; i < n_; ++i)
       if (i != chosen_index && lobes_[i].matches(flags)) *pdf += lobes_[i].pdf(wo, wi);
   if (matching > 1) *pdf /= matching;
 
-  if (!(chosen->flags & kSpecular)) {
+  if (!specular) {
     const bool reflect = dot(*wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
     f = sum_f(lobes_, n_, wo, wi, reflect, flags);
   }

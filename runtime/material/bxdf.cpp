@@ -171,7 +171,10 @@ bool specular_refract(const Bxdf& b, Vec3 wo, Vec3* wi, float* eta_i, float* eta
   return refract(wo, face_forward(Vec3{0, 0, 1}, wo), *eta_i / *eta_t, wi);
 }
 
-Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled) {
+// with_f false: the direction and its pdf only; a non-specular lobe's f comes back 0 (where
+// its f is not part of sampling).
+Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled,
+                 bool with_f) {
   *sampled = b.flags;
   switch (b.kind) {
     case BxdfKind::kLambertianReflection:
@@ -220,7 +223,7 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
       *wi = reflect(wo, wh);
       if (!same_hemisphere(wo, *wi)) return Rgb(0);
       *pdf = b.distribution.pdf(wo, wh) / (4 * dot(wo, wh));
-      return microfacet_reflection_f(b, wo, *wi);
+      return with_f ? microfacet_reflection_f(b, wo, *wi) : Rgb(0);
     }
     case BxdfKind::kMicrofacetTransmission: {
       if (wo.z == 0) return Rgb(0);
@@ -229,7 +232,7 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
       float eta = cos_theta(wo) > 0 ? b.eta_a / b.eta_b : b.eta_b / b.eta_a;
       if (!refract(wo, wh, eta, wi)) return Rgb(0);
       *pdf = microfacet_transmission_pdf(b, wo, *wi);
-      return microfacet_transmission_f(b, wo, *wi);
+      return with_f ? microfacet_transmission_f(b, wo, *wi) : Rgb(0);
     }
     case BxdfKind::kFresnelBlend:
       // Half the samples go to the diffuse term, half to the glossy one.
@@ -253,7 +256,7 @@ Rgb raw_sample_f(const Bxdf& b, Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* 
       return FourierLobe{b.fourier, b.mode}.sample_f(wo, wi, u, pdf);
   }
   *pdf = raw_pdf(b, wo, *wi);
-  return raw_f(b, wo, *wi);
+  return with_f ? raw_f(b, wo, *wi) : Rgb(0);
 }
 
 }  // namespace
@@ -269,9 +272,15 @@ float Bxdf::pdf(Vec3 wo, Vec3 wi) const {
 Rgb Bxdf::sample_f(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags) const {
   uint8_t sampled = flags;
   *pdf = 0;
-  Rgb v = raw_sample_f(*this, wo, wi, u, pdf, &sampled);
+  Rgb v = raw_sample_f(*this, wo, wi, u, pdf, &sampled, true);
   if (sampled_flags) *sampled_flags = sampled;
   return scale * v;
+}
+
+void Bxdf::sample_wi(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags) const {
+  *sampled_flags = flags;
+  *pdf = 0;
+  raw_sample_f(*this, wo, wi, u, pdf, sampled_flags, false);
 }
 
 Bxdf make_lambertian_reflection(Rgb r) {
