@@ -99,6 +99,31 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
   return f;
 }
 
+Rgb Bsdf::f_pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags, float* pdf) const {
+  *pdf = 0;
+  if (n_ == 0) return Rgb(0);
+  Vec3 wo = world_to_local(wo_world), wi = world_to_local(wi_world);
+  if (wo.z == 0) return Rgb(0);
+  const bool reflect = dot(wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
+  Rgb f(0);
+  float sum = 0;
+  int matching = 0;
+  for (int i = 0; i < n_; ++i) {
+    const Bxdf& b = lobes_[i];
+    if (!b.matches(flags)) continue;
+    ++matching;
+    if ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))) {
+      float p;
+      f += b.f_pdf(wo, wi, &p);
+      sum += p;
+    } else {
+      sum += b.pdf(wo, wi);
+    }
+  }
+  *pdf = matching > 0 ? sum / matching : 0;
+  return f;
+}
+
 float Bsdf::pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
   if (n_ == 0) return 0;
   Vec3 wo = world_to_local(wo_world), wi = world_to_local(wi_world);

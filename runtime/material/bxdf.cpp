@@ -163,6 +163,32 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
   return 0;
 }
 
+// raw_f and raw_pdf together. A microfacet reflection lobe computes its half vector, D and
+// lambda(wo) once for both, in the same arithmetic as the two apart (same values).
+Rgb raw_f_pdf(const Bxdf& b, Vec3 wo, Vec3 wi, float* pdf) {
+  if (b.kind != BxdfKind::kMicrofacetReflection) {
+    *pdf = raw_pdf(b, wo, wi);
+    return raw_f(b, wo, wi);
+  }
+  const Vec3 sum = wi + wo;
+  const Vec3 wh = normalize(sum);
+  const bool same_side = same_hemisphere(wo, wi);
+  const float cos_o = abs_cos_theta(wo), cos_i = abs_cos_theta(wi);
+  const bool f_zero = cos_i == 0 || cos_o == 0 || (sum.x == 0 && sum.y == 0 && sum.z == 0);
+  if (!same_side && f_zero) {
+    *pdf = 0;
+    return Rgb(0);
+  }
+  const MicrofacetDistribution& d = b.distribution;
+  const float dh = d.d(wh), lambda_o = d.lambda(wo);
+  *pdf = same_side
+             ? dh * (1 / (1 + lambda_o)) * abs_dot(wo, wh) / abs_cos_theta(wo) / (4 * dot(wo, wh))
+             : 0;
+  if (f_zero) return Rgb(0);
+  Rgb fr = b.fresnel.evaluate(dot(wi, face_forward(wh, Vec3{0, 0, 1})));
+  return b.r * fr * (dh * (1 / (1 + lambda_o + d.lambda(wi))) / (4 * cos_i * cos_o));
+}
+
 // Refraction through the +z interface; which side wo is on picks the indices.
 bool specular_refract(const Bxdf& b, Vec3 wo, Vec3* wi, float* eta_i, float* eta_t) {
   bool entering = cos_theta(wo) > 0;
@@ -267,6 +293,10 @@ Rgb Bxdf::f(Vec3 wo, Vec3 wi) const {
 
 float Bxdf::pdf(Vec3 wo, Vec3 wi) const {
   return raw_pdf(*this, wo, wi);
+}
+
+Rgb Bxdf::f_pdf(Vec3 wo, Vec3 wi, float* pdf) const {
+  return scale * raw_f_pdf(*this, wo, wi, pdf);
 }
 
 Rgb Bxdf::sample_f(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags) const {

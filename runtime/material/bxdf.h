@@ -78,6 +78,8 @@ struct Bxdf {
   // (optional) gets the flags of what was sampled (FresnelSpecular reports
   // the reflection or the transmission it chose).
   Rgb sample_f(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags = nullptr) const;
+  // f and pdf at once (the values f() and pdf() give).
+  Rgb f_pdf(Vec3 wo, Vec3 wi, float* pdf) const;
   // sample_f's wi, pdf and flags without its value, for a caller that evaluates f itself (a
   // BSDF sums every lobe's f at a non-specular wi).
   void sample_wi(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags) const;

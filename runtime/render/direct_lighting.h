@@ -45,14 +45,18 @@ struct VertexScatter {
     if (!shape || !shape->medium_transition()) return medium;
     return dot(w, n) > 0 ? shape->outside_medium : shape->inside_medium;
   }
+  // pdf null: the caller needs no density (a delta light's sample has no MIS weight).
   template <bool kMedia>
   Rgb f(Vec3 wi, float* pdf) const {
     const uint8_t flags = kAllBxdf & ~kSpecular;
     if constexpr (kMedia) {
-      if (!bsdf) return Rgb(*pdf = phase_hg(dot(wo, wi), g));
+      if (!bsdf) {
+        const float p = phase_hg(dot(wo, wi), g);
+        if (pdf) *pdf = p;
+        return Rgb(p);
+      }
     }
-    *pdf = bsdf->pdf(wo, wi, flags);
-    return bsdf->f(wo, wi, flags) * abs_dot(wi, ns);
+    return (pdf ? bsdf->f_pdf(wo, wi, flags, pdf) : bsdf->f(wo, wi, flags)) * abs_dot(wi, ns);
   }
   template <bool kMedia>
   Rgb sample(Vec2 u, Vec3* wi, float* pdf, bool* specular) const {
@@ -90,7 +94,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   const bool delta = lights.is_delta(light);
   if (ls.pdf > 0 && !li.is_black()) {
     float scattering_pdf = 0;
-    Rgb f = sc.template f<kMedia>(ls.wi, &scattering_pdf);
+    Rgb f = sc.template f<kMedia>(ls.wi, delta ? nullptr : &scattering_pdf);
     if (!f.is_black()) {
       ++c->shadow_rays;
       if constexpr (kMedia)
