@@ -78,7 +78,7 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
   uint8_t sampled = chosen->flags;
   // A non-specular lobe's own value is replaced by the sum over the lobes below.
   const bool specular = chosen->flags & kSpecular;
-  Rgb f;
+  Rgb f(0);
   if (specular)
     f = chosen->sample_f(wo, &wi, u_remapped, pdf, &sampled);
   else
@@ -87,15 +87,28 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
   if (sampled_flags) *sampled_flags = sampled;
   *wi_world = local_to_world(wi);
 
-  if (!specular && matching > 1)
-    for (int i = 0; i < n_; ++i)
-      if (i != chosen_index && lobes_[i].matches(flags)) *pdf += lobes_[i].pdf(wo, wi);
-  if (matching > 1) *pdf /= matching;
-
   if (!specular) {
+    // The other lobes' pdfs are added to the chosen one's, and every lobe on wi's side gives
+    // its f (as f() sums them); a lobe that gives both computes them at once.
     const bool reflect = dot(*wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
-    f = sum_f(lobes_, n_, wo, wi, reflect, flags);
+    for (int i = 0; i < n_; ++i) {
+      const Bxdf& b = lobes_[i];
+      if (!b.matches(flags)) continue;
+      const bool other = i != chosen_index;
+      if ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))) {
+        if (other) {
+          float p;
+          f += b.f_pdf(wo, wi, &p);
+          *pdf += p;
+        } else {
+          f += b.f(wo, wi);
+        }
+      } else if (other) {
+        *pdf += b.pdf(wo, wi);
+      }
+    }
   }
+  if (matching > 1) *pdf /= matching;
   return f;
 }
 
