@@ -70,19 +70,16 @@ bool ref_inside_sphere(const ShapeInfo& s, float radius, const Interaction& ref,
 Interaction area_sample_as_solid_angle(const ShapeInfo& s, uint32_t prim, const Interaction& ref,
                                        Vec2 u, float* pdf, const WorldTriangle* t) {
   Interaction it = sample_shape_area(s, prim, u, pdf, t);
-  Vec3 wi = it.p - ref.p;
-  float d2 = length_squared(wi);
-  if (*pdf == 0 || d2 == 0) {
-    *pdf = 0;
-    return it;
-  }
-  wi = normalize(wi);
-  *pdf *= d2 / abs_dot(it.n, -wi);
-  if (!std::isfinite(*pdf)) *pdf = 0;
+  *pdf = area_pdf_as_solid_angle(it, ref, *pdf);
   return it;
 }
 
 }  // namespace
+
+Vec3 interpolated_mesh_normal(const ShapeInfo& s, uint32_t prim, float b0, float b1, float b2) {
+  const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
+  return b0 * mesh_normal(s, v[0]) + b1 * mesh_normal(s, v[1]) + b2 * mesh_normal(s, v[2]);
+}
 
 WorldTriangle world_triangle(const ShapeInfo& s, uint32_t prim) {
   const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
@@ -110,23 +107,8 @@ Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* 
   *pdf_area = 0;
   if (!can_sample(s.kind)) return it;
   const Transform& m = s.object_to_world;
-  if (s.kind == ShapeKind::kTriangles) {
-    const WorldTriangle t = tri ? *tri : world_triangle(s, prim);
-    Vec2 b = uniform_sample_triangle(u);
-    float b2 = 1 - b.x - b.y;
-    it.p = b.x * t.p0 + b.y * t.p1 + b2 * t.p2;
-    it.p_error = gamma_bound(6) * (abs(b.x * t.p0) + abs(b.y * t.p1) + abs(b2 * t.p2));
-    it.n = t.n;
-    if (s.mesh.normals) {
-      const uint32_t* v = s.mesh.indices + 3 * size_t(prim);
-      Vec3 ns = b.x * mesh_normal(s, v[0]) + b.y * mesh_normal(s, v[1]) + b2 * mesh_normal(s, v[2]);
-      it.n = face_forward(it.n, ns);
-    } else if (s.flip_normals()) {
-      it.n = -it.n;
-    }
-    *pdf_area = t.area > 0 && !it.n.has_nan() ? 1 / t.area : 0;
-    return it;
-  }
+  if (s.kind == ShapeKind::kTriangles)
+    return sample_triangle_area(s, prim, tri ? *tri : world_triangle(s, prim), u, pdf_area);
   QuadricShape q = make_quadric_shape(s);
   Vec3 p_obj, p_obj_err;
   switch (s.kind) {

@@ -9,6 +9,7 @@
 // is unusable (degenerate geometry, the reference point on the shape).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "runtime/core/interaction.h"
@@ -24,6 +25,40 @@ struct WorldTriangle {
   float area = 0;
 };
 WorldTriangle world_triangle(const ShapeInfo& s, uint32_t prim);
+
+// Triangle prim's vertex normals interpolated at barycentrics b (world space, unnormalised).
+Vec3 interpolated_mesh_normal(const ShapeInfo& s, uint32_t prim, float b0, float b1, float b2);
+
+// sample_shape_area for triangle prim of mesh s, whose world triangle is t. Inline, with the
+// conversion below: an emitting triangle is sampled at every light sample of a path, and the
+// calls and copies around these few lines cost as much as they do.
+inline Interaction sample_triangle_area(const ShapeInfo& s, uint32_t prim, const WorldTriangle& t,
+                                        Vec2 u, float* pdf_area) {
+  Interaction it;
+  const float su0 = std::sqrt(u.x);  // uniform_sample_triangle
+  const float b0 = 1 - su0, b1 = u.y * su0, b2 = 1 - b0 - b1;
+  it.p = b0 * t.p0 + b1 * t.p1 + b2 * t.p2;
+  it.p_error = gamma_bound(6) * (abs(b0 * t.p0) + abs(b1 * t.p1) + abs(b2 * t.p2));
+  it.n = t.n;
+  if (s.mesh.normals)
+    it.n = face_forward(it.n, interpolated_mesh_normal(s, prim, b0, b1, b2));
+  else if (s.flip_normals())
+    it.n = -it.n;
+  *pdf_area = t.area > 0 && !it.n.has_nan() ? 1 / t.area : 0;
+  return it;
+}
+
+// pbrt-v3's Shape::Sample(ref, u) for shapes sampled by area: the area pdf of the point `it`
+// turned into a solid-angle pdf seen from ref (0 when unusable).
+inline float area_pdf_as_solid_angle(const Interaction& it, const Interaction& ref,
+                                     float pdf_area) {
+  Vec3 wi = it.p - ref.p;
+  const float d2 = length_squared(wi);
+  if (pdf_area == 0 || d2 == 0) return 0;
+  wi = normalize(wi);
+  const float pdf = pdf_area * (d2 / abs_dot(it.n, -wi));
+  return std::isfinite(pdf) ? pdf : 0;
+}
 
 // World-space area (triangle prim of a mesh, or the quadric; prim ignored for quadrics).
 float shape_area(const ShapeInfo& s, uint32_t prim, const WorldTriangle* t = nullptr);

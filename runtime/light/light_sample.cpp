@@ -137,7 +137,13 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
     case LightKind::kArea: {
       const ShapeInfo& shape = (*shapes_)[e.shape];
       float pdf = 0;
-      Interaction it = sample_shape_from(shape, e.prim, ref, u, &pdf, triangle(light, shape));
+      Interaction it;
+      if (shape.kind == ShapeKind::kTriangles) {  // sample_shape_from's work, inline
+        it = sample_triangle_area(shape, e.prim, triangles_[light], u, &pdf);
+        pdf = area_pdf_as_solid_angle(it, ref, pdf);
+      } else {
+        it = sample_shape_from(shape, e.prim, ref, u, &pdf);
+      }
       it.time = ref.time;
       if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
       s->wi = normalize(it.p - ref.p);
