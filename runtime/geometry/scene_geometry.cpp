@@ -973,6 +973,14 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
 }
 
 bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
+  PendingHit pending;
+  if (!intersect_ids(ray, si, &pending)) return false;
+  complete(pending, ray, si);
+  return true;
+}
+
+bool SceneGeometry::intersect_ids(const Ray& ray, SurfaceInteraction* si,
+                                  PendingHit* pending) const {
   if (!impl_ || !(ray.tmax > 0)) return false;
   QueryContext ctx;
   rtcInitIntersectContext(&ctx.rtc);
@@ -996,13 +1004,27 @@ bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
     si->face_index = 0;
     si->dpdx = si->dpdy = Vec3{};
     si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+    pending->geom = nullptr;
   } else {
-    impl_->fill_triangle(*g, inst, rh.hit.primID, rh.hit.u, rh.hit.v, ray, &rh.ray.tfar, si);
+    si->prim = rh.hit.primID;
+    *pending = {g, inst, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar};
   }
   si->shape = g->shape;
   si->instance = inst ? inst->archive_instance : kNone;
   si->t_hit = rh.ray.tfar;
   return true;
+}
+
+void SceneGeometry::complete(const PendingHit& pending, const Ray& ray,
+                             SurfaceInteraction* si) const {
+  if (!pending.geom) return;
+  const auto* g = static_cast<const GeomData*>(pending.geom);
+  const auto* inst = static_cast<const InstanceData*>(pending.inst);
+  float t = pending.t;
+  impl_->fill_triangle(*g, inst, pending.prim, pending.u, pending.v, ray, &t, si);
+  si->shape = g->shape;
+  si->instance = inst ? inst->archive_instance : kNone;
+  si->t_hit = t;
 }
 
 bool SceneGeometry::occluded(const Ray& ray, uint32_t skip_shape) const {

@@ -76,6 +76,18 @@ class SceneGeometry {
   // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
   // not the differentials (SurfaceInteraction::compute_differentials).
   bool intersect(const Ray& ray, SurfaceInteraction* si) const;
+  // The same hit in two steps, for a caller that may need only what was hit: intersect_ids()
+  // fills si's shape, prim and instance (a quadric's or curve's whole interaction too: it is
+  // made while Embree traverses) and keeps the rest of the hit in *pending; complete() then
+  // fills si as intersect() would have (nothing to do for quadrics and curves).
+  struct PendingHit {
+    const void* geom = nullptr;  // a triangle mesh's geometry record, or null (si is whole)
+    const void* inst = nullptr;
+    uint32_t prim = 0;
+    float u = 0, v = 0, t = 0;
+  };
+  bool intersect_ids(const Ray& ray, SurfaceInteraction* si, PendingHit* pending) const;
+  void complete(const PendingHit& pending, const Ray& ray, SurfaceInteraction* si) const;
   // Any hit in (0, ray.tmax). skip_shape: a world sphere or disk that the
   // caller knows cannot block this ray (an area light's own shape, for a
   // shadow ray to a point sampled on it; LightSample::own_shape): its test

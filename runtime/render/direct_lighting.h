@@ -117,19 +117,23 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   if (f.is_black() || scattering_pdf <= 0) return ld;
   Ray ray = it.spawn_ray(wi);
   SurfaceInteraction hit;
+  // Without media only a hit on this light is read: the rest of a triangle's interaction
+  // waits until it is one.
+  SceneGeometry::PendingHit pending;
   Rgb tr(1.f);
   bool found;
   if constexpr (kMedia) {
     found = intersect_tr(scene, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
   } else {
     ++c->rays;
-    found = scene.geometry.intersect(ray, &hit);
+    found = scene.geometry.intersect_ids(ray, &hit, &pending);
   }
   Rgb le;
   float light_pdf = 0;
   if (found) {
     if constexpr (kAreaLights) {
       if (lights.area_light_at(hit) == light) {
+        if constexpr (!kMedia) scene.geometry.complete(pending, ray, &hit);
         le = lights.area_le(hit, -wi);
         if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, &hit);
       }
