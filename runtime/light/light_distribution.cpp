@@ -18,6 +18,8 @@ namespace {
 
 constexpr int kMaxVoxels = 64;
 constexpr int kVoxelSamples = 128;
+// Lights whose grid points are kept: 128 points each, 60 bytes a point (480 KiB at most).
+constexpr int kPointLights = 64;
 // Flat records: a state word, the integral, n values and n + 1 cdf entries,
 // padded to a power of two of at most 16 words (64 bytes, one cache line).
 constexpr int kFlatLights = 6;
@@ -143,6 +145,16 @@ bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bound
   const size_t voxels = size_t(nvoxels_[0]) * nvoxels_[1] * nvoxels_[2];
   cache_ = std::make_shared<VoxelCache>(voxels);
   if (n <= uint32_t(kFlatLights)) flat_ = std::make_shared<FlatTable>(voxels, int(n));
+  grid_points_.clear();
+  if (n <= uint32_t(kPointLights)) {
+    grid_points_.resize(size_t(kVoxelSamples) * n);
+    const VoxelSample* samples = voxel_samples();
+    for (int i = 0; i < kVoxelSamples; ++i)
+      for (uint32_t j = 0; j < n; ++j) {
+        GridPoint& g = grid_points_[size_t(i) * n + j];
+        g.on_triangle = lights.triangle_point(j, samples[i].u, &g.it, &g.pdf_area);
+      }
+  }
   return true;
 }
 
@@ -212,8 +224,11 @@ const Distribution1D& LightDistribution::voxel_distribution(size_t index) const 
     Interaction ref;  // a point in free space: no normal, time 0
     ref.p = {lerp(vs.p[0], lo.x, hi.x), lerp(vs.p[1], lo.y, hi.y), lerp(vs.p[2], lo.z, hi.z)};
     ref.wo = {1, 0, 0};
+    const GridPoint* points = grid_points_.empty() ? nullptr : &grid_points_[size_t(i) * n];
     for (uint32_t j = 0; j < n; ++j) {
-      Rgb li = lights_->sample_li(j, ref, vs.u, &s);
+      Rgb li = points && points[j].on_triangle
+                   ? lights_->li_at_triangle_point(j, ref, points[j].it, points[j].pdf_area, &s)
+                   : lights_->sample_li(j, ref, vs.u, &s);
       if (s.pdf > 0) contrib[j] += li.luminance() / s.pdf;
     }
   }

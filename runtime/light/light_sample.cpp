@@ -105,12 +105,47 @@ Rgb LightSet::infinite_at(const InfiniteLight& il, Vec2 uv) const {
   return il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(uv) * il.l;
 }
 
-Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const {
-  const Entry& e = entries_[light];
+namespace {
+void clear(LightSample* s) {
   s->li = Rgb();
   s->pdf = 0;
   s->delta = false;
   s->own_shape = kNone;
+}
+}  // namespace
+
+bool LightSet::triangle_point(uint32_t light, Vec2 u, Interaction* it, float* pdf_area) const {
+  const Entry& e = entries_[light];
+  if (e.kind != LightKind::kArea) return false;
+  const ShapeInfo& shape = (*shapes_)[e.shape];
+  if (shape.kind != ShapeKind::kTriangles) return false;
+  *it = sample_triangle_area(shape, e.prim, triangles_[light], u, pdf_area);
+  return true;
+}
+
+Rgb LightSet::li_at_triangle_point(uint32_t light, const Interaction& ref, Interaction it,
+                                   float pdf_area, LightSample* s) const {
+  clear(s);
+  return area_li(light, ref, it, area_pdf_as_solid_angle(it, ref, pdf_area), s);
+}
+
+Rgb LightSet::area_li(uint32_t light, const Interaction& ref, Interaction it, float pdf,
+                      LightSample* s) const {
+  const Entry& e = entries_[light];
+  const ShapeInfo& shape = (*shapes_)[e.shape];
+  it.time = ref.time;
+  if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
+  s->wi = normalize(it.p - ref.p);
+  s->pdf = pdf;
+  s->p_light = it;
+  if (shape.kind == ShapeKind::kSphere || shape.kind == ShapeKind::kDisk) s->own_shape = e.shape;
+  s->li = emitters_[e.data].l_along(it.n, -s->wi);
+  return s->li;
+}
+
+Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const {
+  const Entry& e = entries_[light];
+  clear(s);
   switch (e.kind) {
     case LightKind::kPoint:
     case LightKind::kSpot:
@@ -135,24 +170,11 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
       return s->li;
     }
     case LightKind::kArea: {
-      const ShapeInfo& shape = (*shapes_)[e.shape];
-      float pdf = 0;
       Interaction it;
-      if (shape.kind == ShapeKind::kTriangles) {  // sample_shape_from's work, inline
-        it = sample_triangle_area(shape, e.prim, triangles_[light], u, &pdf);
-        pdf = area_pdf_as_solid_angle(it, ref, pdf);
-      } else {
-        it = sample_shape_from(shape, e.prim, ref, u, &pdf);
-      }
-      it.time = ref.time;
-      if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
-      s->wi = normalize(it.p - ref.p);
-      s->pdf = pdf;
-      s->p_light = it;
-      if (shape.kind == ShapeKind::kSphere || shape.kind == ShapeKind::kDisk)
-        s->own_shape = e.shape;
-      s->li = emitters_[e.data].l_along(it.n, -s->wi);
-      return s->li;
+      float pdf = 0;
+      if (triangle_point(light, u, &it, &pdf)) return li_at_triangle_point(light, ref, it, pdf, s);
+      it = sample_shape_from((*shapes_)[e.shape], e.prim, ref, u, &pdf);
+      return area_li(light, ref, it, pdf, s);
     }
     case LightKind::kInfinite: {
       const InfiniteLight& il = infinite_[e.data];

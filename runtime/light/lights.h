@@ -78,6 +78,13 @@ class LightSet {
   bool is_delta(uint32_t light) const;
   int nsamples(uint32_t light) const;
   Rgb sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const;
+  // sample_li in two steps, for callers that sample one light with the same u from many
+  // points (the spatial light grid): a light on a triangle samples the same point for a given
+  // u wherever ref is. triangle_point gives that point and its area pdf (false for other
+  // lights); li_at_triangle_point then gives what sample_li gives, bit for bit.
+  bool triangle_point(uint32_t light, Vec2 u, Interaction* it, float* pdf_area) const;
+  Rgb li_at_triangle_point(uint32_t light, const Interaction& ref, Interaction it, float pdf_area,
+                           LightSample* s) const;
   float pdf_li(uint32_t light, const Interaction& ref, Vec3 wi, const Interaction* hit) const;
   uint32_t area_light_at(const SurfaceInteraction& hit) const;  // kNone if not emitting
   Rgb area_le(const SurfaceInteraction& hit, Vec3 w) const;
@@ -177,6 +184,9 @@ class LightSet {
   // By light index, for emitting triangles (empty when there are none): the world-space
   // triangle every sample and pdf of that light would otherwise transform and measure again.
   std::vector<WorldTriangle> triangles_;
+  // sample_li's area light case from a sampled point it with solid-angle pdf.
+  Rgb area_li(uint32_t light, const Interaction& ref, Interaction it, float pdf,
+              LightSample* s) const;
   const WorldTriangle* triangle(uint32_t light, const ShapeInfo& shape) const {
     return shape.kind == ShapeKind::kTriangles ? &triangles_[light] : nullptr;
   }

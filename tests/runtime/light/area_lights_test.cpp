@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "light_test_scene.h"
 
@@ -211,6 +212,76 @@ TEST(AreaLights, ShapesPbrtCannotSampleAreNotSupported) {
         << error;
     EXPECT_NE(error.find("scene.pbrt:4"), std::string::npos) << error;
   }
+}
+
+}  // namespace
+}  // namespace rt
+
+namespace rt {
+namespace {
+
+bool same_bits(const void* a, const void* b, size_t n) {
+  return std::memcmp(a, b, n) == 0;
+}
+
+// The light grid samples a triangle light's point once per sample value
+// (LightSet::triangle_point) and finishes each voxel's sample from it: that must be sample_li,
+// bit for bit, from every reference point (the point may not depend on ref); other lights
+// have no such point. (The irradiance tests above check sample_li itself.)
+TEST(AreaLights, TrianglePointThenLiIsSampleLi) {
+  LightScene s;
+  ASSERT_TRUE(load_light_scene("area_triangle_point", R"(
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [4 3 2]
+  Shape "trianglemesh" "integer indices" [0 1 2  0 2 3]
+    "point P" [-1 -1 3  1 -1 3  1 1 3.2  -1 1 3] "normal N" [0 0 -1  0 0.1 -1  0 0 -1  0.1 0 -1]
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 1 1] "bool twosided" "true"
+  ReverseOrientation
+  Shape "trianglemesh" "integer indices" [0 1 2] "point P" [3 0 0  3 1 0  3 0 1]
+AttributeEnd
+AttributeBegin
+  AreaLightSource "diffuse" "rgb L" [1 1 1]
+  Translate 0 -3 0
+  Shape "sphere" "float radius" 0.5
+AttributeEnd
+LightSource "point" "rgb I" [1 1 1] "point from" [0 0 5]
+)",
+                               box({-4, -4, -4}, {4, 4, 4}), &s));
+  ASSERT_EQ(s.lights.count(), 5u);
+  Rng rng(9);
+  int compared = 0, triangle_lights = 0;
+  for (uint32_t light = 0; light < s.lights.count(); ++light) {
+    Interaction unused;
+    float unused_pdf;
+    triangle_lights += s.lights.triangle_point(light, {0.5f, 0.5f}, &unused, &unused_pdf);
+  }
+  EXPECT_EQ(triangle_lights, 3);  // not the sphere, not the point light
+  for (uint32_t light = 0; light < s.lights.count(); ++light)
+    for (int i = 0; i < 100; ++i) {
+      // One point per sample value, used from many reference points, as the grid uses it.
+      const Vec2 u{rng.next_float(), rng.next_float()};
+      Interaction it;
+      float pdf_area = 0;
+      if (!s.lights.triangle_point(light, u, &it, &pdf_area)) continue;
+      for (int r = 0; r < 5; ++r) {
+        Interaction ref;
+        ref.p = {6 * rng.next_float() - 3, 6 * rng.next_float() - 3, 6 * rng.next_float() - 3};
+        ref.wo = {1, 0, 0};
+        LightSample a, b;
+        const Rgb la = s.lights.sample_li(light, ref, u, &a);
+        const Rgb lb = s.lights.li_at_triangle_point(light, ref, it, pdf_area, &b);
+        ASSERT_TRUE(same_bits(&la, &lb, sizeof la)) << light << " " << i;
+        ASSERT_TRUE(same_bits(&a.pdf, &b.pdf, sizeof a.pdf));
+        ASSERT_TRUE(same_bits(&a.wi, &b.wi, sizeof a.wi));
+        ASSERT_TRUE(same_bits(&a.p_light.p, &b.p_light.p, sizeof a.p_light.p));
+        ASSERT_TRUE(same_bits(&a.p_light.n, &b.p_light.n, sizeof a.p_light.n));
+        ASSERT_EQ(a.own_shape, b.own_shape);
+        compared += a.pdf > 0;
+      }
+    }
+  EXPECT_GT(compared, 1000);  // both sides of the one-sided lights were reached
 }
 
 }  // namespace
