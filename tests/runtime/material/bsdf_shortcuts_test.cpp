@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "lobe_checks.h"
 #include "runtime/core/rng.h"
 #include "runtime/core/sampling.h"
 #include "runtime/material/bsdf.h"
@@ -15,11 +16,7 @@ namespace rt {
 namespace {
 
 MicrofacetDistribution tr(float ax, float ay, MicrofacetKind kind) {
-  MicrofacetDistribution d;
-  d.kind = kind;
-  d.alpha_x = ax;
-  d.alpha_y = ay;
-  return d;
+  return material_test::microfacet(kind, ax, ay);
 }
 
 bool same_bits(float a, float b) {

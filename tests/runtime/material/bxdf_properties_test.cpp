@@ -6,6 +6,7 @@
 
 #include <complex>
 
+#include "lobe_checks.h"
 #include "runtime/core/rng.h"
 #include "runtime/core/sampling.h"
 #include "runtime/material/bxdf.h"
@@ -15,10 +16,7 @@ namespace rt {
 namespace {
 
 MicrofacetDistribution tr(float ax, float ay) {
-  MicrofacetDistribution d;
-  d.alpha_x = ax;
-  d.alpha_y = ay;
-  return d;
+  return material_test::microfacet(MicrofacetKind::kTrowbridgeReitz, ax, ay);
 }
 
 TEST(Fresnel, DielectricNormalIncidenceAndTotalInternalReflection) {

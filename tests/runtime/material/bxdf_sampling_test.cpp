@@ -30,13 +30,7 @@ struct LobeCase {
   int chi2_samples = 100000;
 };
 
-MicrofacetDistribution distribution(MicrofacetKind kind, float ax, float ay) {
-  MicrofacetDistribution d;
-  d.kind = kind;
-  d.alpha_x = ax;
-  d.alpha_y = ay;
-  return d;
-}
+using material_test::microfacet;
 
 std::vector<LobeCase> lobe_cases() {
   const Rgb copper_eta(0.2f, 0.92f, 1.1f), copper_k(3.9f, 2.45f, 2.14f);
@@ -46,23 +40,23 @@ std::vector<LobeCase> lobe_cases() {
       {"lambertian_reflection", make_lambertian_reflection(Rgb(0.5f))},
       {"lambertian_transmission", make_lambertian_transmission(Rgb(0.5f))},
       {"oren_nayar", make_oren_nayar(Rgb(0.8f), 30)},
-      {"tr_reflection_dielectric", make_microfacet_reflection(Rgb(1), distribution(tr, 0.3f, 0.3f),
+      {"tr_reflection_dielectric", make_microfacet_reflection(Rgb(1), microfacet(tr, 0.3f, 0.3f),
                                                               Fresnel::dielectric(1.5f, 1))},
       {"tr_reflection_anisotropic_conductor",
-       make_microfacet_reflection(Rgb(1), distribution(tr, 0.15f, 0.5f),
+       make_microfacet_reflection(Rgb(1), microfacet(tr, 0.15f, 0.5f),
                                   Fresnel::conductor(Rgb(1), copper_eta, copper_k))},
       {"beckmann_reflection",
-       make_microfacet_reflection(Rgb(1), distribution(beck, 0.3f, 0.3f), Fresnel::no_op())},
+       make_microfacet_reflection(Rgb(1), microfacet(beck, 0.3f, 0.3f), Fresnel::no_op())},
       {"beckmann_reflection_anisotropic",
-       make_microfacet_reflection(Rgb(1), distribution(beck, 0.5f, 0.2f), Fresnel::no_op())},
+       make_microfacet_reflection(Rgb(1), microfacet(beck, 0.5f, 0.2f), Fresnel::no_op())},
       {"tr_transmission",
-       make_microfacet_transmission(Rgb(1), distribution(tr, 0.3f, 0.3f), 1, 1.5f,
+       make_microfacet_transmission(Rgb(1), microfacet(tr, 0.3f, 0.3f), 1, 1.5f,
                                     TransportMode::kRadiance),
        25000},
       {"beckmann_transmission_anisotropic",
-       make_microfacet_transmission(Rgb(1), distribution(beck, 0.2f, 0.4f), 1, 1.33f,
+       make_microfacet_transmission(Rgb(1), microfacet(beck, 0.2f, 0.4f), 1, 1.33f,
                                     TransportMode::kImportance)},
-      {"fresnel_blend", make_fresnel_blend(Rgb(0.5f), Rgb(0.3f), distribution(tr, 0.25f, 0.25f))},
+      {"fresnel_blend", make_fresnel_blend(Rgb(0.5f), Rgb(0.3f), microfacet(tr, 0.25f, 0.25f))},
   };
 }
 

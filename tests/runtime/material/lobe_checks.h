@@ -18,8 +18,18 @@
 #include "runtime/core/rng.h"
 #include "runtime/core/sampling.h"
 #include "runtime/material/bxdf.h"
+#include "runtime/material/microfacet.h"
 
 namespace material_test {
+
+// A microfacet distribution with these alphas (the tests' lobes take them as written).
+inline rt::MicrofacetDistribution microfacet(rt::MicrofacetKind kind, float ax, float ay) {
+  rt::MicrofacetDistribution d;
+  d.kind = kind;
+  d.alpha_x = ax;
+  d.alpha_y = ay;
+  return d;
+}
 
 // The least share of sample_f calls that must give a direction with a non-zero pdf. Lobes that
 // sample the hemisphere (or a microfacet normal whose reflection may fall below it, which the
