@@ -70,7 +70,7 @@ bool ref_inside_sphere(const ShapeInfo& s, float radius, const Interaction& ref,
 Interaction area_sample_as_solid_angle(const ShapeInfo& s, uint32_t prim, const Interaction& ref,
                                        Vec2 u, float* pdf, const WorldTriangle* t) {
   Interaction it = sample_shape_area(s, prim, u, pdf, t);
-  *pdf = area_pdf_as_solid_angle(it, ref, *pdf);
+  *pdf = area_pdf_as_solid_angle(it, ref.p, *pdf);
   return it;
 }
 

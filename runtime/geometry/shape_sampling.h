@@ -49,10 +49,9 @@ inline Interaction sample_triangle_area(const ShapeInfo& s, uint32_t prim, const
 }
 
 // pbrt-v3's Shape::Sample(ref, u) for shapes sampled by area: the area pdf of the point `it`
-// turned into a solid-angle pdf seen from ref (0 when unusable).
-inline float area_pdf_as_solid_angle(const Interaction& it, const Interaction& ref,
-                                     float pdf_area) {
-  Vec3 wi = it.p - ref.p;
+// turned into a solid-angle pdf seen from ref_p (0 when unusable).
+inline float area_pdf_as_solid_angle(const Interaction& it, Vec3 ref_p, float pdf_area) {
+  Vec3 wi = it.p - ref_p;
   const float d2 = length_squared(wi);
   if (pdf_area == 0 || d2 == 0) return 0;
   wi = normalize(wi);

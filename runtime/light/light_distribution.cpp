@@ -226,9 +226,11 @@ const Distribution1D& LightDistribution::voxel_distribution(size_t index) const 
     ref.wo = {1, 0, 0};
     const GridPoint* points = grid_points_.empty() ? nullptr : &grid_points_[size_t(i) * n];
     for (uint32_t j = 0; j < n; ++j) {
-      Rgb li = points && points[j].on_triangle
-                   ? lights_->li_at_triangle_point(j, ref, points[j].it, points[j].pdf_area, &s)
-                   : lights_->sample_li(j, ref, vs.u, &s);
+      if (points && points[j].on_triangle) {
+        contrib[j] += lights_->triangle_point_weight(j, ref.p, points[j].it, points[j].pdf_area);
+        continue;
+      }
+      Rgb li = lights_->sample_li(j, ref, vs.u, &s);
       if (s.pdf > 0) contrib[j] += li.luminance() / s.pdf;
     }
   }

@@ -127,7 +127,16 @@ bool LightSet::triangle_point(uint32_t light, Vec2 u, Interaction* it, float* pd
 Rgb LightSet::li_at_triangle_point(uint32_t light, const Interaction& ref, Interaction it,
                                    float pdf_area, LightSample* s) const {
   clear(s);
-  return area_li(light, ref, it, area_pdf_as_solid_angle(it, ref, pdf_area), s);
+  return area_li(light, ref, it, area_pdf_as_solid_angle(it, ref.p, pdf_area), s);
+}
+
+float LightSet::triangle_point_weight(uint32_t light, Vec3 ref_p, const Interaction& it,
+                                      float pdf_area) const {
+  // What li_at_triangle_point's sample gives the grid, li.luminance() / pdf, in its arithmetic.
+  const float pdf = area_pdf_as_solid_angle(it, ref_p, pdf_area);
+  if (pdf == 0 || length_squared(it.p - ref_p) == 0) return 0;
+  const Vec3 wi = normalize(it.p - ref_p);
+  return emitters_[entries_[light].data].l_along(it.n, -wi).luminance() / pdf;
 }
 
 Rgb LightSet::area_li(uint32_t light, const Interaction& ref, Interaction it, float pdf,

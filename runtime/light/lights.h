@@ -85,6 +85,10 @@ class LightSet {
   bool triangle_point(uint32_t light, Vec2 u, Interaction* it, float* pdf_area) const;
   Rgb li_at_triangle_point(uint32_t light, const Interaction& ref, Interaction it, float pdf_area,
                            LightSample* s) const;
+  // All the grid reads of that sample, from a point in free space: li.luminance() / pdf, the
+  // same value (0 where the sample's pdf is 0).
+  float triangle_point_weight(uint32_t light, Vec3 ref_p, const Interaction& it,
+                              float pdf_area) const;
   float pdf_li(uint32_t light, const Interaction& ref, Vec3 wi, const Interaction* hit) const;
   uint32_t area_light_at(const SurfaceInteraction& hit) const;  // kNone if not emitting
   Rgb area_le(const SurfaceInteraction& hit, Vec3 w) const;

@@ -227,7 +227,8 @@ bool same_bits(const void* a, const void* b, size_t n) {
 // The light grid samples a triangle light's point once per sample value
 // (LightSet::triangle_point) and finishes each voxel's sample from it: that must be sample_li,
 // bit for bit, from every reference point (the point may not depend on ref); other lights
-// have no such point. (The irradiance tests above check sample_li itself.)
+// have no such point; triangle_point_weight is the sample's luminance over its pdf. (The
+// irradiance tests above check sample_li itself.)
 TEST(AreaLights, TrianglePointThenLiIsSampleLi) {
   LightScene s;
   ASSERT_TRUE(load_light_scene("area_triangle_point", R"(
@@ -278,6 +279,10 @@ LightSource "point" "rgb I" [1 1 1] "point from" [0 0 5]
         ASSERT_TRUE(same_bits(&a.p_light.p, &b.p_light.p, sizeof a.p_light.p));
         ASSERT_TRUE(same_bits(&a.p_light.n, &b.p_light.n, sizeof a.p_light.n));
         ASSERT_EQ(a.own_shape, b.own_shape);
+        // What the grid adds for this sample: the same value, 0 without a sample.
+        const float weight = a.pdf > 0 ? la.luminance() / a.pdf : 0.f;
+        const float grid = s.lights.triangle_point_weight(light, ref.p, it, pdf_area);
+        ASSERT_TRUE(same_bits(&weight, &grid, sizeof grid)) << weight << " " << grid;
         compared += a.pdf > 0;
       }
     }
