@@ -44,11 +44,6 @@ Vec3 uniform_sample_cone(Vec2 u, float cos_max) {
   return {std::cos(phi) * sin_theta, std::sin(phi) * sin_theta, cos_theta};
 }
 
-Vec2 uniform_sample_triangle(Vec2 u) {
-  float su0 = std::sqrt(u.x);
-  return {1 - su0, u.y * su0};
-}
-
 Distribution1D::Distribution1D(const float* f, int n, bool view)
     : own_(view ? f + n : f, f + n), func_(view ? f : own_.data()), n_(n), cdf_(n + 1) {
   cdf_[0] = 0;

@@ -35,8 +35,11 @@ Vec3 uniform_sample_cone(Vec2 u, float cos_theta_max);
 inline float uniform_cone_pdf(float cos_theta_max) {
   return 1 / (2 * kPi * (1 - cos_theta_max));
 }
-// Barycentrics (b0, b1) uniform over a triangle.
-Vec2 uniform_sample_triangle(Vec2 u);
+// Barycentrics (b0, b1) uniform over a triangle (inline: every area light sample on a mesh).
+inline Vec2 uniform_sample_triangle(Vec2 u) {
+  const float su0 = std::sqrt(u.x);
+  return {1 - su0, u.y * su0};
+}
 
 inline float power_heuristic(int nf, float f_pdf, int ng, float g_pdf) {
   float f = nf * f_pdf, g = ng * g_pdf;

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "runtime/core/interaction.h"
+#include "runtime/core/sampling.h"
 #include "runtime/geometry/shape_table.h"
 
 namespace rt {
@@ -35,8 +36,8 @@ Vec3 interpolated_mesh_normal(const ShapeInfo& s, uint32_t prim, float b0, float
 inline Interaction sample_triangle_area(const ShapeInfo& s, uint32_t prim, const WorldTriangle& t,
                                         Vec2 u, float* pdf_area) {
   Interaction it;
-  const float su0 = std::sqrt(u.x);  // uniform_sample_triangle
-  const float b0 = 1 - su0, b1 = u.y * su0, b2 = 1 - b0 - b1;
+  const Vec2 b = uniform_sample_triangle(u);
+  const float b0 = b.x, b1 = b.y, b2 = 1 - b0 - b1;
   it.p = b0 * t.p0 + b1 * t.p1 + b2 * t.p2;
   it.p_error = gamma_bound(6) * (abs(b0 * t.p0) + abs(b1 * t.p1) + abs(b2 * t.p2));
   it.n = t.n;

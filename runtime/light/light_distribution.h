@@ -8,8 +8,8 @@
 // at low-discrepancy points inside the voxel (radical inverse in bases 2..11),
 // with every light kept at least 0.001 of the average contribution. A light on a triangle
 // gets the same point for a sample value in every voxel: with up to 64 lights those points
-// are sampled once (a voxel then costs a third as much; at low spp the voxels were a quarter
-// of a path-traced room's time).
+// are sampled once, and a voxel's sample only adds its luminance over pdf (at low spp the
+// voxels were a quarter of a path-traced room's instructions).
 //
 // A voxel's distribution is a pure function of the voxel, so it is computed
 // the first time lookup() meets the voxel (as pbrt-v3 does: an eager grid of
