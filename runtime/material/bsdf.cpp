@@ -30,16 +30,32 @@ int Bsdf::num_components(uint8_t flags) const {
 }
 
 namespace {
-// The lobes matching flags on wi's side of the surface (reflect: wo's), summed.
-Rgb sum_f(const Bxdf* lobes, int n, Vec3 wo, Vec3 wi, bool reflect, uint8_t flags) {
-  Rgb result(0);
+// Over the lobes matching flags: adds to *f the f of those on wi's side of the surface
+// (reflect: wo's), and, when pdf is given, to *pdf the pdf of each but lobe `skip` (whose pdf
+// the caller has); a lobe that gives both computes them at once. Returns how many match.
+// Inlined into each caller (three, on the hot path: left to itself GCC made it a call).
+[[gnu::always_inline]] inline int sum_lobes(const Bxdf* lobes, int n, Vec3 wo, Vec3 wi,
+                                            bool reflect, uint8_t flags, Rgb* f, float* pdf,
+                                            int skip = -1) {
+  int matching = 0;
   for (int i = 0; i < n; ++i) {
     const Bxdf& b = lobes[i];
-    if (b.matches(flags) &&
-        ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))))
-      result += b.f(wo, wi);
+    if (!b.matches(flags)) continue;
+    ++matching;
+    const bool want_pdf = pdf && i != skip;
+    if ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))) {
+      if (want_pdf) {
+        float p;
+        *f += b.f_pdf(wo, wi, &p);
+        *pdf += p;
+      } else {
+        *f += b.f(wo, wi);
+      }
+    } else if (want_pdf) {
+      *pdf += b.pdf(wo, wi);
+    }
   }
-  return result;
+  return matching;
 }
 }  // namespace
 
@@ -48,7 +64,9 @@ Rgb lobes_f(const BsdfFrame& frame, const Bxdf* lobes, int n, Vec3 wo_world, Vec
   Vec3 wi = frame.world_to_local(wi_world), wo = frame.world_to_local(wo_world);
   if (wo.z == 0) return Rgb(0);
   const bool reflect = dot(wi_world, frame.ng) * dot(wo_world, frame.ng) > 0;
-  return sum_f(lobes, n, wo, wi, reflect, flags);
+  Rgb f(0);
+  sum_lobes(lobes, n, wo, wi, reflect, flags, &f, nullptr);
+  return f;
 }
 
 Rgb Bsdf::f(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
@@ -89,24 +107,9 @@ Rgb Bsdf::sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t fl
 
   if (!specular) {
     // The other lobes' pdfs are added to the chosen one's, and every lobe on wi's side gives
-    // its f (as f() sums them); a lobe that gives both computes them at once.
+    // its f (as f() sums them).
     const bool reflect = dot(*wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
-    for (int i = 0; i < n_; ++i) {
-      const Bxdf& b = lobes_[i];
-      if (!b.matches(flags)) continue;
-      const bool other = i != chosen_index;
-      if ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))) {
-        if (other) {
-          float p;
-          f += b.f_pdf(wo, wi, &p);
-          *pdf += p;
-        } else {
-          f += b.f(wo, wi);
-        }
-      } else if (other) {
-        *pdf += b.pdf(wo, wi);
-      }
-    }
+    sum_lobes(lobes_, n_, wo, wi, reflect, flags, &f, pdf, chosen_index);
   }
   if (matching > 1) *pdf /= matching;
   return f;
@@ -120,19 +123,7 @@ Rgb Bsdf::f_pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags, float* pdf) const {
   const bool reflect = dot(wi_world, frame_.ng) * dot(wo_world, frame_.ng) > 0;
   Rgb f(0);
   float sum = 0;
-  int matching = 0;
-  for (int i = 0; i < n_; ++i) {
-    const Bxdf& b = lobes_[i];
-    if (!b.matches(flags)) continue;
-    ++matching;
-    if ((reflect && (b.flags & kReflection)) || (!reflect && (b.flags & kTransmission))) {
-      float p;
-      f += b.f_pdf(wo, wi, &p);
-      sum += p;
-    } else {
-      sum += b.pdf(wo, wi);
-    }
-  }
+  const int matching = sum_lobes(lobes_, n_, wo, wi, reflect, flags, &f, &sum);
   *pdf = matching > 0 ? sum / matching : 0;
   return f;
 }
