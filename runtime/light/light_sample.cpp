@@ -130,13 +130,23 @@ Rgb LightSet::li_at_triangle_point(uint32_t light, const Interaction& ref, Inter
   return area_li(light, ref, it, area_pdf_as_solid_angle(it, ref.p, pdf_area), s);
 }
 
+// Inline: the light grid calls it for every sample of every voxel.
+[[gnu::always_inline]] inline bool LightSet::area_point_li(uint32_t light, Vec3 ref_p,
+                                                           const Interaction& it, float pdf,
+                                                           Vec3* wi, Rgb* li) const {
+  if (pdf == 0 || length_squared(it.p - ref_p) == 0) return false;
+  *wi = normalize(it.p - ref_p);
+  *li = emitters_[entries_[light].data].l_along(it.n, -*wi);
+  return true;
+}
+
 float LightSet::triangle_point_weight(uint32_t light, Vec3 ref_p, const Interaction& it,
                                       float pdf_area) const {
   // What li_at_triangle_point's sample gives the grid, li.luminance() / pdf, in its arithmetic.
   const float pdf = area_pdf_as_solid_angle(it, ref_p, pdf_area);
-  if (pdf == 0 || length_squared(it.p - ref_p) == 0) return 0;
-  const Vec3 wi = normalize(it.p - ref_p);
-  return emitters_[entries_[light].data].l_along(it.n, -wi).luminance() / pdf;
+  Vec3 wi;
+  Rgb li;
+  return area_point_li(light, ref_p, it, pdf, &wi, &li) ? li.luminance() / pdf : 0;
 }
 
 Rgb LightSet::area_li(uint32_t light, const Interaction& ref, Interaction it, float pdf,
@@ -144,12 +154,12 @@ Rgb LightSet::area_li(uint32_t light, const Interaction& ref, Interaction it, fl
   const Entry& e = entries_[light];
   const ShapeInfo& shape = (*shapes_)[e.shape];
   it.time = ref.time;
-  if (pdf == 0 || length_squared(it.p - ref.p) == 0) return s->li;
-  s->wi = normalize(it.p - ref.p);
+  Rgb li;
+  if (!area_point_li(light, ref.p, it, pdf, &s->wi, &li)) return s->li;
   s->pdf = pdf;
   s->p_light = it;
   if (shape.kind == ShapeKind::kSphere || shape.kind == ShapeKind::kDisk) s->own_shape = e.shape;
-  s->li = emitters_[e.data].l_along(it.n, -s->wi);
+  s->li = li;
   return s->li;
 }
 

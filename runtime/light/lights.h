@@ -188,6 +188,10 @@ class LightSet {
   // By light index, for emitting triangles (empty when there are none): the world-space
   // triangle every sample and pdf of that light would otherwise transform and measure again.
   std::vector<WorldTriangle> triangles_;
+  // The radiance an area light's point `it` sends toward ref_p and the direction *wi to it;
+  // false where the sample gives nothing (pdf 0, or it is at ref_p).
+  bool area_point_li(uint32_t light, Vec3 ref_p, const Interaction& it, float pdf, Vec3* wi,
+                     Rgb* li) const;
   // sample_li's area light case from a sampled point it with solid-angle pdf.
   Rgb area_li(uint32_t light, const Interaction& ref, Interaction it, float pdf,
               LightSample* s) const;
