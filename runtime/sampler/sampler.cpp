@@ -28,6 +28,12 @@ bool Sampler::set_sample_number(int64_t n) {
   return sample_index_ < spp_;
 }
 
+bool Sampler::first_read(uint64_t* filled_at) const {
+  if (*filled_at == pixel_serial_) return false;
+  *filled_at = pixel_serial_;
+  return true;
+}
+
 void Sampler::request_1d_array(int n) {
   sizes_1d_.push_back(n);
   arrays_1d_.emplace_back(size_t(n) * size_t(spp_));
@@ -43,20 +49,14 @@ void Sampler::request_2d_array(int n) {
 const float* Sampler::get_1d_array(int n) {
   if (next_1d_array_ == arrays_1d_.size() || sample_index_ >= spp_) return nullptr;
   if (sizes_1d_[next_1d_array_] != n) return nullptr;  // asked out of request order
-  if (filled_1d_[next_1d_array_] != pixel_serial_) {
-    filled_1d_[next_1d_array_] = pixel_serial_;
-    fill_1d_array(next_1d_array_);
-  }
+  if (first_read(&filled_1d_[next_1d_array_])) fill_1d_array(next_1d_array_);
   return &arrays_1d_[next_1d_array_++][size_t(sample_index_) * size_t(n)];
 }
 
 const Vec2* Sampler::get_2d_array(int n) {
   if (next_2d_array_ == arrays_2d_.size() || sample_index_ >= spp_) return nullptr;
   if (sizes_2d_[next_2d_array_] != n) return nullptr;
-  if (filled_2d_[next_2d_array_] != pixel_serial_) {
-    filled_2d_[next_2d_array_] = pixel_serial_;
-    fill_2d_array(next_2d_array_);
-  }
+  if (first_read(&filled_2d_[next_2d_array_])) fill_2d_array(next_2d_array_);
   return &arrays_2d_[next_2d_array_++][size_t(sample_index_) * size_t(n)];
 }
 

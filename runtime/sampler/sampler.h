@@ -99,6 +99,8 @@ class Sampler {
   size_t next_1d_array_ = 0, next_2d_array_ = 0;
 
  private:
+  // True once per pixel for an array (whose filled_* entry it stamps): fill it then.
+  bool first_read(uint64_t* filled_at) const;
   uint64_t pixel_serial_ = 0;                    // start_pixel() calls so far
   std::vector<uint64_t> filled_1d_, filled_2d_;  // the pixel_serial_ each array was filled at
 };
