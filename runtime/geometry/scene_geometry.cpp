@@ -1021,9 +1021,8 @@ void SceneGeometry::complete(const PendingHit& pending, const Ray& ray,
   const auto* g = static_cast<const GeomData*>(pending.geom);
   const auto* inst = static_cast<const InstanceData*>(pending.inst);
   float t = pending.t;
+  // fill_triangle leaves shape and instance as intersect_ids set them.
   impl_->fill_triangle(*g, inst, pending.prim, pending.u, pending.v, ray, &t, si);
-  si->shape = g->shape;
-  si->instance = inst ? inst->archive_instance : kNone;
   si->t_hit = t;
 }
 
