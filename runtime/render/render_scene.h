@@ -32,6 +32,9 @@ struct RenderScene {
   MediumSet media;                 // empty unless the archive's media bit is set
   uint32_t camera_medium = kNone;  // the medium camera rays start in
   uint64_t effects = 0;            // the archive's effect bits
+  // Every shape has a scattering material and none a shadow mask: a ray outside media is
+  // stopped by its first hit, so transmittance() asks only whether there is one.
+  bool opaque_shapes = false;
 };
 
 // Call scene->geometry.set_watertight() first to change that option.

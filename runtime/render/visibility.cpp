@@ -6,11 +6,16 @@ namespace rt {
 Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
                   uint32_t medium, Sampler& sampler, RayCounters* c) {
   Ray ray = from.spawn_ray_to(to);
+  // pbrt-v3 finds every hit whole here; only a surface the ray passes through is read.
+  if (medium == kNone && scene.opaque_shapes)
+    return scene.geometry.occluded(ray) ? Rgb() : Rgb(1.f);
   Rgb tr(1.f);
   for (;;) {
     SurfaceInteraction si;
-    const bool hit = scene.geometry.intersect(ray, &si);
+    SceneGeometry::PendingHit pending;
+    const bool hit = scene.geometry.intersect_ids(ray, &si, &pending);
     if (hit && has_material(scene, si.shape)) return Rgb();
+    if (hit) scene.geometry.complete(pending, ray, &si);
     if (medium != kNone) {
       Ray seg = ray;
       if (hit) seg.tmax = si.t_hit;
