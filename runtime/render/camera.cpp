@@ -216,9 +216,10 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     r.has_differentials = false;
   } else {
     Vec3 p_camera = raster_to_camera_.point({s.p_film.x, s.p_film.y, 0});
+    // One lens point for the ray and both differentials.
+    const Vec2 pl = lens_radius_ > 0 ? concentric_sample_disk(s.p_lens) * lens_radius_ : Vec2{};
     auto thin_lens = [&](Vec3 o, Vec3 d, Vec3* lo, Vec3* ld) {
       if (lens_radius_ > 0) {
-        Vec2 pl = concentric_sample_disk(s.p_lens) * lens_radius_;
         float ft = focal_distance_ / d.z;
         Vec3 focus = o + d * ft;
         *lo = {o.x + pl.x, o.y + pl.y, o.z};
