@@ -76,6 +76,17 @@ void track(const Medium& m, const GridRay& g, Sampler& sampler, Collide&& collid
 
 float Medium::density_at(Vec3 p) const {
   float x = p.x * float(nx) - 0.5f, y = p.y * float(ny) - 0.5f, z = p.z * float(nz) - 0.5f;
+  // Inside the grid's cells (every eight corners there) the floors come from integer
+  // conversions and the corners from one index: SSE2 has no floor, and GCC emulates it.
+  if (x >= 0 && y >= 0 && z >= 0 && x < float(nx - 1) && y < float(ny - 1) && z < float(nz - 1)) {
+    const int ix = int(x), iy = int(y), iz = int(z);
+    const float dx = x - float(ix), dy = y - float(iy), dz = z - float(iz);
+    const size_t sy = size_t(nx), sz = size_t(nx) * size_t(ny);
+    const float* c = density + (size_t(iz) * size_t(ny) + size_t(iy)) * sy + size_t(ix);
+    const float d00 = lerp(dx, c[0], c[1]), d10 = lerp(dx, c[sy], c[sy + 1]);
+    const float d01 = lerp(dx, c[sz], c[sz + 1]), d11 = lerp(dx, c[sz + sy], c[sz + sy + 1]);
+    return lerp(dz, lerp(dy, d00, d10), lerp(dy, d01, d11));
+  }
   float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
   int ix = int(fx), iy = int(fy), iz = int(fz);
   float dx = x - fx, dy = y - fy, dz = z - fz;

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -225,6 +226,55 @@ TEST(Media, TrackingMatchesTheLinearRampAnalytically) {
     den += f;
   }
   EXPECT_NEAR(mean_hit / hits, num / den, 0.005);
+}
+
+// pbrt-v3's GridDensityMedium::Density, written out: trilinear between samples at
+// (i + 1/2) / n, zero outside the grid's samples.
+float reference_density(const std::vector<float>& g, int nx, int ny, int nz, Vec3 p) {
+  const float x = p.x * float(nx) - 0.5f, y = p.y * float(ny) - 0.5f, z = p.z * float(nz) - 0.5f;
+  const int ix = int(std::floor(x)), iy = int(std::floor(y)), iz = int(std::floor(z));
+  const float dx = x - std::floor(x), dy = y - std::floor(y), dz = z - std::floor(z);
+  auto d = [&](int i, int j, int k) {
+    if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return 0.f;
+    return g[size_t((k * ny + j) * nx + i)];
+  };
+  auto lerp1 = [](float t, float a, float b) { return (1 - t) * a + t * b; };
+  const float d00 = lerp1(dx, d(ix, iy, iz), d(ix + 1, iy, iz));
+  const float d10 = lerp1(dx, d(ix, iy + 1, iz), d(ix + 1, iy + 1, iz));
+  const float d01 = lerp1(dx, d(ix, iy, iz + 1), d(ix + 1, iy, iz + 1));
+  const float d11 = lerp1(dx, d(ix, iy + 1, iz + 1), d(ix + 1, iy + 1, iz + 1));
+  return lerp1(dz, lerp1(dy, d00, d10), lerp1(dy, d01, d11));
+}
+
+// Inside the grid and at its edges, on sample positions and cell boundaries and beyond the
+// samples, density_at is pbrt-v3's lookup bit for bit.
+TEST(Media, GridDensityIsTrilinearBitForBit) {
+  const int nx = 11, ny = 6, nz = 4;
+  std::vector<float> density(size_t(nx * ny * nz));
+  Rng rng(11);
+  for (float& d : density) d = rng.next_float() * 3;
+  Medium m;
+  m.kind = MediumKind::kGrid;
+  m.density = density.data();
+  m.nx = nx;
+  m.ny = ny;
+  m.nz = nz;
+  std::vector<Vec3> points;
+  for (int i = 0; i < 20000; ++i)
+    points.push_back({rng.next_float() * 1.2f - 0.1f, rng.next_float() * 1.2f - 0.1f,
+                      rng.next_float() * 1.2f - 0.1f});
+  for (int i = 0; i <= 2 * nx; ++i)  // samples (odd i) and cell boundaries (even i) along x
+    for (int j = 0; j <= 2 * ny; ++j)
+      points.push_back({float(i) / float(2 * nx), float(j) / float(2 * ny), 0.5f});
+  int inside = 0;
+  for (Vec3 p : points) {
+    const float want = reference_density(density, nx, ny, nz, p);
+    const float got = m.density_at(p);
+    ASSERT_EQ(std::memcmp(&want, &got, sizeof(float)), 0)
+        << "at (" << p.x << ", " << p.y << ", " << p.z << "): " << got << " against " << want;
+    inside += want > 0;
+  }
+  EXPECT_GT(inside, 10000);
 }
 
 // The majorant of every cell a ray crosses bounds the density at every point of the crossing;
