@@ -302,12 +302,13 @@ bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const Transform
                           finite_or_zero(d2pduv), finite_or_zero(d2pdvv), rw, si);
 }
 
+// o, d: the ray in object space, its origin past its error (a plane needs no intervals).
 bool intersect_disk(const QuadricShape& q, const ShapeInfo& s, const Transform& world_to_object,
-                    const ObjectRay& r, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
-  if (r.d.z == 0) return false;
-  float t = (q.height - r.o.z) / r.d.z;
+                    Vec3 o, Vec3 d, const Ray& rw, float* t_hit, SurfaceInteraction* si) {
+  if (d.z == 0) return false;
+  float t = (q.height - o.z) / d.z;
   if (!(t > 0) || t >= rw.tmax) return false;
-  Vec3 p = r.o + r.d * t;
+  Vec3 p = o + d * t;
   float dist2 = p.x * p.x + p.y * p.y;
   if (dist2 > q.radius * q.radius || dist2 < q.inner_radius * q.inner_radius) return false;
   float phi = phi_of(p.x, p.y);
@@ -401,8 +402,15 @@ bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transfor
                        const Ray& rw, float* t_hit, SurfaceInteraction* si) {
   if (!is_quadric(s.kind)) return false;
   if (!q.valid) return false;
+  if (s.kind == ShapeKind::kDisk) {
+    // A disk's test reads only the transformed ray, not the intervals the others solve with
+    // (in a scene under a large disk, every ray tests it).
+    Vec3 o_err, d_err;
+    const Vec3 o = world_to_object.point(rw.o, &o_err);
+    const Vec3 d = world_to_object.vector(rw.d, &d_err);
+    return intersect_disk(q, s, world_to_object, origin_past_error(o, d, o_err), d, rw, t_hit, si);
+  }
   ObjectRay r = to_object(world_to_object, rw);
-  if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, world_to_object, r, rw, t_hit, si);
 
   if (!may_hit(q, r)) return false;
   EFloat a, b, c, t0, t1;
