@@ -30,9 +30,9 @@ struct ObjectRay {
   Vec3 box_o_err, box_d_err;
 };
 
-[[gnu::always_inline]] inline ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
+// The ray whose origin o is already past its error, with its intervals.
+[[gnu::always_inline]] inline ObjectRay with_intervals(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
   ObjectRay r;
-  o = origin_past_error(o, d, o_err);
   r.o = o;
   r.d = d;
   r.ox = EFloat(o.x, o_err.x);
@@ -46,13 +46,8 @@ struct ObjectRay {
   return r;
 }
 
-// The ray in object space as pbrt-v3 takes it there: a float transform with
-// its gamma(3) error bounds.
-ObjectRay to_object(const Transform& world_to_object, const Ray& rw) {
-  Vec3 o_err, d_err;
-  Vec3 o = world_to_object.point(rw.o, &o_err);
-  Vec3 d = world_to_object.vector(rw.d, &d_err);
-  return with_errors(o, d, o_err, d_err);
+[[gnu::always_inline]] inline ObjectRay with_errors(Vec3 o, Vec3 d, Vec3 o_err, Vec3 d_err) {
+  return with_intervals(origin_past_error(o, d, o_err), d, o_err, d_err);
 }
 
 // The same ray with the transform evaluated in double: the origin is the
@@ -139,9 +134,9 @@ void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* 
 // from the same coefficient values, without the intervals. Most tests Embree
 // asks for are rays through the box that miss the surface, and they need no
 // interval arithmetic at all.
-bool may_hit(const QuadricShape& q, const ObjectRay& r) {
+bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
   float a, b, c;
-  coefficients<float>(q, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, &a, &b, &c);
+  coefficients<float>(q, o.x, o.y, o.z, d.x, d.y, d.z, &a, &b, &c);
   double disc = double(b) * double(b) - 4.0 * double(a) * double(c);
   return !(disc < 0);
 }
@@ -402,17 +397,16 @@ bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transfor
                        const Ray& rw, float* t_hit, SurfaceInteraction* si) {
   if (!is_quadric(s.kind)) return false;
   if (!q.valid) return false;
-  if (s.kind == ShapeKind::kDisk) {
-    // A disk's test reads only the transformed ray, not the intervals the others solve with
-    // (in a scene under a large disk, every ray tests it).
-    Vec3 o_err, d_err;
-    const Vec3 o = world_to_object.point(rw.o, &o_err);
-    const Vec3 d = world_to_object.vector(rw.d, &d_err);
-    return intersect_disk(q, s, world_to_object, origin_past_error(o, d, o_err), d, rw, t_hit, si);
-  }
-  ObjectRay r = to_object(world_to_object, rw);
-
-  if (!may_hit(q, r)) return false;
+  // The ray in object space as pbrt-v3 takes it there: a float transform, its gamma(3) error
+  // bounds, the origin moved past them. The intervals the roots are solved with are made only
+  // for rays that may meet the surface (most tests are rays through the box that miss it),
+  // and never for a disk (in a scene under a large disk, every ray tests it).
+  Vec3 o_err, d_err;
+  const Vec3 d = world_to_object.vector(rw.d, &d_err);
+  const Vec3 o = origin_past_error(world_to_object.point(rw.o, &o_err), d, o_err);
+  if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, world_to_object, o, d, rw, t_hit, si);
+  if (!may_hit(q, o, d)) return false;
+  ObjectRay r = with_intervals(o, d, o_err, d_err);
   EFloat a, b, c, t0, t1;
   coefficients(q, r, &a, &b, &c);
   if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
