@@ -295,6 +295,23 @@ float Bxdf::pdf(Vec3 wo, Vec3 wi) const {
   return raw_pdf(*this, wo, wi);
 }
 
+void Bxdf::pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const {
+  if (kind != BxdfKind::kMicrofacetReflection) {
+    *pdf_ab = raw_pdf(*this, a, b);
+    *pdf_ba = raw_pdf(*this, b, a);
+    return;
+  }
+  if (!same_hemisphere(a, b)) {
+    *pdf_ab = *pdf_ba = 0;
+    return;
+  }
+  // half_vector_reflection_pdf's arithmetic for each order; a + b and b + a are the same bits.
+  const Vec3 wh = normalize(a + b);
+  const float d = distribution.d(wh);
+  *pdf_ab = d * distribution.g1(a) * abs_dot(a, wh) / abs_cos_theta(a) / (4 * dot(a, wh));
+  *pdf_ba = d * distribution.g1(b) * abs_dot(b, wh) / abs_cos_theta(b) / (4 * dot(b, wh));
+}
+
 Rgb Bxdf::f_pdf(Vec3 wo, Vec3 wi, float* pdf) const {
   return scale * raw_f_pdf(*this, wo, wi, pdf);
 }

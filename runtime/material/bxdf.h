@@ -84,6 +84,9 @@ struct Bxdf {
   // BSDF sums every lobe's f at a non-specular wi).
   void sample_wi(Vec3 wo, Vec3* wi, Vec2 u, float* pdf, uint8_t* sampled_flags) const;
   float pdf(Vec3 wo, Vec3 wi) const;
+  // pdf(a, b) and pdf(b, a) at once, the same values: a microfacet reflection lobe makes the
+  // half vector and D, which the two share, once (bidirectional MIS asks for both).
+  void pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const;
 };
 
 // Bsdf copies lobes by value; the union must keep that a plain byte copy.

@@ -133,6 +133,26 @@ float Subpaths::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) con
   return convert_density(v, pdf, next);
 }
 
+void Subpaths::pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float* to_b,
+                        float* to_a) const {
+  if (v.type != VertexType::kSurface) {
+    *to_b = pdf(v, &a, b);
+    *to_a = pdf(v, &b, a);
+    return;
+  }
+  Vec3 wa = a.p() - v.p(), wb = b.p() - v.p();
+  if (length_squared(wa) == 0 || length_squared(wb) == 0) {
+    *to_b = *to_a = 0;
+    return;
+  }
+  wa = normalize(wa);
+  wb = normalize(wb);
+  float ab, ba;
+  v.bsdf.pdf_both(wa, wb, &ab, &ba);
+  *to_b = convert_density(v, ab, b);
+  *to_a = convert_density(v, ba, a);
+}
+
 // The medium a ray leaving vertex v along w travels in: a surface that bounds two media
 // changes it (pbrt-v3's GetMedium).
 uint32_t Subpaths::medium_toward(const Vertex& v, Vec3 w) const {
@@ -313,11 +333,20 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
   else if (t == 1)
     pt = &sampled;
   // The joined ends' reverse densities, which neither walk knew.
-  const float pt_rev = s > 0 ? pdf(*qs, qs_minus, *pt) : pdf_light_origin(*pt, *pt_minus);
-  const float pt_minus_rev =
-      pt_minus ? (s > 0 ? pdf(*pt, qs, *pt_minus) : pdf_light(*pt, *pt_minus)) : 0;
-  const float qs_rev = qs ? pdf(*pt, pt_minus, *qs) : 0;
-  const float qs_minus_rev = qs_minus ? pdf(*qs, pt, *qs_minus) : 0;
+  // Each joined end's two (toward the other end and back along its own path) come together.
+  float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
+  if (s == 0)
+    pt_rev = pdf_light_origin(*pt, *pt_minus);
+  else if (qs_minus)
+    pdf_both(*qs, *qs_minus, *pt, &pt_rev, &qs_minus_rev);
+  else
+    pt_rev = pdf(*qs, nullptr, *pt);
+  if (s == 0)
+    pt_minus_rev = pt_minus ? pdf_light(*pt, *pt_minus) : 0;
+  else if (pt_minus)
+    pdf_both(*pt, *pt_minus, *qs, &qs_rev, &pt_minus_rev);
+  else
+    qs_rev = pdf(*pt, nullptr, *qs);
   auto remap0 = [](float f) { return f != 0 ? f : 1.f; };
 
   float sum = 0, ri = 1;

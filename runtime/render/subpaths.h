@@ -94,6 +94,8 @@ struct Subpaths {
   float pdf_light(const Vertex& v, const Vertex& next) const;
   float pdf_light_origin(const Vertex& v, const Vertex& next) const;
   float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
+  // pdf(v, &a, b) and pdf(v, &b, a): MIS asks for both at each joined end.
+  void pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float* to_b, float* to_a) const;
   uint32_t medium_toward(const Vertex& v, Vec3 w) const;
   Rgb visibility(const Vertex& from, const Interaction& to) const;
   Rgb g(const Vertex& v0, const Vertex& v1) const;

@@ -1,7 +1,7 @@
 // The shortcuts the integrators take give bit for bit what the plain calls give:
-// Bsdf::f_pdf against f() and pdf(), Bxdf::sample_wi against sample_f(), on both sides of
-// the surface, at grazing, equal and opposite directions, for lobes that share work
-// (microfacet reflection) and lobes that do not.
+// Bsdf::f_pdf against f() and pdf(), Bsdf::pdf_both against pdf() both ways, Bxdf::sample_wi
+// against sample_f(), on both sides of the surface, at grazing, equal and opposite directions, for
+// lobes that share work (microfacet reflection) and lobes that do not.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -93,6 +93,22 @@ TEST(BsdfShortcuts, FPdfGivesWhatFAndPdfGive) {
         }
     }
   EXPECT_GT(checked, 10000);  // most pairs have a value; the comparison is not all zeros
+}
+
+TEST(BsdfShortcuts, PdfBothGivesPdfEachWay) {
+  Rng rng(12);
+  int checked = 0;
+  for (const std::vector<Bxdf>& lobes : lobe_sets()) {
+    const Bsdf bsdf = make_bsdf(lobes, false);
+    for (const auto& [a, b] : direction_pairs(bsdf, rng)) {
+      float ab = -1, ba = -1;
+      bsdf.pdf_both(a, b, &ab, &ba);
+      ASSERT_TRUE(same_bits(ab, bsdf.pdf(a, b))) << "lobe 0 kind " << int(lobes[0].kind);
+      ASSERT_TRUE(same_bits(ba, bsdf.pdf(b, a))) << "lobe 0 kind " << int(lobes[0].kind);
+      checked += ab > 0 && ba > 0;
+    }
+  }
+  EXPECT_GT(checked, 5000);
 }
 
 TEST(BsdfShortcuts, SampleWiGivesSampleFsDirectionPdfAndFlags) {
