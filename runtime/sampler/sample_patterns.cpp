@@ -83,6 +83,20 @@ void shuffle_points(Vec2* data, int count, int block, Rng& rng) {
   }
 }
 
+namespace {
+// Each sample's own n_per_sample values shuffled (shuffle(i) for every sample i). A sample of
+// one value (the samplers' dimensions) stays as it is, yet its shuffle draws one value in
+// [0, 1), which Rng::next_u32(1) never redraws: the generator only steps once per sample.
+template <typename Shuffle>
+void shuffle_within_samples(int n_per_sample, int n_samples, Rng& rng, Shuffle&& shuffle) {
+  if (n_per_sample == 1) {
+    rng.advance(n_samples);
+    return;
+  }
+  for (int i = 0; i < n_samples; ++i) shuffle(i);
+}
+}  // namespace
+
 void van_der_corput_pattern(int n_per_sample, int n_samples, float* out, Rng& rng) {
   const uint32_t* c = zero_two_matrices().vdc;
   uint32_t v = rng.next_u32();  // random xor scramble
@@ -91,7 +105,9 @@ void van_der_corput_pattern(int n_per_sample, int n_samples, float* out, Rng& rn
     out[i] = below_one(float(v) * 0x1p-32f);
     v ^= c[gray_code_column(uint32_t(i))];
   }
-  for (int i = 0; i < n_samples; ++i) shuffle_blocks(out + i * n_per_sample, n_per_sample, 1, rng);
+  shuffle_within_samples(n_per_sample, n_samples, rng, [&](int i) {
+    shuffle_blocks(out + i * n_per_sample, n_per_sample, 1, rng);
+  });
   shuffle_blocks(out, n_samples, n_per_sample, rng);
 }
 
@@ -105,7 +121,9 @@ void sobol_2d_pattern(int n_per_sample, int n_samples, Vec2* out, Rng& rng) {
     vx ^= m.vdc[col];
     vy ^= m.sobol[col];
   }
-  for (int i = 0; i < n_samples; ++i) shuffle_points(out + i * n_per_sample, n_per_sample, 1, rng);
+  shuffle_within_samples(n_per_sample, n_samples, rng, [&](int i) {
+    shuffle_points(out + i * n_per_sample, n_per_sample, 1, rng);
+  });
   shuffle_points(out, n_samples, n_per_sample, rng);
 }
 

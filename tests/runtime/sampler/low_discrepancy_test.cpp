@@ -127,5 +127,20 @@ TEST(SamplePatterns, StratifiedLatinAndZeroTwo) {
   EXPECT_TRUE(one_per_stratum(vdc));
 }
 
+// The patterns skip shuffling samples of one value and step the generator once per sample
+// instead: what those shuffles draw, whatever the generator's state.
+TEST(SamplePatterns, ShufflingOneValueDrawsOnce) {
+  for (uint64_t seed : {1u, 5u, 77u})
+    for (int n : {1, 3, 64, 1024}) {
+      Rng shuffled(seed, 9), stepped(seed, 9);
+      std::vector<float> values(size_t(n), 0.5f);
+      std::vector<Vec2> points(size_t(n), Vec2{0.25f, 0.75f});
+      for (int i = 0; i < n; ++i) shuffle_blocks(values.data() + i, 1, 1, shuffled);
+      for (int i = 0; i < n; ++i) shuffle_points(points.data() + i, 1, 1, shuffled);
+      stepped.advance(2 * n);
+      EXPECT_EQ(shuffled.next_u32(), stepped.next_u32()) << "n " << n;
+    }
+}
+
 }  // namespace
 }  // namespace rt
