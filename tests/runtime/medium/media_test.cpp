@@ -228,6 +228,17 @@ TEST(Media, TrackingMatchesTheLinearRampAnalytically) {
   EXPECT_NEAR(mean_hit / hits, num / den, 0.005);
 }
 
+// A grid medium over density (nx * ny * nz samples, x fastest), as MediumSet builds one.
+Medium grid_medium(const std::vector<float>& density, int nx, int ny, int nz) {
+  Medium m;
+  m.kind = MediumKind::kGrid;
+  m.density = density.data();
+  m.nx = nx;
+  m.ny = ny;
+  m.nz = nz;
+  return m;
+}
+
 // pbrt-v3's GridDensityMedium::Density, written out: trilinear between samples at
 // (i + 1/2) / n, zero outside the grid's samples.
 float reference_density(const std::vector<float>& g, int nx, int ny, int nz, Vec3 p) {
@@ -253,12 +264,7 @@ TEST(Media, GridDensityIsTrilinearBitForBit) {
   std::vector<float> density(size_t(nx * ny * nz));
   Rng rng(11);
   for (float& d : density) d = rng.next_float() * 3;
-  Medium m;
-  m.kind = MediumKind::kGrid;
-  m.density = density.data();
-  m.nx = nx;
-  m.ny = ny;
-  m.nz = nz;
+  Medium m = grid_medium(density, nx, ny, nz);
   std::vector<Vec3> points;
   for (int i = 0; i < 20000; ++i)
     points.push_back({rng.next_float() * 1.2f - 0.1f, rng.next_float() * 1.2f - 0.1f,
@@ -284,12 +290,7 @@ TEST(MajorantGrid, BoundsTheDensityAlongRandomRays) {
   std::vector<float> density(size_t(nx * ny * nz));
   Rng rng(7);
   for (float& d : density) d = rng.next_float() < 0.3f ? 0 : rng.next_float() * 5;
-  Medium m;
-  m.kind = MediumKind::kGrid;
-  m.density = density.data();
-  m.nx = nx;
-  m.ny = ny;
-  m.nz = nz;
+  Medium m = grid_medium(density, nx, ny, nz);
   m.majorants.build(density.data(), nx, ny, nz, 4);
   EXPECT_EQ(m.majorants.cells(), 4 * 2 * 2);
   for (int i = 0; i < 2000; ++i) {
