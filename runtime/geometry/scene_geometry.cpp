@@ -157,13 +157,6 @@ namespace {
 
 using Impl = SceneGeometry::Impl;
 
-bool has_alpha_mask(const ShapeInfo& s) {
-  return s.alpha_texture != kNone || s.alpha == 0;
-}
-bool has_shadow_mask(const ShapeInfo& s) {
-  return s.shadow_alpha_texture != kNone || s.shadow_alpha == 0;
-}
-
 // ---- Embree callbacks (always called with N == 1: only rtcIntersect1 / rtcOccluded1) ----
 
 void on_embree_error(void* user, RTCError code, const char* str) {
@@ -227,8 +220,8 @@ void alpha_filter(const RTCFilterFunctionNArguments* args, bool shadow) {
   float t_hit = reinterpret_cast<const RTCRay*>(args->ray)->tfar;
   impl->fill_triangle(*g, impl->instance_of(args->context->instID[0]), hit->primID, hit->u, hit->v,
                       *ctx->ray, &t_hit, &si);
-  bool drop = has_alpha_mask(s) && impl->masked(s.alpha, s.alpha_texture, si);
-  if (shadow && !drop && has_shadow_mask(s))
+  bool drop = s.has_alpha_mask() && impl->masked(s.alpha, s.alpha_texture, si);
+  if (shadow && !drop && s.has_shadow_mask())
     drop = impl->masked(s.shadow_alpha, s.shadow_alpha_texture, si);
   if (drop) args->valid[0] = 0;
 }
@@ -580,14 +573,14 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
                              m.num_triangles);
   rtcSetGeometryUserData(geom, &g);
   rtcSetGeometryIntersectFilterFunction(geom,
-                                        has_alpha_mask(s) ? alpha_filter_intersect : near_filter);
+                                        s.has_alpha_mask() ? alpha_filter_intersect : near_filter);
   rtcSetGeometryOccludedFilterFunction(
-      geom, has_alpha_mask(s) || has_shadow_mask(s) ? alpha_filter_occluded : near_filter);
+      geom, s.has_alpha_mask() || s.has_shadow_mask() ? alpha_filter_occluded : near_filter);
   rtcCommitGeometry(geom);
   unsigned id = rtcAttachGeometry(scene, geom);
   rtcReleaseGeometry(geom);
   // Embree's robust test leaks at shared vertices; masked meshes keep its own.
-  if (impl_->watertight && !has_alpha_mask(s) && !has_shadow_mask(s))
+  if (impl_->watertight && !s.has_alpha_mask() && !s.has_shadow_mask())
     attach_vertex_patches(impl_->device, scene, positions, m.indices, m.num_vertices,
                           m.num_triangles, id, &impl_->patches.emplace_back());
   stats_->triangles += m.num_triangles;

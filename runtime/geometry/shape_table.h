@@ -82,6 +82,9 @@ struct ShapeInfo {
     return alpha_texture != kNone || shadow_alpha_texture != kNone || alpha != 1 ||
            shadow_alpha != 1;
   }
+  // Masks that can drop a hit (a hit is dropped only where the value is exactly 0).
+  bool has_alpha_mask() const { return alpha_texture != kNone || alpha == 0; }
+  bool has_shadow_mask() const { return shadow_alpha_texture != kNone || shadow_alpha == 0; }
 };
 
 class ShapeTable {

@@ -13,12 +13,8 @@ bool load_render_scene(const pbrta::SceneArchive& a, RenderScene* s, std::string
   if (!s->geometry.build(a, s->shapes, alpha ? &s->textures : nullptr, error)) return false;
   if (!s->lights.build(a, s->shapes, s->geometry.world_bounds(), error)) return false;
   s->opaque_shapes = true;
-  for (uint32_t i = 0; i < s->shapes.size(); ++i) {
-    const ShapeInfo& shape = s->shapes[i];
-    const bool material = shape.material != kNone && !s->materials.is_interface(shape.material);
-    if (!material || shape.shadow_alpha_texture != kNone || shape.shadow_alpha == 0)
-      s->opaque_shapes = false;
-  }
+  for (uint32_t i = 0; i < s->shapes.size(); ++i)
+    if (!has_material(*s, i) || s->shapes[i].has_shadow_mask()) s->opaque_shapes = false;
   if (!(s->effects & pbrta::kEffectMedia)) return true;
   s->camera_medium = a.scene().camera_medium;
   return s->media.build(a, error);

@@ -23,12 +23,6 @@ struct RayCounters {
   uint64_t paths = 0, zero_radiance_paths = 0;
 };
 
-// A surface that scatters light; false for the interface material.
-inline bool has_material(const RenderScene& scene, uint32_t shape) {
-  uint32_t m = scene.shapes[shape].material;
-  return m != kNone && !scene.materials.is_interface(m);
-}
-
 // The medium a ray leaving hit si along w is in: the far side's if the shape bounds two
 // media, else `medium`.
 inline uint32_t medium_after(const RenderScene& scene, const SurfaceInteraction& si, Vec3 w,
