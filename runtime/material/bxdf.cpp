@@ -182,7 +182,7 @@ Rgb raw_f_pdf(const Bxdf& b, Vec3 wo, Vec3 wi, float* pdf) {
   const MicrofacetDistribution& d = b.distribution;
   const float dh = d.d(wh), lambda_o = d.lambda(wo);
   *pdf = same_side
-             ? dh * (1 / (1 + lambda_o)) * abs_dot(wo, wh) / abs_cos_theta(wo) / (4 * dot(wo, wh))
+             ? MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_o), wo, wh) / (4 * dot(wo, wh))
              : 0;
   if (f_zero) return Rgb(0);
   Rgb fr = b.fresnel.evaluate(dot(wi, face_forward(wh, Vec3{0, 0, 1})));
@@ -308,8 +308,8 @@ void Bxdf::pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const {
   // half_vector_reflection_pdf's arithmetic for each order; a + b and b + a are the same bits.
   const Vec3 wh = normalize(a + b);
   const float d = distribution.d(wh);
-  *pdf_ab = d * distribution.g1(a) * abs_dot(a, wh) / abs_cos_theta(a) / (4 * dot(a, wh));
-  *pdf_ba = d * distribution.g1(b) * abs_dot(b, wh) / abs_cos_theta(b) / (4 * dot(b, wh));
+  *pdf_ab = MicrofacetDistribution::pdf_given(d, distribution.g1(a), a, wh) / (4 * dot(a, wh));
+  *pdf_ba = MicrofacetDistribution::pdf_given(d, distribution.g1(b), b, wh) / (4 * dot(b, wh));
 }
 
 Rgb Bxdf::f_pdf(Vec3 wo, Vec3 wi, float* pdf) const {

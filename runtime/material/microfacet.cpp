@@ -45,7 +45,7 @@ float MicrofacetDistribution::lambda(Vec3 w) const {
 }
 
 float MicrofacetDistribution::pdf(Vec3 wo, Vec3 wh) const {
-  return d(wh) * g1(wo) * abs_dot(wo, wh) / abs_cos_theta(wo);
+  return pdf_given(d(wh), g1(wo), wo, wh);
 }
 
 namespace {

@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "runtime/core/vec.h"
+#include "runtime/material/local_frame.h"
 
 namespace rt {
 
@@ -32,6 +33,10 @@ struct MicrofacetDistribution {
   Vec3 sample_wh(Vec3 wo, Vec2 u) const;
   // Density of sample_wh over wh (solid angle).
   float pdf(Vec3 wo, Vec3 wh) const;
+  // The same from D(wh) and G1(wo) a caller already has.
+  static float pdf_given(float d_wh, float g1_wo, Vec3 wo, Vec3 wh) {
+    return d_wh * g1_wo * abs_dot(wo, wh) / abs_cos_theta(wo);
+  }
 };
 
 }  // namespace rt
