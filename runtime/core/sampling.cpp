@@ -170,4 +170,12 @@ float Distribution2D::pdf(Vec2 p) const {
   return conditional_[iv].value(iu) / marginal_.integral();
 }
 
+void Distribution2D::prefetch_value(Vec2 p) const {
+  if (conditional_.empty()) return;
+  int nu = conditional_[0].count(), nv = marginal_.count();
+  int iu = clamp(int(p.x * nu), 0, nu - 1);
+  int iv = clamp(int(p.y * nv), 0, nv - 1);
+  __builtin_prefetch(conditional_[iv].func_data() + iu);
+}
+
 }  // namespace rt

@@ -101,6 +101,8 @@ class Distribution2D {
   Distribution2D(const float* f, int nu, int nv, bool view = false);
   Vec2 sample_continuous(Vec2 u, float* pdf) const;
   float pdf(Vec2 p) const;
+  // A hint: starts loading the value pdf(p) reads.
+  void prefetch_value(Vec2 p) const;
 
  private:
   std::vector<Distribution1D> conditional_;

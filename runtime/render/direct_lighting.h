@@ -115,6 +115,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   bool sampled_specular = false;
   Rgb f = sc.template sample<kMedia>(u_scattering, &wi, &scattering_pdf, &sampled_specular);
   if (f.is_black() || scattering_pdf <= 0) return ld;
+  if constexpr (kInfinite) lights.prefetch_infinite(light, wi);
   Ray ray = it.spawn_ray(wi);
   SurfaceInteraction hit;
   // Without media only a hit on this light is read: the rest of a triangle's interaction

@@ -1,6 +1,7 @@
 // runtime/texture/mipmap.cpp — see mipmap.h.
 #include "runtime/texture/mipmap.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -181,6 +182,21 @@ Rgb MipMap::bilerp(int level, Vec2 st) const {
 }
 float MipMap::bilerp_float(int level, Vec2 st) const {
   return triangle<float>(level, st);
+}
+
+void MipMap::prefetch_bilinear(Vec2 st) const {
+  const Level& l = levels_[0];
+  if (!l.data || !(st.x >= 0 && st.x <= 1 && st.y >= 0 && st.y <= 1)) return;
+  // Texels s0, s0 + 1 of rows t0, t0 + 1 (triangle()'s), clamped into the level: the first
+  // and last byte of each row's pair, which may straddle a cache line.
+  const int s0 = clamp(int(st.x * l.w - 0.5f), 0, l.w - 2 < 0 ? 0 : l.w - 2);
+  const int t0 = clamp(int(st.y * l.h - 0.5f), 0, l.h - 1);
+  for (int t : {t0, std::min(t0 + 1, l.h - 1)}) {
+    const int row = flip_rows_ ? l.h - 1 - t : t;
+    const float* p = l.data + (size_t(row) * l.w + s0) * channels_;
+    __builtin_prefetch(p);
+    __builtin_prefetch(p + 2 * channels_ - 1);
+  }
 }
 
 template <class T>

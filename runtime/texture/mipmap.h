@@ -70,6 +70,8 @@ class MipMap {
   // texel spacing brackets width (width 0: the finest level, bilinear).
   Rgb lookup_trilinear(Vec2 st, float width = 0) const;
   float lookup_trilinear_float(Vec2 st, float width = 0) const;
+  // A hint: starts loading the finest level's texels a width-0 lookup at st reads.
+  void prefetch_bilinear(Vec2 st) const;
 
   // pbrt-v3's MIPMap::Lookup(st, dst0, dst1) without doTrilinear: EWA over the
   // ellipse with axes dst0, dst1, eccentricity clamped to max_anisotropy,
