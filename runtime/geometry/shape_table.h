@@ -64,6 +64,9 @@ struct ShapeInfo {
   // it as a whole, so its orientation never counts the transform's handedness.
   const AnimatedTransform* motion = nullptr;
   uint32_t material = kNone;
+  // No material or the interface one (a medium's boundary): rays only pass through it. Set by
+  // the renderer once materials are known (render_scene.h's has_material); false until then.
+  bool passes_through = false;
   uint32_t area_light = kNone;  // index into the archive's area lights
   uint32_t object = kNone;      // object definition, or kNone for the world
   // Media on either side (index into the archive's media, or kNone). Only a
@@ -94,6 +97,7 @@ class ShapeTable {
   [[nodiscard]] bool build(const pbrta::SceneArchive& archive, std::string* error);
   uint32_t size() const { return uint32_t(shapes_.size()); }
   const ShapeInfo& operator[](uint32_t i) const { return shapes_[i]; }
+  void set_passes_through(uint32_t i, bool v) { shapes_[i].passes_through = v; }
 
  private:
   std::vector<ShapeInfo> shapes_;

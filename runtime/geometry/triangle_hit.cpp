@@ -115,6 +115,25 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     si->p_error += out + abs_vector(x.matrix(), in);
   }
 
+  si->wo = -normalize(ray.d);
+  si->time = ray.time;
+  si->prim = prim;
+  si->face_index = m.face_indices ? m.face_indices[prim] : 0;
+  si->dpdx = si->dpdy = Vec3{};
+  si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+  if (s.passes_through && !m.normals && !m.tangents) {
+    // A medium's boundary, passed through: a ray leaves it from p, offset along n, and n's
+    // side says which medium it enters; nothing reads its uv or shading frame (which, without
+    // vertex normals or tangents, do not change n's orientation below).
+    Vec3 n = cross(p[0] - p[2], p[1] - p[2]);
+    n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
+    if (space.instance_mirrors) n = -n;
+    if (s.flip_normals()) n = -n;
+    si->n = n;
+    si->shading.n = n;
+    return;
+  }
+
   Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
   if (m.uv)
     for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * v[i]], m.uv[2 * v[i] + 1]};
@@ -206,13 +225,6 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   // An instance's transform is applied to pbrt-v3's finished interaction,
   // which then keeps the shading normal on the geometric normal's side.
   if (space.instance) si->shading.n = face_forward(si->shading.n, si->n);
-
-  si->wo = -normalize(ray.d);
-  si->time = ray.time;
-  si->prim = prim;
-  si->face_index = m.face_indices ? m.face_indices[prim] : 0;
-  si->dpdx = si->dpdy = Vec3{};
-  si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
 }
 
 }  // namespace rt

@@ -42,7 +42,9 @@ struct TriangleSpace {
 // Fills si (p, p_error, n, wo, time, uv, dpdu, dpdv, dndu, dndv, shading,
 // prim, face_index; not shape/instance, not differentials) for Embree's hit of
 // triangle prim of mesh shape s at *t_hit with barycentrics (1-b1-b2, b1, b2),
-// both measured again first (*t_hit is updated).
+// both measured again first (*t_hit is updated). A mesh rays pass through (s.passes_through)
+// without vertex normals or tangents gets only p, p_error, n (shading.n = n), wo, time, prim and
+// face_index: nothing reads the rest of a surface that is only passed through.
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
                           float b2, const Ray& ray, float* t_hit, SurfaceInteraction* si);
 
