@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "runtime/core/approx_angles.h"
 #include "runtime/geometry/shape_sampling.h"
 #include "runtime/light/lights.h"
 
@@ -246,30 +247,16 @@ Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray) const 
   return infinite_lookup(infinite_[e.data], ray.d);
 }
 
-namespace {
-// The map (u, v) along w (world) for a prefetch: infinite_lookup's without its normalize, which
-// moves no texel far enough to matter to a hint.
-Vec2 prefetch_st(const Transform& world_to_light, Vec3 w_world) {
-  const Vec3 w = world_to_light.vector(w_world);
-  return {spherical_phi(w) * kInv2Pi, spherical_theta(w) * kInvPi};
-}
-}  // namespace
-
 void LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
   const Entry& e = entries_[light];
   if (e.kind != LightKind::kInfinite) return;
   const InfiniteLight& il = infinite_[e.data];
   if (il.map == kNone) return;
-  const Vec2 st = prefetch_st(il.world_to_light, w_world);
+  // A hint needs the texel, not the exact angles (a 2048-wide map's spans 3e-3 radians).
+  const Vec3 w = il.world_to_light.vector(w_world);
+  const Vec2 st{approx_spherical_phi(w) * kInv2Pi, approx_spherical_theta(w) * kInvPi};
   maps_[il.map].prefetch_bilinear(st);
   il.distribution.prefetch_value(st);
-}
-
-void LightSet::prefetch_escape(Vec3 w_world) const {
-  for (uint32_t light : infinite_lights_) {
-    const InfiniteLight& il = infinite_[entries_[light].data];
-    if (il.map != kNone) maps_[il.map].prefetch_bilinear(prefetch_st(il.world_to_light, w_world));
-  }
 }
 
 Rgb LightSet::power(uint32_t light) const {

@@ -97,12 +97,10 @@ class LightSet {
   // direct lighting's BSDF sample counts only the light it is estimating.
   Rgb infinite_le_one(uint32_t light, const RayDifferential& ray) const;
   // A hint, no result: starts loading what infinite_le_one and pdf_li read for a ray leaving
-  // along w (world) should light `light` be an infinite map, so that a caller who traces the
+  // along a unit w (world) should light `light` be an infinite map, so that a caller who traces the
   // ray first finds them in cache. An environment map and its distribution are tens of MB,
   // read at random: each read is a miss, and tracing hides it.
   void prefetch_infinite(uint32_t light, Vec3 w) const;
-  // The same for infinite_le: every infinite map's texels along w.
-  void prefetch_escape(Vec3 w) const;
   bool has_infinite() const { return !infinite_lights_.empty(); }
   Rgb power(uint32_t light) const;
   // pbrt-v3's Sample_Le: a ray leaving light `light` at time `time` (ray->time = time),

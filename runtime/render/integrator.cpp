@@ -119,10 +119,6 @@ struct Kernels {
     if constexpr (kInfinite) return I.scene_->lights.infinite_le(ray);
     return Rgb();
   }
-  // Before tracing a ray whose escape would be read: its map texels load while it is traced.
-  static void prefetch_escape(const Self& I, Vec3 d) {
-    if constexpr (kInfinite) I.scene_->lights.prefetch_escape(d);
-  }
 
   // What scatters at a vertex, and direct lighting there: direct_lighting.h,
   // shared with sppm.
@@ -223,7 +219,6 @@ struct Kernels {
   static Rgb li_recursive(const Self& I, const RayDifferential& ray, Sampler& sampler, int depth,
                           RayCounters* c) {
     SurfaceInteraction si;
-    prefetch_escape(I, ray.d);
     if (!intersect(I, ray, &si, c)) return escaped(I, ray);
     Rgb l = emitted(I, si, si.wo);
     Bsdf bsdf;
@@ -280,7 +275,6 @@ struct Kernels {
     uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
       SurfaceInteraction si;
-      if (bounces == 0 || specular_bounce) prefetch_escape(I, ray.d);
       bool found = intersect(I, ray, &si, c);
       LightDistribution::Site light_site;
       if (found) {
