@@ -130,15 +130,21 @@ void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* 
   coefficients<EFloat>(q, r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, a, b, c);
 }
 
-// False when solve_quadratic would find no real root: the same discriminant
-// from the same coefficient values, without the intervals. Most tests Embree
-// asks for are rays through the box that miss the surface, and they need no
-// interval arithmetic at all.
+// False when the interval tests of intersect_quadric are sure to reject the hit, decided from
+// the values alone: solve_quadratic's discriminant from the same coefficient values (no real
+// root), or its far root's value (the same float operations) not past 0, which no interval
+// containing it is, and for which intersect_quadric tries no second time. Most tests Embree
+// asks for are rays through the box that miss the surface, or rays leaving the surface they
+// start on (whose roots are behind them and at 0): they need no interval arithmetic at all.
 bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
   float a, b, c;
   coefficients<float>(q, o.x, o.y, o.z, d.x, d.y, d.z, &a, &b, &c);
   double disc = double(b) * double(b) - 4.0 * double(a) * double(c);
-  return !(disc < 0);
+  if (disc < 0) return false;
+  const float root = float(std::sqrt(disc));
+  const float qv = b < 0 ? -0.5f * (b - root) : -0.5f * (b + root);
+  const float t0 = qv / a, t1 = c / qv;
+  return (t0 > t1 ? t0 : t1) > 0;  // solve_quadratic's t1 after its swap
 }
 
 // The hit point at t, refined onto the surface where the book does so, and
