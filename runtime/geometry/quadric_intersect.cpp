@@ -147,49 +147,47 @@ bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
   return (t0 > t1 ? t0 : t1) > 0;  // solve_quadratic's t1 after its swap
 }
 
-// The hit point at t, refined onto the surface where the book does so, and
-// its phi; false when the point lies outside the phimax / z cuts.
-bool locate(const QuadricShape& q, const ObjectRay& r, float t, Vec3* p_out, float* phi_out) {
+// The phi of a (located) point p of the quadric.
+float quadric_phi(const QuadricShape& q, Vec3 p) {
+  if (q.kind != ShapeKind::kHyperboloid) return phi_of(p.x, p.y);
+  // The hyperboloid's is relative to the generating line's point at this z.
+  float v = (p.z - q.p1.z) / (q.p2.z - q.p1.z);
+  Vec3 pr = (1 - v) * q.p1 + v * q.p2;
+  float phi = std::atan2(pr.x * p.y - p.x * pr.y, p.x * pr.x + p.y * pr.y);
+  return phi < 0 ? phi + 2 * kPi : phi;
+}
+
+// The hit point at t, refined onto the surface where the book does so; false when it lies
+// outside the phimax / z cuts. A whole turn cuts nothing (phi, atan2 plus 2 pi in float,
+// never exceeds 2 * kPi), and most points located are never hits (rays the z cuts reject,
+// shadow rays): phi is left for the hit that needs it.
+bool locate(const QuadricShape& q, const ObjectRay& r, float t, Vec3* p_out) {
   Vec3 p = r.o + r.d * t;
-  float phi;
   bool outside;
   switch (q.kind) {
     case ShapeKind::kSphere:
       p *= q.radius / length(p);
       // Keep phi and dp/du defined at the poles.
       if (p.x == 0 && p.y == 0) p.x = 1e-5f * q.radius;
-      phi = phi_of(p.x, p.y);
-      outside = (q.zmin > -q.radius && p.z < q.zmin) || (q.zmax < q.radius && p.z > q.zmax) ||
-                phi > q.phimax;
+      outside = (q.zmin > -q.radius && p.z < q.zmin) || (q.zmax < q.radius && p.z > q.zmax);
       break;
     case ShapeKind::kCylinder: {
       float s = q.radius / std::sqrt(p.x * p.x + p.y * p.y);
       p.x *= s;
       p.y *= s;
-      phi = phi_of(p.x, p.y);
-      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
+      outside = p.z < q.zmin || p.z > q.zmax;
       break;
     }
     case ShapeKind::kCone:
-      phi = phi_of(p.x, p.y);
-      outside = p.z < 0 || p.z > q.height || phi > q.phimax;
+      outside = p.z < 0 || p.z > q.height;
       break;
-    case ShapeKind::kParaboloid:
-      phi = phi_of(p.x, p.y);
-      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
+    default:  // paraboloid, hyperboloid
+      outside = p.z < q.zmin || p.z > q.zmax;
       break;
-    default: {  // hyperboloid: phi relative to the generating line's point at this z
-      float v = (p.z - q.p1.z) / (q.p2.z - q.p1.z);
-      Vec3 pr = (1 - v) * q.p1 + v * q.p2;
-      phi = std::atan2(pr.x * p.y - p.x * pr.y, p.x * pr.x + p.y * pr.y);
-      if (phi < 0) phi += 2 * kPi;
-      outside = p.z < q.zmin || p.z > q.zmax || phi > q.phimax;
-      break;
-    }
   }
   *p_out = p;
-  *phi_out = phi;
-  return !outside && !p.has_nan();
+  if (outside || p.has_nan()) return false;
+  return q.phimax >= 2 * kPi || !(quadric_phi(q, p) > q.phimax);
 }
 
 Vec3 finite_or_zero(Vec3 v) {
@@ -434,14 +432,14 @@ bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transfor
     if (!(t.upper() <= rw.tmax)) return false;
   }
   Vec3 p;
-  float phi;
-  if (!locate(q, r, t.v, &p, &phi)) {
+  if (!locate(q, r, t.v, &p)) {
     // The near hit is cut away: the far one may still be on the surface.
     if (is_far_root || !(t1.upper() <= rw.tmax)) return false;
     t = t1;
-    if (!locate(q, r, t.v, &p, &phi)) return false;
+    if (!locate(q, r, t.v, &p)) return false;
   }
-  if (si && !surface_geometry(q, s, world_to_object, r, t, p, phi, rw, si)) return false;
+  if (si && !surface_geometry(q, s, world_to_object, r, t, p, quadric_phi(q, p), rw, si))
+    return false;
   *t_hit = t.v;
   return true;
 }
