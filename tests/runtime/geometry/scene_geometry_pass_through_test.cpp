@@ -6,21 +6,14 @@
 // the orientation flip: tried.)
 #include <gtest/gtest.h>
 
-#include <cstring>
+#include <string>
 
-#include "runtime/core/rng.h"
-#include "runtime/core/sampling.h"
 #include "scene_geometry_test_support.h"
 
 namespace rt {
 namespace {
 
-bool same_bits(const void* a, const void* b, size_t n) {
-  return std::memcmp(a, b, n) == 0;
-}
-#define EXPECT_SAME_BITS(a, b) EXPECT_TRUE(same_bits(&(a), &(b), sizeof(a))) << #a
-
-constexpr const char* kWorld = R"(
+const std::string kWorld = std::string(R"(
 Shape "trianglemesh" "integer indices" [0 1 2  0 2 3]
   "point P" [-4 -4 -3  4 -4 -3  4 4 -3.5  -4 4 -3]
 AttributeBegin
@@ -28,19 +21,7 @@ AttributeBegin
   Shape "trianglemesh" "integer indices" [0 1 2  2 1 3]
     "point P" [-3 -3 2  3 -3 2.5  -3 3 2  3 3 2.2]
 AttributeEnd
-ObjectBegin "piece"
-  Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-1 -1 0  1 -1 0.2  0 1 0.1]
-ObjectEnd
-AttributeBegin
-  Translate 2 1 0
-  ObjectInstance "piece"
-AttributeEnd
-AttributeBegin
-  Translate -2 -1 0
-  Scale -1 1 1
-  ObjectInstance "piece"
-AttributeEnd
-)";
+)") + kTwoInstancesOfAPiece;
 
 TEST(PassThroughMesh, ShortInteractionIsTheFullOnesPart) {
   auto full = load_world("pass_through_full", kWorld);
@@ -51,9 +32,7 @@ TEST(PassThroughMesh, ShortInteractionIsTheFullOnesPart) {
   Rng rng(5);
   int hits = 0, instanced = 0, flipped = 0;
   for (int i = 0; i < 4000; ++i) {
-    const Vec3 o{8 * rng.next_float() - 4, 8 * rng.next_float() - 4, 6 * rng.next_float() - 2};
-    const Vec3 d = uniform_sample_sphere({rng.next_float(), rng.next_float()});
-    const Ray ray = make_ray(o, d);
+    const Ray ray = random_ray(rng, {-4, -4, -2}, {8, 8, 6});
     SurfaceInteraction a, b;
     const bool hit = full->geometry.intersect(ray, &a);
     ASSERT_EQ(short_->geometry.intersect(ray, &b), hit) << i;
@@ -61,16 +40,7 @@ TEST(PassThroughMesh, ShortInteractionIsTheFullOnesPart) {
     ++hits;
     instanced += a.instance != kNone;
     flipped += a.shape == 1;
-    EXPECT_EQ(a.shape, b.shape);
-    EXPECT_EQ(a.prim, b.prim);
-    EXPECT_EQ(a.instance, b.instance);
-    EXPECT_EQ(a.face_index, b.face_index);
-    EXPECT_SAME_BITS(a.t_hit, b.t_hit);
-    EXPECT_SAME_BITS(a.p, b.p);
-    EXPECT_SAME_BITS(a.p_error, b.p_error);
-    EXPECT_SAME_BITS(a.n, b.n);
-    EXPECT_SAME_BITS(a.shading.n, b.shading.n);
-    EXPECT_SAME_BITS(a.wo, b.wo);
+    expect_same_hit_point(a, b);
     EXPECT_SAME_BITS(a.time, b.time);
   }
   EXPECT_GT(hits, 1000);

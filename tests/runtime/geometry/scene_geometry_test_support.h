@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <memory>
 #include <string>
 
+#include "runtime/core/rng.h"
+#include "runtime/core/sampling.h"
 #include "runtime/geometry/scene_geometry.h"
 #include "runtime/runtime_test_support.h"
 #include "runtime/texture/textures.h"
@@ -50,6 +53,53 @@ inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const st
 
 inline Ray make_ray(Vec3 o, Vec3 d, float tmax = kInfinity) {
   return Ray{o, d, tmax, 0};
+}
+
+// A ray from a uniform point of the box [lo, lo + size] in a uniform direction.
+inline Ray random_ray(Rng& rng, Vec3 lo, Vec3 size) {
+  const Vec3 o{lo.x + size.x * rng.next_float(), lo.y + size.y * rng.next_float(),
+               lo.z + size.z * rng.next_float()};
+  return make_ray(o, uniform_sample_sphere({rng.next_float(), rng.next_float()}));
+}
+
+// Two instances of one object (a triangle and a sphere), one plain at (2, 1, 0), one mirrored
+// at (-2, -1, 0): scene text for tests of hits inside instances.
+inline constexpr const char* kTwoInstancesOfAPiece = R"(
+ObjectBegin "piece"
+  Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-1 -1 0  1 -1 0.2  0 1 0.1]
+  Translate 0 0 0.5
+  Shape "sphere" "float radius" 0.3
+ObjectEnd
+AttributeBegin
+  Translate 2 1 0
+  ObjectInstance "piece"
+AttributeEnd
+AttributeBegin
+  Translate -2 -1 0
+  Scale -1 1 1
+  ObjectInstance "piece"
+AttributeEnd
+)";
+
+// Two values alike bit for bit (floats: -0 is not 0, a NaN is itself).
+inline bool same_bits(const void* a, const void* b, size_t n) {
+  return std::memcmp(a, b, n) == 0;
+}
+#define EXPECT_SAME_BITS(a, b) EXPECT_TRUE(rt::same_bits(&(a), &(b), sizeof(a))) << #a
+
+// Two interactions of one ray's hit alike where every interaction is filled in: what was hit,
+// where (p, its error bound, t), how it faces (n, shading.n) and from where (wo).
+inline void expect_same_hit_point(const SurfaceInteraction& a, const SurfaceInteraction& b) {
+  EXPECT_EQ(a.shape, b.shape);
+  EXPECT_EQ(a.prim, b.prim);
+  EXPECT_EQ(a.instance, b.instance);
+  EXPECT_EQ(a.face_index, b.face_index);
+  EXPECT_SAME_BITS(a.t_hit, b.t_hit);
+  EXPECT_SAME_BITS(a.p, b.p);
+  EXPECT_SAME_BITS(a.p_error, b.p_error);
+  EXPECT_SAME_BITS(a.n, b.n);
+  EXPECT_SAME_BITS(a.shading.n, b.shading.n);
+  EXPECT_SAME_BITS(a.wo, b.wo);
 }
 
 }  // namespace rt
