@@ -5,7 +5,12 @@
 # threads. Never divides by a figure recorded elsewhere. A benchmark: never run in CI (but for a
 # one-sample smoke test).
 #
-#   tools/render_bench.sh [--build DIR] [--threads "1 2"] [--rounds N] [--spp N] [NAME-FILTER]
+#   tools/render_bench.sh [--build DIR] [--threads "1 2"] [--rounds N] [--spp N] [--skip TEXT]...
+#                         [NAME-FILTER]
+#
+# Entries whose name contains NAME-FILTER are measured (all without one), less those containing
+# any --skip TEXT (v3-figures/f10-1ac takes 512 light samples per camera sample, so a survey of
+# every scene at one --spp usually skips it: --skip f10-1ac).
 #
 # pbrt-v3 is ../shared/peers/pbrt-v3/pbrt (its README). Prints the CPU, then a Markdown table per
 # scene and thread count: each program's whole-process time (best and worst of the rounds), its
@@ -25,13 +30,15 @@ threads="1 2"
 rounds=3
 spp_override=""
 filter=""
+skips=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
     --rounds) rounds="$2"; shift 2 ;;
     --spp) spp_override="$2"; shift 2 ;;
-    -h|--help) sed -n 2,20p "$0"; exit 0 ;;
+    --skip) skips+=("$2"); shift 2 ;;
+    -h|--help) sed -n 2,25p "$0"; exit 0 ;;
     *) filter="$1"; shift ;;
   esac
 done
@@ -73,6 +80,9 @@ echo "|---|---|---|---|---|---|---|---|---|---|"
 while read -r entry ref spp resdiv ci ours _; do
   case "$entry" in ''|'#'*) continue ;; esac
   [ -n "$filter" ] && [[ "$entry" != *"$filter"* ]] && continue
+  skipped=false
+  for skip in "${skips[@]}"; do [[ "$entry" == *"$skip"* ]] && skipped=true; done
+  $skipped && continue
   [ -n "$spp_override" ] && spp="$spp_override"
   # own/...: the project's scenes (tests/convergence/own), else the shared corpus.
   case "$entry" in
