@@ -10,6 +10,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 
 #include "runtime/core/math.h"
 
@@ -75,6 +77,14 @@ struct EFloat {
                              next_float_up(std::sqrt(std::max(0.f, a.hi))));
 }
 
+// The value an EFloat carries; a float is its own.
+inline float value_of(float x) {
+  return x;
+}
+inline float value_of(EFloat x) {
+  return x.v;
+}
+
 // Roots of a t^2 + b t + c, t0 <= t1 by value, as pbrt-v3 (book 3rd ed.,
 // 3.9.4) finds them: the discriminant from the values alone, in double, and
 // its root given only its own rounding error. Propagating the discriminant's
@@ -82,16 +92,25 @@ struct EFloat {
 // the hit's error box, some 30x wider than pbrt-v3's away from normal
 // incidence: spawned rays then start visibly off the surface (brighter
 // silhouettes on textures/2d-mappings.pbrt).
-[[gnu::always_inline]] inline bool solve_quadratic(EFloat a, EFloat b, EFloat c, EFloat* t0,
-                                                   EFloat* t1) {
-  double disc = double(b.v) * double(b.v) - 4.0 * double(a.v) * double(c.v);
+//
+// T = EFloat, or T = float for the same values without the intervals (EFloat computes its
+// values with exactly these float operations), which quadric tests use to reject a ray
+// before building any interval.
+template <class T>
+[[gnu::always_inline]] inline bool solve_quadratic(T a, T b, T c, T* t0, T* t1) {
+  const float av = value_of(a), bv = value_of(b), cv = value_of(c);
+  double disc = double(bv) * double(bv) - 4.0 * double(av) * double(cv);
   if (disc < 0) return false;
   double root = std::sqrt(disc);
-  EFloat root_e(float(root), float(kMachineEpsilon * root));
-  EFloat q = b.v < 0 ? -0.5f * (b - root_e) : -0.5f * (b + root_e);
+  T root_e;
+  if constexpr (std::is_same_v<T, EFloat>)
+    root_e = EFloat(float(root), float(kMachineEpsilon * root));
+  else
+    root_e = float(root);
+  T q = bv < 0 ? -0.5f * (b - root_e) : -0.5f * (b + root_e);
   *t0 = q / a;
   *t1 = c / q;
-  if (t0->v > t1->v) std::swap(*t0, *t1);
+  if (value_of(*t0) > value_of(*t1)) std::swap(*t0, *t1);
   return true;
 }
 

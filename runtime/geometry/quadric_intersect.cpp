@@ -131,20 +131,15 @@ void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* 
 }
 
 // False when the interval tests of intersect_quadric are sure to reject the hit, decided from
-// the values alone: solve_quadratic's discriminant from the same coefficient values (no real
-// root), or its far root's value (the same float operations) not past 0, which no interval
-// containing it is, and for which intersect_quadric tries no second time. Most tests Embree
-// asks for are rays through the box that miss the surface, or rays leaving the surface they
-// start on (whose roots are behind them and at 0): they need no interval arithmetic at all.
+// the values alone (the float instances of coefficients and solve_quadratic): no real root,
+// or a far root not past 0, which no interval containing it is, and for which
+// intersect_quadric tries no second time. Most tests Embree asks for are rays through the box
+// that miss the surface, or rays leaving the surface they start on (whose roots are behind
+// them and at 0): they need no interval arithmetic at all.
 bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
-  float a, b, c;
+  float a, b, c, t0, t1;
   coefficients<float>(q, o.x, o.y, o.z, d.x, d.y, d.z, &a, &b, &c);
-  double disc = double(b) * double(b) - 4.0 * double(a) * double(c);
-  if (disc < 0) return false;
-  const float root = float(std::sqrt(disc));
-  const float qv = b < 0 ? -0.5f * (b - root) : -0.5f * (b + root);
-  const float t0 = qv / a, t1 = c / qv;
-  return (t0 > t1 ? t0 : t1) > 0;  // solve_quadratic's t1 after its swap
+  return solve_quadratic(a, b, c, &t0, &t1) && t1 > 0;
 }
 
 // The phi of a (located) point p of the quadric.
