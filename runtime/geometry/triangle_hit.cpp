@@ -121,14 +121,18 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   si->face_index = m.face_indices ? m.face_indices[prim] : 0;
   si->dpdx = si->dpdy = Vec3{};
   si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
+
+  // The geometric normal from the edges.
+  const Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
+  Vec3 n = cross(dp02, dp12);
+  n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
+  if (space.instance_mirrors) n = -n;
+  const bool flip = s.flip_normals();
   if (s.passes_through && !m.normals && !m.tangents) {
     // A medium's boundary, passed through: a ray leaves it from p, offset along n, and n's
     // side says which medium it enters; nothing reads its uv or shading frame (which, without
     // vertex normals or tangents, do not change n's orientation below).
-    Vec3 n = cross(p[0] - p[2], p[1] - p[2]);
-    n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
-    if (space.instance_mirrors) n = -n;
-    if (s.flip_normals()) n = -n;
+    if (flip) n = -n;
     si->n = n;
     si->shading.n = n;
     return;
@@ -141,7 +145,6 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
 
   // dp/du, dp/dv from the uv differences (pbrt-v3's degenerate-uv rule).
   Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
-  Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
   float det = duv02.x * duv12.y - duv02.y * duv12.x;
   bool degenerate_uv = std::fabs(det) < 1e-8f;
   Vec3 dpdu, dpdv;
@@ -157,11 +160,6 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   si->dpdu = dpdu;
   si->dpdv = dpdv;
   si->dndu = si->dndv = Vec3{};
-
-  Vec3 n = cross(dp02, dp12);
-  n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
-  if (space.instance_mirrors) n = -n;
-  const bool flip = s.flip_normals();
   si->shading = {n, dpdu, dpdv, Vec3{}, Vec3{}};
 
   if (m.normals || m.tangents) {
