@@ -162,20 +162,21 @@ Vec2 Distribution2D::sample_continuous(Vec2 u, float* pdf) const {
   return {d0, d1};
 }
 
-float Distribution2D::pdf(Vec2 p) const {
+const float* Distribution2D::cell_value(Vec2 p) const {
   int nu = conditional_[0].count(), nv = marginal_.count();
   int iu = clamp(int(p.x * nu), 0, nu - 1);
   int iv = clamp(int(p.y * nv), 0, nv - 1);
+  return conditional_[iv].func_data() + iu;
+}
+
+float Distribution2D::pdf(Vec2 p) const {
+  const float* value = cell_value(p);
   if (marginal_.integral() == 0) return 0;
-  return conditional_[iv].value(iu) / marginal_.integral();
+  return *value / marginal_.integral();
 }
 
 void Distribution2D::prefetch_value(Vec2 p) const {
-  if (conditional_.empty()) return;
-  int nu = conditional_[0].count(), nv = marginal_.count();
-  int iu = clamp(int(p.x * nu), 0, nu - 1);
-  int iv = clamp(int(p.y * nv), 0, nv - 1);
-  __builtin_prefetch(conditional_[iv].func_data() + iu);
+  if (!conditional_.empty()) __builtin_prefetch(cell_value(p));
 }
 
 }  // namespace rt

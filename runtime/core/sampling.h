@@ -105,6 +105,7 @@ class Distribution2D {
   void prefetch_value(Vec2 p) const;
 
  private:
+  const float* cell_value(Vec2 p) const;  // the function value of p's cell
   std::vector<Distribution1D> conditional_;
   Distribution1D marginal_;
 };
