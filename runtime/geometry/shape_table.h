@@ -65,7 +65,7 @@ struct ShapeInfo {
   const AnimatedTransform* motion = nullptr;
   uint32_t material = kNone;
   // No material or the interface one (a medium's boundary): rays only pass through it. Set by
-  // the renderer once materials are known (render_scene.h's has_material); false until then.
+  // the renderer once materials are known (load_render_scene); false until then.
   bool passes_through = false;
   uint32_t area_light = kNone;  // index into the archive's area lights
   uint32_t object = kNone;      // object definition, or kNone for the world

@@ -9,14 +9,17 @@ bool load_render_scene(const pbrta::SceneArchive& a, RenderScene* s, std::string
   if (!s->shapes.build(a, error)) return false;
   if (!s->textures.build(a, error)) return false;
   if (!s->materials.build(a, s->textures, error)) return false;
-  for (uint32_t i = 0; i < s->shapes.size(); ++i)
-    s->shapes.set_passes_through(i, !has_material(*s, i));
+  // A surface without a material, or with the interface one, scatters nothing: rays pass
+  // through it.
+  s->opaque_shapes = true;
+  for (uint32_t i = 0; i < s->shapes.size(); ++i) {
+    const uint32_t m = s->shapes[i].material;
+    s->shapes.set_passes_through(i, m == kNone || s->materials.is_interface(m));
+    if (s->shapes[i].passes_through || s->shapes[i].has_shadow_mask()) s->opaque_shapes = false;
+  }
   bool alpha = (s->effects & pbrta::kEffectAlpha) != 0;
   if (!s->geometry.build(a, s->shapes, alpha ? &s->textures : nullptr, error)) return false;
   if (!s->lights.build(a, s->shapes, s->geometry.world_bounds(), error)) return false;
-  s->opaque_shapes = true;
-  for (uint32_t i = 0; i < s->shapes.size(); ++i)
-    if (s->shapes[i].passes_through || s->shapes[i].has_shadow_mask()) s->opaque_shapes = false;
   if (!(s->effects & pbrta::kEffectMedia)) return true;
   s->camera_medium = a.scene().camera_medium;
   return s->media.build(a, error);

@@ -37,12 +37,6 @@ struct RenderScene {
   bool opaque_shapes = false;
 };
 
-// A surface that scatters light; false for the interface material.
-inline bool has_material(const RenderScene& scene, uint32_t shape) {
-  uint32_t m = scene.shapes[shape].material;
-  return m != kNone && !scene.materials.is_interface(m);
-}
-
 // Call scene->geometry.set_watertight() first to change that option.
 [[nodiscard]] bool load_render_scene(const pbrta::SceneArchive& archive, RenderScene* scene,
                                      std::string* error);

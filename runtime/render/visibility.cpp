@@ -14,7 +14,7 @@ Rgb transmittance(const RenderScene& scene, const Interaction& from, const Inter
     SurfaceInteraction si;
     SceneGeometry::PendingHit pending;
     const bool hit = scene.geometry.intersect_ids(ray, &si, &pending);
-    if (hit && has_material(scene, si.shape)) return Rgb();
+    if (hit && !scene.shapes[si.shape].passes_through) return Rgb();
     if (hit) scene.geometry.complete(pending, ray, &si);
     if (medium != kNone) {
       Ray seg = ray;
@@ -40,7 +40,7 @@ bool intersect_tr(const RenderScene& scene, Ray ray, uint32_t medium, SurfaceInt
       *tr *= scene.media.tr(medium, seg, sampler);
     }
     if (!hit) return false;
-    if (has_material(scene, si->shape)) return true;
+    if (!scene.shapes[si->shape].passes_through) return true;
     medium = medium_after(scene, *si, ray.d, medium);
     ray = si->spawn_ray(ray.d);
   }
