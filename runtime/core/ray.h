@@ -26,6 +26,7 @@ struct RayDifferential : Ray {
   RayDifferential() = default;
   explicit RayDifferential(const Ray& r) : Ray(r) {}
   void scale_differentials(float s) {
+    if (!has_differentials) return;
     rx_o = o + (rx_o - o) * s;
     ry_o = o + (ry_o - o) * s;
     rx_d = d + (rx_d - d) * s;

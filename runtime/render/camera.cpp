@@ -46,6 +46,8 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   if (!sample_bounds_given_) sample_bounds_ = {{0, 0}, res};
   shutter_open_ = a.get_float(e, "shutteropen", 0);
   shutter_close_ = a.get_float(e, "shutterclose", 1);
+  // Only textures (and bump maps, which are textures) read a ray's differentials.
+  differentials_ = (a.header().effects & pbrta::kEffectTextures) != 0;
   if (type_ == Type::kEnvironment) return true;
   if (type_ == Type::kRealistic) return build_realistic(a, e, error);
 
@@ -184,6 +186,8 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     float weight = world_ray(s, &central);
     if (weight == 0) return 0;
     *out = RayDifferential(central);
+    // Made even where no texture reads them: pbrt-v3 drops a ray whose neighbours the lens
+    // stops, so they decide which rays count.
     // Finite differences a twentieth of a pixel away, on whichever side the lens lets through.
     for (int axis = 0; axis < 2; ++axis) {
       float shifted_weight = 0;
@@ -241,14 +245,14 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     thin_lens(o_pinhole, d_pinhole, &o, &d);
     r.o = o;
     r.d = d;
-    if (type_ == Type::kPerspective) {
+    r.has_differentials = differentials_;
+    if (r.has_differentials && type_ == Type::kPerspective) {
       thin_lens(o_pinhole, normalize(p_camera + dx_camera_), &r.rx_o, &r.rx_d);
       thin_lens(o_pinhole, normalize(p_camera + dy_camera_), &r.ry_o, &r.ry_d);
-    } else {
+    } else if (r.has_differentials) {
       thin_lens(p_camera + dx_camera_, d_pinhole, &r.rx_o, &r.rx_d);
       thin_lens(p_camera + dy_camera_, d_pinhole, &r.ry_o, &r.ry_d);
     }
-    r.has_differentials = true;
   }
   // To world space: a still camera's transform is read in place, and where every ray leaves
   // from the camera-space origin its world point was taken there once, in build().

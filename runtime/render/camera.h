@@ -5,7 +5,10 @@
 // builds them: the screen window follows the frame aspect ratio (fov spans
 // the shorter image axis), raster -> camera through the inverse projection,
 // thin-lens depth of field, and ray differentials one pixel apart in x and y
-// (the integrator scales them by 1/sqrt(spp), as pbrt-v3 does).
+// (the integrator scales them by 1/sqrt(spp), as pbrt-v3 does). Only textures
+// read differentials, so in a scene the archive says has none (its effects
+// lack the textures bit) rays are made without them: the same rays, less work
+// (but for the realistic camera's, which decide whether a ray counts).
 //
 // The realistic camera traces each ray from a film point (the film's
 // physical extent from its diagonal) through the lens stack of its lens
@@ -152,6 +155,8 @@ class Camera {
   int pupil_samples_ = LensSystem::kPupilSamples;
   Vec2 film_extent_;  // physical film size, metres
   bool simple_weighting_ = true;
+  // Whether rays carry differentials: only where the archive says a texture can read them.
+  bool differentials_ = true;
 };
 
 }  // namespace rt
