@@ -117,25 +117,13 @@ float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const 
   return (i + du) / count();
 }
 
-void Distribution1D::discrete_result(const float* func, const float* cdf, int n, float integral,
-                                     int i, float u, float* pmf, float* remapped) {
-  if (pmf) *pmf = integral > 0 ? func[i] / (integral * n) : 0;
-  if (remapped) {
-    float w = cdf[i + 1] - cdf[i];
-    *remapped = w > 0 ? std::min((u - cdf[i]) / w, kOneMinusEpsilon) : 0;
-  }
-}
-
-int Distribution1D::sample_discrete(const float* func, const float* cdf, int n, float integral,
-                                    float u, float* pmf, float* remapped) {
-  int i = cdf_interval(cdf, n, u);
-  discrete_result(func, cdf, n, integral, i, u, pmf, remapped);
-  return i;
-}
-
 int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const {
-  int i = find_interval(u);
-  discrete_result(func_, cdf_.data(), count(), integral_, i, u, pmf, remapped);
+  const int i = find_interval(u);
+  if (pmf) *pmf = discrete_pdf(i);
+  if (remapped) {
+    const float w = cdf_[i + 1] - cdf_[i];
+    *remapped = w > 0 ? std::min((u - cdf_[i]) / w, kOneMinusEpsilon) : 0;
+  }
   return i;
 }
 

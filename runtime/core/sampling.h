@@ -74,18 +74,11 @@ class Distribution1D {
   // A bucket, with probability value / sum; *remapped is u rescaled within it.
   int sample_discrete(float u, float* pmf = nullptr, float* remapped = nullptr) const;
   float discrete_pdf(int i) const;
-  // The same choice made from a copy of func (n values), cdf (n + 1) and the
-  // integral, so a flat copy kept elsewhere samples identically.
-  static int sample_discrete(const float* func, const float* cdf, int n, float integral, float u,
-                             float* pmf, float* remapped);
   const float* func_data() const { return func_; }
   const float* cdf_data() const { return cdf_.data(); }
 
  private:
   int find_interval(float u) const;
-  // sample_discrete's pmf and remapped u once the bucket i is known.
-  static void discrete_result(const float* func, const float* cdf, int n, float integral, int i,
-                              float u, float* pmf, float* remapped);
   std::vector<float> own_;       // the values, when copied
   const float* func_ = nullptr;  // own_'s or the viewed ones
   int n_ = 0;

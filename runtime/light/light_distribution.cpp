@@ -20,13 +20,17 @@ constexpr int kMaxVoxels = 64;
 constexpr int kVoxelSamples = 128;
 // Lights whose grid points are kept: 128 points each, 60 bytes a point (480 KiB at most).
 constexpr int kPointLights = 64;
-// Flat records: a state word, the integral, n values and n + 1 cdf entries,
-// padded to a power of two of at most 16 words (64 bytes, one cache line).
+// Flat records: a state word, each light's pmf and the n - 1 cdf entries between the first
+// (0) and the last (1), padded to a power of two of at most 16 words (64 bytes, one cache
+// line): with two lights 16 bytes. The grid is megabytes, and a record is a cache miss at
+// nearly every bounce; the smaller it is, the more of the visited ones stay cached. A voxel
+// whose cdf does not run from exactly 0 to 1 (a non-finite contribution) is marked kFlatSlow
+// and sampled from its distribution.
 constexpr int kFlatLights = 6;
-constexpr int kFlatEmpty = 0, kFlatWriting = 1, kFlatReady = 2;
+constexpr uint32_t kFlatEmpty = 0, kFlatWriting = 1, kFlatReady = 2, kFlatSlow = 3;
 
 int flat_stride(int n) {
-  int words = 2 * n + 3, stride = 1;
+  int words = 2 * n, stride = 1;
   while (stride < words) stride *= 2;
   return stride;
 }
@@ -177,21 +181,33 @@ int LightDistribution::sample(Site site, float u, float* pmf) const {
   uint32_t* rec = flat_->base + index * flat_->stride;
   const int n = flat_->n;
   if (__atomic_load_n(rec, __ATOMIC_ACQUIRE) == kFlatReady) {
-    float f[2 * kFlatLights + 2];  // integral, func, cdf
-    std::memcpy(f, rec + 1, sizeof(float) * size_t(2 * n + 2));
-    return Distribution1D::sample_discrete(f + 1, f + 1 + n, n, f[0], u, pmf, nullptr);
+    float f[2 * kFlatLights];  // pmf[n], then cdf[1..n-1]
+    std::memcpy(f, rec + 1, sizeof(float) * size_t(2 * n - 1));
+    // Distribution1D's choice: the count of cdf entries <= u (std::upper_bound's), less one,
+    // clamped to a light; the first entry is 0 and the last 1.
+    int count = int(!(u < 0.f)) + int(!(u < 1.f));
+    for (int i = 1; i < n; ++i) count += int(!(u < f[n + i - 1]));
+    const int chosen = clamp(count - 1, 0, n - 1);
+    if (pmf) *pmf = f[chosen];
+    return chosen;
   }
   const Distribution1D& d = voxel_distribution(index);
   // The first thread here copies the distribution into the flat record; the
   // others (rarely: only while it writes) use the distribution itself.
   uint32_t expected = kFlatEmpty;
-  if (__atomic_compare_exchange_n(rec, &expected, uint32_t(kFlatWriting), false, __ATOMIC_ACQUIRE,
+  if (__atomic_compare_exchange_n(rec, &expected, kFlatWriting, false, __ATOMIC_ACQUIRE,
                                   __ATOMIC_RELAXED)) {
-    float integral = d.integral();
-    std::memcpy(rec + 1, &integral, sizeof(float));
-    std::memcpy(rec + 2, d.func_data(), sizeof(float) * size_t(n));
-    std::memcpy(rec + 2 + n, d.cdf_data(), sizeof(float) * size_t(n + 1));
-    __atomic_store_n(rec, uint32_t(kFlatReady), __ATOMIC_RELEASE);
+    const float* cdf = d.cdf_data();
+    if (cdf[0] == 0 && cdf[n] == 1) {
+      for (int i = 0; i < n; ++i) {
+        const float p = d.discrete_pdf(i);
+        std::memcpy(rec + 1 + i, &p, sizeof(float));
+      }
+      std::memcpy(rec + 1 + n, cdf + 1, sizeof(float) * size_t(n - 1));
+      __atomic_store_n(rec, kFlatReady, __ATOMIC_RELEASE);
+    } else {
+      __atomic_store_n(rec, kFlatSlow, __ATOMIC_RELEASE);
+    }
   }
   return d.sample_discrete(u, pmf);
 }

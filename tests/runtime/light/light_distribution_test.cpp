@@ -3,6 +3,7 @@
 // from two builds and from concurrent lookups; sample() equal to lookup()).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <thread>
 #include <vector>
@@ -119,27 +120,39 @@ TEST(LightDistribution, NoLightsAndOneLight) {
   EXPECT_FLOAT_EQ(d.lookup({3, 0, 0}).discrete_pdf(0), 1);
 }
 
-// sample() reads a flat copy of each voxel's distribution (up to kFlatLights lights), made by
-// the first sample() there; with more lights it reads the distribution itself. Either way, by
-// point or by a Site found beforehand (the path integrator's prefetch), its choice and pmf are
-// lookup(p).sample_discrete's, bit for bit.
+// sample() reads a compact copy of each voxel's distribution (up to kFlatLights lights: each
+// light's pmf and the cdf between its ends), made by the first sample() there; with more
+// lights it reads the distribution itself. Either way, by point or by a Site found beforehand
+// (the path integrator's prefetch), its choice and pmf are lookup(p).sample_discrete's, bit
+// for bit, also for a u on a cdf entry or just beside one.
 TEST(LightDistribution, SampleMatchesLookupByPointAndBySite) {
-  std::string many = kTwoPoints;
-  for (int i = 0; i < 6; ++i)
-    many += "LightSource \"point\" \"rgb I\" [0.5 1 2] \"point from\" [" +
-            std::to_string(-7 + 3 * i) + " 0.5 -0.5]\n";
-  for (const char* scene : {kTwoPoints, many.c_str()}) {
+  auto points = [](int k) {
+    std::string text;
+    for (int i = 0; i < k; ++i)
+      text += "LightSource \"point\" \"rgb I\" [0.5 1 " + std::to_string(1 + i) +
+              "] \"point from\" [" + std::to_string(-7 + 3 * i) + " 0.5 -0.5]\n";
+    return text;
+  };
+  const std::string many = kTwoPoints + points(6);
+  const std::string two = points(2), three = points(3), five = points(5), six = points(6);
+  for (const std::string* scene : {&two, &three, &five, &six, &many}) {
     LightScene s;
-    ASSERT_TRUE(load_light_scene("distribution_sample", scene, world(), &s));
+    ASSERT_TRUE(load_light_scene("distribution_sample", *scene, world(), &s));
     std::string error;
     LightDistribution d;
     ASSERT_TRUE(d.build(s.lights, world(), "spatial", &error)) << error;
     for (int i = 0; i < 300; ++i) {
       const Vec3 p{-10.5f + 0.07f * i, -1.2f + 0.008f * i, 1.1f - 0.0075f * i};
-      for (float u : {0.f, 0.013f * float(i % 71), 0.37f, 0.999999f}) {
+      std::vector<float> us = {0.f, 0.013f * float(i % 71), 0.37f, 0.999999f};
+      const Distribution1D& at_p = d.lookup(p);
+      for (int k = 1; k < at_p.count(); ++k) {
+        const float c = at_p.cdf_data()[k];
+        us.insert(us.end(), {c, std::nextafter(c, 0.f), std::nextafter(c, 1.f)});
+      }
+      for (float u : us) {
         float pmf_lookup = -1, pmf_point = -1, pmf_site = -1;
         const int expected = d.lookup(p).sample_discrete(u, &pmf_lookup);
-        EXPECT_EQ(d.sample(p, u, &pmf_point), expected) << s.lights.count() << " " << i;
+        EXPECT_EQ(d.sample(p, u, &pmf_point), expected) << s.lights.count() << " " << i << " " << u;
         EXPECT_EQ(d.sample(d.site(p), u, &pmf_site), expected) << s.lights.count() << " " << i;
         EXPECT_EQ(pmf_point, pmf_lookup);
         EXPECT_EQ(pmf_site, pmf_lookup);
