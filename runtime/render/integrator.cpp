@@ -110,6 +110,21 @@ struct Kernels {
     return I.scene_->geometry.intersect(ray, si);
   }
 
+  // intersect(), and the light grid's record for the hit starts loading as soon as Embree has
+  // the hit's distance: the record is a cache miss at nearly every bounce, and the hit's
+  // interaction is made while it loads. The point is Embree's (the exact one may lie in the
+  // next voxel: then the hint was wasted, nothing else).
+  static bool intersect_prefetching_light_site(const Self& I, const Ray& ray,
+                                               SurfaceInteraction* si, RayCounters* c) {
+    ++c->rays;
+    SceneGeometry::PendingHit pending;
+    const SceneGeometry& geometry = I.scene_->geometry;
+    if (!geometry.intersect_ids(ray, si, &pending)) return false;
+    I.distribution_.prefetch(I.distribution_.site(ray.at(si->t_hit)));
+    geometry.complete(pending, ray, si);
+    return true;
+  }
+
   static Rgb emitted(const Self& I, const SurfaceInteraction& si, Vec3 w) {
     if constexpr (kAreaLights) return I.scene_->lights.area_le(si, w);
     return Rgb();
@@ -275,12 +290,9 @@ struct Kernels {
     uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
       SurfaceInteraction si;
-      bool found = intersect(I, ray, &si, c);
+      bool found = intersect_prefetching_light_site(I, ray, &si, c);
       LightDistribution::Site light_site;
-      if (found) {
-        light_site = I.distribution_.site(si.p);
-        I.distribution_.prefetch(light_site);
-      }
+      if (found) light_site = I.distribution_.site(si.p);
       if constexpr (kMedia) {
         bool scattered = false;
         Vec3 p;
