@@ -186,9 +186,9 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     float weight = world_ray(s, &central);
     if (weight == 0) return 0;
     *out = RayDifferential(central);
-    // Made even where no texture reads them: pbrt-v3 drops a ray whose neighbours the lens
-    // stops, so they decide which rays count.
-    // Finite differences a twentieth of a pixel away, on whichever side the lens lets through.
+    // Finite differences a twentieth of a pixel away, on whichever side the lens lets through;
+    // made even where no texture reads them, as pbrt-v3 drops a ray whose neighbours the lens
+    // stops.
     for (int axis = 0; axis < 2; ++axis) {
       float shifted_weight = 0;
       for (float eps : {0.05f, -0.05f}) {
