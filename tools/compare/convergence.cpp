@@ -44,7 +44,7 @@ ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b
     for (int bx = 0; bx + 8 <= w; bx += 8) {
       bool pass = true;
       for (int c = 0; c < 3; ++c) {
-        double sum_ours = 0, sum_ref = 0, var = 0;
+        double sum_ours = 0, sum_ref = 0, var = 0, sum_d2 = 0;
         for (int y = by; y < by + 8; ++y)
           for (int x = bx; x < bx + 8; ++x) {
             size_t i = 3 * (size_t(y) * w + x) + c;
@@ -52,12 +52,16 @@ ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b
             sum_ours += 0.5 * (va + vb);
             sum_ref += ref.rgb[i];
             var += 0.25 * (va - vb) * (va - vb);
+            const double di = 0.5 * (va + vb) - ref.rgb[i];
+            sum_d2 += di * di;
           }
         double d = (sum_ours - sum_ref) / 64;
         var /= 64.0 * 64.0;
+        // The scatter of the 64 pixel differences about their mean d: both images' noise.
+        const double paired = std::max(0.0, (sum_d2 - 64 * d * d) / 63) / 64;
         double ref_mean = sum_ref / 64;
-        double z =
-            d / std::sqrt((1 + spp_ratio) * var + 0.005 * ref_mean * 0.005 * ref_mean + 1e-8);
+        double z = d / std::sqrt(std::max((1 + spp_ratio) * var, paired) +
+                                 0.005 * ref_mean * 0.005 * ref_mean + 1e-8);
         if (!std::isfinite(z)) z = 1e30;
         r.worst_z = std::max(r.worst_z, std::fabs(z));
         if (!(std::fabs(z) < 4)) pass = false;

@@ -6,12 +6,16 @@
 // On whole 8x8 blocks of the data window, per channel:
 //   d   = block mean of ours - block mean of the reference
 //   var = sum over the block's pixels of ((A - B) / 2)^2 / 64^2
-//   z   = d / sqrt(2 var + (0.005 ref)^2 + 1e-8)
-// (the variance counts twice: once for ours, once for the reference, which
-// has the same sample count). A reference with a different sample count than
-// A + B together (this project's own high-spp references, tools/accuracy)
-// gives `spp_ratio` = (A + B spp) / reference spp: its variance is ours
-// times that ratio, and 2 var becomes (1 + spp_ratio) var. A block passes when |z| < 4 in every
+//   paired = sample variance of the 64 pixel differences (ours - reference) / 64
+//   z   = d / sqrt(max(2 var, paired) + (0.005 ref)^2 + 1e-8)
+// (2 var: the variance counts twice, once for ours, once for the reference, as if it had our
+// noise. A reference with a different sample count than A + B together (this project's own
+// high-spp references, tools/accuracy) gives `spp_ratio` = (A + B spp) / reference spp: its
+// variance is ours times that ratio, and 2 var becomes (1 + spp_ratio) var. paired measures
+// both noises from the data: it is the larger where the reference is noisier than ours, as
+// pbrt-v3's references are where our path integrator's direct lighting, split as pbrt-v4's,
+// is less noisy than pbrt-v3's: glossy reflections of small lights among several.)
+// A block passes when |z| < 4 in every
 // channel; the images match when at least 99% of blocks pass and each channel's whole-image mean is
 // within 1% of the reference's.
 #pragma once
@@ -45,7 +49,8 @@ ConvergenceResult check_convergence(const rt::ImageRgb& a, const rt::ImageRgb& b
 // (so false alarms are as rare as in the two-render rule). A channel's whole-image mean
 // passes within 1% of the reference's or within the quantile matching the normal's 3-sigma
 // tail of its own spread across the renders (mlt's brightness comes from its bootstrap
-// estimate, which varies by a few percent per render; three tests need no 4-sigma margin). At least 99% of blocks must pass, as above.
+// estimate, which varies by a few percent per render; three tests need no 4-sigma margin). At least
+// 99% of blocks must pass, as above.
 ConvergenceResult check_convergence_spread(const std::vector<rt::ImageRgb>& renders,
                                            const rt::ImageRgb& ref, double spp_ratio = 1);
 
