@@ -212,6 +212,19 @@ int LightDistribution::sample(Site site, float u, float* pmf) const {
   return d.sample_discrete(u, pmf);
 }
 
+float LightDistribution::pmf(Site site, int light) const {
+  if (!spatial_) return single_.discrete_pdf(light);
+  if (flat_) {
+    const uint32_t* rec = flat_->base + site.voxel * flat_->stride;
+    if (__atomic_load_n(rec, __ATOMIC_ACQUIRE) == kFlatReady) {
+      float p;
+      std::memcpy(&p, rec + 1 + light, sizeof(float));
+      return p;
+    }
+  }
+  return voxel_distribution(site.voxel).discrete_pdf(light);
+}
+
 void LightDistribution::prefetch(Site site) const {
   if (flat_) __builtin_prefetch(flat_->base + site.voxel * flat_->stride);
 }

@@ -52,6 +52,8 @@ class LightDistribution {
   // A light for a point at p (at site) with probability *pmf, chosen by u.
   int sample(Vec3 p, float u, float* pmf) const { return sample(site(p), u, pmf); }
   int sample(Site site, float u, float* pmf) const;
+  // The probability sample(site, ...) picks `light` with (its *pmf when it does).
+  float pmf(Site site, int light) const;
   // Starts loading the record sample(site, ...) will read: a spatial grid is megabytes, so its
   // record is a cache miss that the work between a hit and its light sample can hide.
   void prefetch(Site site) const;

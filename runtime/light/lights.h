@@ -102,6 +102,7 @@ class LightSet {
   // read at random: each read is a miss, and tracing hides it.
   void prefetch_infinite(uint32_t light, Vec3 w) const;
   bool has_infinite() const { return !infinite_lights_.empty(); }
+  const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
   Rgb power(uint32_t light) const;
   // pbrt-v3's Sample_Le: a ray leaving light `light` at time `time` (ray->time = time),
   // *n_light (an area light: its surface normal at ray->o, never flipped for a

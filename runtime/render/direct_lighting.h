@@ -46,9 +46,10 @@ struct VertexScatter {
     return dot(w, n) > 0 ? shape->outside_medium : shape->inside_medium;
   }
   // pdf null: the caller needs no density (a delta light's sample has no MIS weight).
+  // lobes: the BSDF lobes whose density *pdf is (f is the same either way: a specular lobe's
+  // is 0).
   template <bool kMedia>
-  Rgb f(Vec3 wi, float* pdf) const {
-    const uint8_t flags = kAllBxdf & ~kSpecular;
+  Rgb f(Vec3 wi, float* pdf, uint8_t flags = kAllBxdf & ~kSpecular) const {
     if constexpr (kMedia) {
       if (!bsdf) {
         const float p = phase_hg(dot(wo, wi), g);
@@ -83,10 +84,14 @@ inline VertexScatter surface_scatter(const RenderScene& scene, const SurfaceInte
   return sc;
 }
 
-template <bool kAreaLights, bool kInfinite, bool kMedia>
-Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
-                    Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
-                    RayCounters* c) {
+// The light's half of estimate_direct: one sample of the light, weighted by the power heuristic
+// against the density of scattering samples drawn from `lobes` (a delta light's: unweighted).
+// The light sample's density is its pdf times light_pmf, the probability the light was
+// chosen with: 1 where the scattering sample only counts this light (pbrt-v3's EstimateDirect).
+template <bool kMedia>
+Rgb estimate_light_sample(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
+                          uint32_t light, Vec2 u_light, uint8_t lobes, float light_pmf,
+                          Sampler& sampler, RayCounters* c) {
   const LightSet& lights = scene.lights;
   Rgb ld;
   LightSample ls;
@@ -94,7 +99,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   const bool delta = lights.is_delta(light);
   if (ls.pdf > 0 && !li.is_black()) {
     float scattering_pdf = 0;
-    Rgb f = sc.template f<kMedia>(ls.wi, delta ? nullptr : &scattering_pdf);
+    Rgb f = sc.template f<kMedia>(ls.wi, delta ? nullptr : &scattering_pdf, lobes);
     if (!f.is_black()) {
       ++c->shadow_rays;
       if constexpr (kMedia)
@@ -105,11 +110,21 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
         if (delta)
           ld += f * li / ls.pdf;
         else
-          ld += f * li * (power_heuristic(1, ls.pdf, 1, scattering_pdf) / ls.pdf);
+          ld += f * li * (power_heuristic(1, light_pmf * ls.pdf, 1, scattering_pdf) / ls.pdf);
       }
     }
   }
-  if (delta) return ld;
+  return ld;
+}
+
+template <bool kAreaLights, bool kInfinite, bool kMedia>
+Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
+                    Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
+                    RayCounters* c) {
+  const LightSet& lights = scene.lights;
+  const Rgb ld = estimate_light_sample<kMedia>(scene, it, sc, light, u_light, kAllBxdf & ~kSpecular,
+                                               1, sampler, c);
+  if (lights.is_delta(light)) return ld;
   Vec3 wi;
   float scattering_pdf = 0;
   bool sampled_specular = false;
@@ -155,7 +170,11 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   return ld + f * le * tr * (weight / scattering_pdf);
 }
 
-template <bool kAreaLights, bool kInfinite, bool kMedia>
+// kLightOnly: only the light's half, weighted against the path's own next scattering sample
+// (drawn from every lobe), which the caller weighs where it meets a light (pbrt-v4's path
+// integrator does the same; one ray a vertex fewer than pbrt-v3's, the same expectation). The
+// scattering sample's dimension is skipped, so the sampler's later dimensions stay pbrt-v3's.
+template <bool kAreaLights, bool kInfinite, bool kMedia, bool kLightOnly = false>
 Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
                      Sampler& sampler, const LightDistribution* distribution, RayCounters* c,
                      const LightDistribution::Site* site = nullptr) {
@@ -176,6 +195,12 @@ Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const Vert
   // can hit it).
   const bool delta = scene.lights.is_delta(light);
   Vec2 u_light = sampler.get_2d_if(!delta);
+  if constexpr (kLightOnly) {
+    sampler.skip_2d();
+    return estimate_light_sample<kMedia>(scene, it, sc, light, u_light, kAllBxdf, light_pmf,
+                                         sampler, c) /
+           light_pmf;
+  }
   Vec2 u_scattering = sampler.get_2d_if(!delta);
   return estimate_direct<kAreaLights, kInfinite, kMedia>(scene, it, sc, u_scattering, light,
                                                          u_light, sampler, c) /

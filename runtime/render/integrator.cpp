@@ -157,12 +157,44 @@ struct Kernels {
                                                                light, u_light, sampler, c);
   }
 
-  template <bool kMedia>
+  template <bool kMedia, bool kLightOnly = false>
   static Rgb sample_one_light(const Self& I, const Interaction& it, const Scatter& sc,
                               Sampler& sampler, const LightDistribution* distribution,
                               RayCounters* c, const LightDistribution::Site* site = nullptr) {
-    return rt::sample_one_light<kAreaLights, kInfinite, kMedia>(*I.scene_, it, sc, sampler,
-                                                                distribution, c, site);
+    return rt::sample_one_light<kAreaLights, kInfinite, kMedia, kLightOnly>(
+        *I.scene_, it, sc, sampler, distribution, c, site);
+  }
+
+  // What the path's scattering sample from `from` (density pdf there, any non-specular lobe)
+  // meets of the lights, weighted by the power heuristic against the light sample taken at
+  // `from` (light_site there): the other half of that vertex's direct lighting. A light whose
+  // pdf_li is 0 there counts nothing, as in pbrt-v3's EstimateDirect.
+  static Rgb weighted_emission(const Self& I, bool found, const SurfaceInteraction& si,
+                               const RayDifferential& ray, const Interaction& from,
+                               LightDistribution::Site light_site, float pdf) {
+    const LightSet& lights = I.scene_->lights;
+    Rgb l;
+    if (found) {
+      if constexpr (kAreaLights) {
+        const uint32_t light = lights.area_light_at(si);
+        if (light == kNone) return l;
+        l = lights.area_le(si, -ray.d);
+        if (l.is_black()) return l;
+        const float light_pdf =
+            I.distribution_.pmf(light_site, int(light)) * lights.pdf_li(light, from, ray.d, &si);
+        return light_pdf == 0 ? Rgb() : l * power_heuristic(1, pdf, 1, light_pdf);
+      }
+      return l;
+    }
+    if constexpr (kInfinite)
+      for (uint32_t light : lights.infinite_lights()) {
+        const Rgb le = lights.infinite_le_one(light, ray);
+        if (le.is_black()) continue;
+        const float light_pdf = I.distribution_.pmf(light_site, int(light)) *
+                                lights.pdf_li(light, from, ray.d, nullptr);
+        if (light_pdf > 0) l += le * power_heuristic(1, pdf, 1, light_pdf);
+      }
+    return l;
   }
 
   static Rgb sample_all_lights(const Self& I, const SurfaceInteraction& it, const Bsdf& bsdf,
@@ -279,13 +311,26 @@ struct Kernels {
   // pbrt-v3's path integrator; with kMedia, its volpath: rays carry the
   // medium they travel in, which may scatter them (a phase-function vertex
   // with its own light sample) before they reach the surface.
+  //
+  // Without media or subsurface scattering (kSplit), a surface vertex's direct lighting is
+  // split as pbrt-v4's path integrator splits it: the light sample is taken there, and the
+  // path's own next scattering sample stands for the scattering sample pbrt-v3 traces
+  // separately, weighted where it meets a light (weighted_emission). One traversal and one
+  // BSDF sample a vertex fewer; the same expectation.
   template <bool kMedia, bool kSubsurface>
   static Rgb li_path(const Self& I, const RayDifferential& camera_ray, Sampler& sampler,
                      RayCounters* c) {
+    constexpr bool kSplit = !kMedia && !kSubsurface;
     Rgb l, beta(1.f);
     RayDifferential ray = camera_ray;
     bool specular_bounce = false;
     float eta_scale = 1;
+    // kSplit: the vertex the ray left, its light site and the ray's density there; weigh: the
+    // ray is that vertex's non-specular scattering sample (not one past an interface).
+    Interaction from;
+    LightDistribution::Site from_site;
+    float from_pdf = 0;
+    bool weigh = false;
     const int max_depth = I.settings_.max_depth;
     uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
@@ -326,18 +371,22 @@ struct Kernels {
           l += beta * emitted(I, si, -ray.d);
         else
           l += beta * escaped(I, ray);
+      } else if constexpr (kSplit) {
+        if (weigh) l += beta * weighted_emission(I, found, si, ray, from, from_site, from_pdf);
       }
       if (!found || bounces >= max_depth) break;
       Bsdf bsdf;
       if (!scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) {
         if constexpr (kMedia) medium = medium_after(I, si, ray.d, medium);
+        // pbrt-v3's scattering sample stops at the interface, whatever lies behind it.
+        weigh = false;
         ray = RayDifferential(si.spawn_ray(ray.d));
         --bounces;
         continue;
       }
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
-        l += beta * sample_one_light<kMedia>(I, si, surface_scatter(I, si, bsdf, medium), sampler,
-                                             &I.distribution_, c, &light_site);
+        l += beta * sample_one_light<kMedia, kSplit>(I, si, surface_scatter(I, si, bsdf, medium),
+                                                     sampler, &I.distribution_, c, &light_site);
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;
@@ -346,6 +395,12 @@ struct Kernels {
       if (f.is_black() || pdf == 0) break;
       beta *= f * (abs_dot(wi, si.shading.n) / pdf);
       specular_bounce = flags & kSpecular;
+      if constexpr (kSplit) {
+        from = si;
+        from_site = light_site;
+        from_pdf = pdf;
+        weigh = !specular_bounce;
+      }
       if ((flags & kSpecular) && (flags & kTransmission)) {
         float eta = bsdf.eta;
         eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);

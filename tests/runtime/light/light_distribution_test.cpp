@@ -149,6 +149,9 @@ TEST(LightDistribution, SampleMatchesLookupByPointAndBySite) {
         const float c = at_p.cdf_data()[k];
         us.insert(us.end(), {c, std::nextafter(c, 0.f), std::nextafter(c, 1.f)});
       }
+      // pmf() before the voxel's flat record exists (read from its distribution) and after.
+      const int first = i % at_p.count();
+      EXPECT_EQ(d.pmf(d.site(p), first), at_p.discrete_pdf(first)) << s.lights.count() << " " << i;
       for (float u : us) {
         float pmf_lookup = -1, pmf_point = -1, pmf_site = -1;
         const int expected = d.lookup(p).sample_discrete(u, &pmf_lookup);
@@ -156,7 +159,17 @@ TEST(LightDistribution, SampleMatchesLookupByPointAndBySite) {
         EXPECT_EQ(d.sample(d.site(p), u, &pmf_site), expected) << s.lights.count() << " " << i;
         EXPECT_EQ(pmf_point, pmf_lookup);
         EXPECT_EQ(pmf_site, pmf_lookup);
+        EXPECT_EQ(d.pmf(d.site(p), expected), pmf_lookup);
       }
+      for (int j = 0; j < at_p.count(); ++j)
+        EXPECT_EQ(d.pmf(d.site(p), j), at_p.discrete_pdf(j)) << s.lights.count() << " " << i;
+    }
+    for (const char* strategy : {"uniform", "power"}) {
+      LightDistribution single;
+      ASSERT_TRUE(single.build(s.lights, world(), strategy, &error)) << error;
+      const Vec3 p{0.5f, 0.25f, 0.f};
+      for (int j = 0; j < int(s.lights.count()); ++j)
+        EXPECT_EQ(single.pmf(single.site(p), j), single.lookup(p).discrete_pdf(j)) << strategy;
     }
   }
 }
