@@ -312,21 +312,21 @@ struct Kernels {
   // medium they travel in, which may scatter them (a phase-function vertex
   // with its own light sample) before they reach the surface.
   //
-  // Without media or subsurface scattering (kSplit), a surface vertex's direct lighting is
-  // split as pbrt-v4's path integrator splits it: the light sample is taken there, and the
-  // path's own next scattering sample stands for the scattering sample pbrt-v3 traces
-  // separately, weighted where it meets a light (weighted_emission). One traversal and one
-  // BSDF sample a vertex fewer; the same expectation.
+  // A vertex's direct lighting is split as pbrt-v4's path integrator splits it: the light
+  // sample is taken there, and the path's own next scattering sample stands for the scattering
+  // sample pbrt-v3 traces separately (through the medium, with volpath), weighted where it
+  // meets a light (weighted_emission). One traversal and one BSDF or phase sample a vertex
+  // fewer; the same expectation (the weights depend on directions only, so any unbiased
+  // transmittance along either ray keeps it).
   template <bool kMedia, bool kSubsurface>
   static Rgb li_path(const Self& I, const RayDifferential& camera_ray, Sampler& sampler,
                      RayCounters* c) {
-    constexpr bool kSplit = !kMedia && !kSubsurface;
     Rgb l, beta(1.f);
     RayDifferential ray = camera_ray;
     bool specular_bounce = false;
     float eta_scale = 1;
-    // kSplit: the vertex the ray left, its light site and the ray's density there; weigh: the
-    // ray is that vertex's non-specular scattering sample (not one past an interface).
+    // The vertex the ray left, its light site and the ray's density there; weigh: the ray is
+    // that vertex's non-specular scattering sample (path: not one past an interface).
     Interaction from;
     LightDistribution::Site from_site;
     float from_pdf = 0;
@@ -357,9 +357,13 @@ struct Kernels {
           sc.wo = mi.wo;
           sc.g = I.scene_->media[medium].g;
           sc.medium = medium;
-          l += beta * sample_one_light<true>(I, mi, sc, sampler, &I.distribution_, c);
+          const LightDistribution::Site site = I.distribution_.site(mi.p);
+          l += beta * sample_one_light<true, true>(I, mi, sc, sampler, &I.distribution_, c, &site);
           Vec3 wi;
-          sample_hg(mi.wo, sc.g, sampler.get_2d(), &wi);
+          from_pdf = sample_hg(mi.wo, sc.g, sampler.get_2d(), &wi);
+          from = mi;
+          from_site = site;
+          weigh = true;
           ray = RayDifferential(mi.spawn_ray(wi));
           specular_bounce = false;
           if (!russian_roulette(I, &beta, eta_scale, bounces, sampler)) break;
@@ -371,22 +375,31 @@ struct Kernels {
           l += beta * emitted(I, si, -ray.d);
         else
           l += beta * escaped(I, ray);
-      } else if constexpr (kSplit) {
-        if (weigh) l += beta * weighted_emission(I, found, si, ray, from, from_site, from_pdf);
+      } else if (weigh) {
+        // volpath's scattering sample passes through interfaces (pbrt-v3's IntersectTr), and
+        // an emitter on one counts nothing there.
+        if (!kMedia || !found || !I.scene_->shapes[si.shape].passes_through)
+          l += beta * weighted_emission(I, found, si, ray, from, from_site, from_pdf);
       }
-      if (!found || bounces >= max_depth) break;
+      if (!found) break;
+      if (bounces >= max_depth) {
+        // Past the last vertex, volpath's scattering sample still goes on through interfaces
+        // to find the light it stands for.
+        if (!kMedia || !weigh || !I.scene_->shapes[si.shape].passes_through) break;
+      }
       Bsdf bsdf;
       if (!scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) {
         if constexpr (kMedia) medium = medium_after(I, si, ray.d, medium);
-        // pbrt-v3's scattering sample stops at the interface, whatever lies behind it.
-        weigh = false;
+        // path's scattering sample (pbrt-v3's EstimateDirect) stops at the interface, whatever
+        // lies behind it; volpath's goes on.
+        if constexpr (!kMedia) weigh = false;
         ray = RayDifferential(si.spawn_ray(ray.d));
         --bounces;
         continue;
       }
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
-        l += beta * sample_one_light<kMedia, kSplit>(I, si, surface_scatter(I, si, bsdf, medium),
-                                                     sampler, &I.distribution_, c, &light_site);
+        l += beta * sample_one_light<kMedia, true>(I, si, surface_scatter(I, si, bsdf, medium),
+                                                   sampler, &I.distribution_, c, &light_site);
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;
@@ -395,12 +408,10 @@ struct Kernels {
       if (f.is_black() || pdf == 0) break;
       beta *= f * (abs_dot(wi, si.shading.n) / pdf);
       specular_bounce = flags & kSpecular;
-      if constexpr (kSplit) {
-        from = si;
-        from_site = light_site;
-        from_pdf = pdf;
-        weigh = !specular_bounce;
-      }
+      from = si;
+      from_site = light_site;
+      from_pdf = pdf;
+      weigh = !specular_bounce;
       if ((flags & kSpecular) && (flags & kTransmission)) {
         float eta = bsdf.eta;
         eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);
@@ -423,14 +434,20 @@ struct Kernels {
           exit.init(pi);
           exit.add(make_bssrdf_exit(bssrdf.eta, TransportMode::kRadiance));
           pi.wo = pi.shading.n;
-          l += beta * sample_one_light<kMedia>(I, pi, surface_scatter(I, pi, exit, arrived_in),
-                                               sampler, &I.distribution_, c);
+          const LightDistribution::Site exit_site = I.distribution_.site(pi.p);
+          l +=
+              beta * sample_one_light<kMedia, true>(I, pi, surface_scatter(I, pi, exit, arrived_in),
+                                                    sampler, &I.distribution_, c, &exit_site);
           float exit_pdf = 0;
           uint8_t exit_flags = 0;
           Rgb fe = exit.sample_f(pi.wo, &wi, sampler.get_2d(), &exit_pdf, kAllBxdf, &exit_flags);
           if (fe.is_black() || exit_pdf == 0) break;
           beta *= fe * (abs_dot(wi, pi.shading.n) / exit_pdf);
           specular_bounce = exit_flags & kSpecular;
+          from = pi;
+          from_site = exit_site;
+          from_pdf = exit_pdf;
+          weigh = !specular_bounce;
           if constexpr (kMedia) medium = medium_after(I, pi, wi, arrived_in);
           ray = RayDifferential(pi.spawn_ray(wi));
         }
