@@ -1,6 +1,7 @@
 // runtime/render/direct_lighting.h — pbrt-v3's EstimateDirect and UniformSampleOneLight
-// (book 3rd ed., 14.3, with 15.3's media), shared by the path-family kernels
-// (integrator.cpp) and sppm's camera pass (sppm.cpp).
+// (book 3rd ed., 14.3, with 15.3's media), shared by the directlighting kernel
+// (integrator.cpp) and sppm's camera pass (sppm.cpp); path and volpath take only its light
+// half (sample_one_light's kLightOnly) and weigh the scattering half on their own path.
 //
 // A VertexScatter says what scatters at a vertex: a surface's BSDF (its cosine
 // folded in) or, with kMedia, a medium's phase function (bsdf null).
@@ -59,12 +60,10 @@ struct VertexScatter {
     }
     return (pdf ? bsdf->f_pdf(wo, wi, flags, pdf) : bsdf->f(wo, wi, flags)) * abs_dot(wi, ns);
   }
-  template <bool kMedia>
+  // A surface's non-specular lobes (pbrt-v3's EstimateDirect; the path kernels sample their
+  // own scattering).
   Rgb sample(Vec2 u, Vec3* wi, float* pdf, bool* specular) const {
     *specular = false;
-    if constexpr (kMedia) {
-      if (!bsdf) return Rgb(*pdf = sample_hg(wo, g, u, wi));
-    }
     uint8_t sampled = 0;
     Rgb f = bsdf->sample_f(wo, wi, u, pdf, kAllBxdf & ~kSpecular, &sampled);
     *specular = sampled & kSpecular;
@@ -117,39 +116,35 @@ Rgb estimate_light_sample(const RenderScene& scene, const Interaction& it, const
   return ld;
 }
 
-template <bool kAreaLights, bool kInfinite, bool kMedia>
+// pbrt-v3's EstimateDirect on a surface without media: the light half, then a scattering
+// sample of the non-specular lobes traced to see whether it meets the same light.
+template <bool kAreaLights, bool kInfinite>
 Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
                     Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
                     RayCounters* c) {
   const LightSet& lights = scene.lights;
-  const Rgb ld = estimate_light_sample<kMedia>(scene, it, sc, light, u_light, kAllBxdf & ~kSpecular,
-                                               1, sampler, c);
+  const Rgb ld = estimate_light_sample<false>(scene, it, sc, light, u_light, kAllBxdf & ~kSpecular,
+                                              1, sampler, c);
   if (lights.is_delta(light)) return ld;
   Vec3 wi;
   float scattering_pdf = 0;
   bool sampled_specular = false;
-  Rgb f = sc.template sample<kMedia>(u_scattering, &wi, &scattering_pdf, &sampled_specular);
+  Rgb f = sc.sample(u_scattering, &wi, &scattering_pdf, &sampled_specular);
   if (f.is_black() || scattering_pdf <= 0) return ld;
   if constexpr (kInfinite) lights.prefetch_infinite(light, wi);
   Ray ray = it.spawn_ray(wi);
   SurfaceInteraction hit;
-  // Without media only a hit on this light is read: the rest of a triangle's interaction
-  // waits until it is one.
+  // Only a hit on this light is read: the rest of a triangle's interaction waits until it is
+  // one.
   SceneGeometry::PendingHit pending;
-  Rgb tr(1.f);
-  bool found;
-  if constexpr (kMedia) {
-    found = intersect_tr(scene, ray, sc.medium_toward(wi), &hit, &tr, sampler, c);
-  } else {
-    ++c->rays;
-    found = scene.geometry.intersect_ids(ray, &hit, &pending);
-  }
+  ++c->rays;
+  const bool found = scene.geometry.intersect_ids(ray, &hit, &pending);
   Rgb le;
   float light_pdf = 0;
   if (found) {
     if constexpr (kAreaLights) {
       if (lights.area_light_at(hit) == light) {
-        if constexpr (!kMedia) scene.geometry.complete(pending, ray, &hit);
+        scene.geometry.complete(pending, ray, &hit);
         le = lights.area_le(hit, -wi);
         if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, &hit);
       }
@@ -167,7 +162,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
     if (light_pdf == 0) return ld;
     weight = power_heuristic(1, scattering_pdf, 1, light_pdf);
   }
-  return ld + f * le * tr * (weight / scattering_pdf);
+  return ld + f * le * (weight / scattering_pdf);
 }
 
 // kLightOnly: only the light's half, weighted against the path's own next scattering sample
@@ -200,11 +195,13 @@ Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const Vert
     return estimate_light_sample<kMedia>(scene, it, sc, light, u_light, kAllBxdf, light_pmf,
                                          sampler, c) /
            light_pmf;
+  } else {
+    static_assert(!kMedia, "pbrt-v3's whole EstimateDirect runs on surfaces without media only");
+    Vec2 u_scattering = sampler.get_2d_if(!delta);
+    return estimate_direct<kAreaLights, kInfinite>(scene, it, sc, u_scattering, light, u_light,
+                                                   sampler, c) /
+           light_pmf;
   }
-  Vec2 u_scattering = sampler.get_2d_if(!delta);
-  return estimate_direct<kAreaLights, kInfinite, kMedia>(scene, it, sc, u_scattering, light,
-                                                         u_light, sampler, c) /
-         light_pmf;
 }
 
 }  // namespace rt

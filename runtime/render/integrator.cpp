@@ -149,12 +149,11 @@ struct Kernels {
     return rt::medium_after(*I.scene_, si, w, medium);
   }
 
-  template <bool kMedia>
   static Rgb estimate_direct(const Self& I, const Interaction& it, const Scatter& sc,
                              Vec2 u_scattering, uint32_t light, Vec2 u_light, Sampler& sampler,
                              RayCounters* c) {
-    return rt::estimate_direct<kAreaLights, kInfinite, kMedia>(*I.scene_, it, sc, u_scattering,
-                                                               light, u_light, sampler, c);
+    return rt::estimate_direct<kAreaLights, kInfinite>(*I.scene_, it, sc, u_scattering, light,
+                                                       u_light, sampler, c);
   }
 
   template <bool kMedia, bool kLightOnly = false>
@@ -209,11 +208,11 @@ struct Kernels {
       if (!u_light || !u_scattering) {
         const bool delta = I.scene_->lights.is_delta(j);
         Vec2 ul = sampler.get_2d_if(!delta), us = sampler.get_2d_if(!delta);
-        l += estimate_direct<false>(I, it, sc, us, j, ul, sampler, c);
+        l += estimate_direct(I, it, sc, us, j, ul, sampler, c);
       } else {
         Rgb ld;
         for (int k = 0; k < ns; ++k)
-          ld += estimate_direct<false>(I, it, sc, u_scattering[k], j, u_light[k], sampler, c);
+          ld += estimate_direct(I, it, sc, u_scattering[k], j, u_light[k], sampler, c);
         l += ld / float(ns);
       }
     }

@@ -8,6 +8,11 @@
 // infinite light never evaluates escaping rays, and volpath on a scene
 // without media runs the path kernel (pbrt-v3's volpath is path there). Per-thread counters (rays,
 // shadow rays) are passed in, so nothing here is shared and written.
+//
+// path and volpath split each vertex's direct lighting as pbrt-v4 does (the path's own next
+// scattering sample stands for the one pbrt-v3's EstimateDirect traces separately; see li_path):
+// pbrt-v3's expectation, one ray a vertex fewer, so their images converge to pbrt-v3's without
+// matching its samples one for one. The others keep pbrt-v3's estimators.
 #pragma once
 
 #include <cstdint>

@@ -28,22 +28,4 @@ Rgb transmittance(const RenderScene& scene, const Interaction& from, const Inter
   }
 }
 
-bool intersect_tr(const RenderScene& scene, Ray ray, uint32_t medium, SurfaceInteraction* si,
-                  Rgb* tr, Sampler& sampler, RayCounters* c) {
-  *tr = Rgb(1.f);
-  for (;;) {
-    ++c->rays;
-    const bool hit = scene.geometry.intersect(ray, si);
-    if (medium != kNone) {
-      Ray seg = ray;
-      if (hit) seg.tmax = si->t_hit;
-      *tr *= scene.media.tr(medium, seg, sampler);
-    }
-    if (!hit) return false;
-    if (!scene.shapes[si->shape].passes_through) return true;
-    medium = medium_after(scene, *si, ray.d, medium);
-    ray = si->spawn_ray(ray.d);
-  }
-}
-
 }  // namespace rt

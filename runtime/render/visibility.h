@@ -1,11 +1,10 @@
 // runtime/render/visibility.h — what lies between points of a RenderScene: pbrt-v3's
-// VisibilityTester::Tr and Scene::IntersectTr, shared by the path and bidirectional integrators.
+// VisibilityTester::Tr, shared by the path and bidirectional integrators.
 //
 // Surfaces with the interface material ("none", or no material) only bound media: rays pass
 // through them and change medium there (pbrt-v3's GetMedium: the far side's when the shape's
 // two media differ). transmittance() is 0 at the first real surface and otherwise the product
-// of the crossed media's transmittance (1 without media); intersect_tr() finds the first real
-// surface and that product up to it. Both count rays in *counters.
+// of the crossed media's transmittance (1 without media); it counts rays in *counters.
 #pragma once
 
 #include <cstdint>
@@ -34,8 +33,5 @@ inline uint32_t medium_after(const RenderScene& scene, const SurfaceInteraction&
 
 Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
                   uint32_t medium, Sampler& sampler, RayCounters* counters);
-
-bool intersect_tr(const RenderScene& scene, Ray ray, uint32_t medium, SurfaceInteraction* si,
-                  Rgb* tr, Sampler& sampler, RayCounters* counters);
 
 }  // namespace rt
