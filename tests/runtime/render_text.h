@@ -5,7 +5,8 @@
 // scene, sampler), then reads the film's pixels back: for tests that assert
 // on whole images (tests/runtime/stability, the material furnace renders).
 // furnace_scene() is the materials' white furnace: one object lit only by a
-// constant infinite light of radiance 1, path traced.
+// constant infinite light of radiance 1, path traced. mean_luminance() averages a rectangle of
+// a render's pixels.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -97,6 +98,14 @@ inline Rendered render_text(const std::string& name, const std::string& text, ui
 // `material_line` on `shape_line` (radius 1 at the origin fills most of the
 // 32x32 image) under a constant infinite light of radiance 1; sobol, 64 spp,
 // path integrator with maxdepth 10.
+// The mean luminance of pixels [x0, x1) x [y0, y1) of a render.
+inline double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
+  double sum = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) sum += r.at(x, y).luminance();
+  return sum / ((x1 - x0) * (y1 - y0));
+}
+
 inline std::string furnace_scene(const std::string& material_line, const std::string& shape_line) {
   return R"(
 LookAt 0 0 5  0 0 0  0 1 0

@@ -20,13 +20,6 @@ std::string box(const char* integrator, const std::string& params = " \"integer 
   return box_scene(std::string("Integrator \"") + integrator + "\"" + params, true, true);
 }
 
-double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
-  double sum = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) sum += r.at(x, y).luminance();
-  return sum / ((x1 - x0) * (y1 - y0));
-}
-
 TEST(Bdpt, AgreesWithThePathTracer) {
   Rendered path = render_text("bdpt_box_path", box("path"));
   Rendered bdpt = render_text("bdpt_box_bdpt", box("bdpt"));

@@ -33,6 +33,18 @@ rt::ImageRgb noisy(int w, int h, float sigma, float bias, uint32_t seed) {
   return img;
 }
 
+// On a 128x96 image: the top-left quarter's values become gain(v), the bottom-right's lose(v).
+template <class Gain, class Lose>
+void move_light(rt::ImageRgb* img, Gain gain, Lose lose) {
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) {
+        size_t i = 3 * (size_t(y) * 128 + x) + c, j = 3 * (size_t(y + 48) * 128 + x + 64) + c;
+        img->rgb[i] = gain(img->rgb[i]);
+        img->rgb[j] = lose(img->rgb[j]);
+      }
+}
+
 TEST(ConvergenceRule, AcceptsNoiseOnlyDifferences) {
   // Ours at half spp per render: each has sqrt(2) more noise than the reference.
   for (float sigma : {0.01f, 0.1f, 0.3f}) {
@@ -79,15 +91,9 @@ TEST(ConvergenceRule, RejectsAWrongRegionEvenWhenMeansAgree) {
   rt::ImageRgb ref = noisy(128, 96, 0.01f, 0, 1);
   rt::ImageRgb a = noisy(128, 96, 0.014f, 0, 2), b = noisy(128, 96, 0.014f, 0, 3);
   // Move light from one quarter of the image to another: whole-image means stay.
-  for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 64; ++x)
-      for (int c = 0; c < 3; ++c) {
-        size_t i = 3 * (size_t(y) * 128 + x) + c, j = 3 * (size_t(y + 48) * 128 + x + 64) + c;
-        for (rt::ImageRgb* img : {&a, &b}) {
-          img->rgb[i] += 0.1f;
-          img->rgb[j] -= 0.1f;
-        }
-      }
+  for (rt::ImageRgb* img : {&a, &b})
+    move_light(
+        img, [](float v) { return v + 0.1f; }, [](float v) { return v - 0.1f; });
   compare::ConvergenceResult r = compare::check_convergence(a, b, ref);
   EXPECT_FALSE(r.ok);
   EXPECT_LT(r.blocks_passed, r.blocks * 0.6);
@@ -98,15 +104,9 @@ TEST(ConvergenceRule, RejectsAWrongRegionEvenWhenMeansAgree) {
 TEST(ConvergenceRule, ANoisyReferenceStillRevealsAWrongRegion) {
   rt::ImageRgb ref = noisy(128, 96, 0.05f, 0, 1);
   rt::ImageRgb a = noisy(128, 96, 0.005f, 0, 2), b = noisy(128, 96, 0.005f, 0, 3);
-  for (int y = 0; y < 48; ++y)
-    for (int x = 0; x < 64; ++x)
-      for (int c = 0; c < 3; ++c) {
-        size_t i = 3 * (size_t(y) * 128 + x) + c, j = 3 * (size_t(y + 48) * 128 + x + 64) + c;
-        for (rt::ImageRgb* img : {&a, &b}) {
-          img->rgb[i] *= 1.05f;
-          img->rgb[j] *= 0.95f;
-        }
-      }
+  for (rt::ImageRgb* img : {&a, &b})
+    move_light(
+        img, [](float v) { return v * 1.05f; }, [](float v) { return v * 0.95f; });
   compare::ConvergenceResult r = compare::check_convergence(a, b, ref);
   EXPECT_FALSE(r.ok);
   EXPECT_LT(r.blocks_passed, r.blocks * 0.6);

@@ -53,13 +53,6 @@ WorldEnd
 )";
 }
 
-double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
-  double sum = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) sum += r.at(x, y).luminance();
-  return sum / ((x1 - x0) * (y1 - y0));
-}
-
 TEST(SplitDirectLighting, PathAtDepthOneIsPbrtV3sDirectLighting) {
   Rendered path =
       render_text("split_direct_path", scene("Integrator \"path\" \"integer maxdepth\" 1"));

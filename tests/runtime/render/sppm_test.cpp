@@ -18,13 +18,6 @@
 namespace rt {
 namespace {
 
-double mean_luminance(const Rendered& r, int x0, int x1, int y0, int y1) {
-  double sum = 0;
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) sum += r.at(x, y).luminance();
-  return sum / ((x1 - x0) * (y1 - y0));
-}
-
 TEST(SppmGrid, FindsExactlyTheSpheresContainingAPoint) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> pos(-2, 2), rad(0.01f, 0.4f), unit(0, 1);
