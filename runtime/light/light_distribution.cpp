@@ -107,6 +107,9 @@ struct LightDistribution::FlatTable {
     base = static_cast<uint32_t*>(p);
   }
   ~FlatTable() { munmap(base, mapped); }
+  // A voxel's record: its state word, then the lights' pmfs (record(v)[1 + light]), then the
+  // cdf entries.
+  uint32_t* record(size_t voxel) const { return base + voxel * stride; }
   FlatTable(const FlatTable&) = delete;
   FlatTable& operator=(const FlatTable&) = delete;
   int n;
@@ -178,7 +181,7 @@ int LightDistribution::sample(Site site, float u, float* pmf) const {
   if (!spatial_) return single_.sample_discrete(u, pmf);
   const size_t index = site.voxel;
   if (!flat_) return voxel_distribution(index).sample_discrete(u, pmf);
-  uint32_t* rec = flat_->base + index * flat_->stride;
+  uint32_t* rec = flat_->record(index);
   const int n = flat_->n;
   if (__atomic_load_n(rec, __ATOMIC_ACQUIRE) == kFlatReady) {
     float f[2 * kFlatLights];  // pmf[n], then cdf[1..n-1]
@@ -215,7 +218,7 @@ int LightDistribution::sample(Site site, float u, float* pmf) const {
 float LightDistribution::pmf(Site site, int light) const {
   if (!spatial_) return single_.discrete_pdf(light);
   if (flat_) {
-    const uint32_t* rec = flat_->base + site.voxel * flat_->stride;
+    const uint32_t* rec = flat_->record(site.voxel);
     if (__atomic_load_n(rec, __ATOMIC_ACQUIRE) == kFlatReady) {
       float p;
       std::memcpy(&p, rec + 1 + light, sizeof(float));
@@ -226,7 +229,7 @@ float LightDistribution::pmf(Site site, int light) const {
 }
 
 void LightDistribution::prefetch(Site site) const {
-  if (flat_) __builtin_prefetch(flat_->base + site.voxel * flat_->stride);
+  if (flat_) __builtin_prefetch(flat_->record(site.voxel));
 }
 
 const Distribution1D& LightDistribution::voxel_distribution(size_t index) const {
