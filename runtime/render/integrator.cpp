@@ -164,13 +164,21 @@ struct Kernels {
         *I.scene_, it, sc, sampler, distribution, c, site);
   }
 
-  // What the path's scattering sample from `from` (density pdf there, any non-specular lobe)
-  // meets of the lights, weighted by the power heuristic against the light sample taken at
-  // `from` (light_site there): the other half of that vertex's direct lighting. A light whose
-  // pdf_li is 0 there counts nothing, as in pbrt-v3's EstimateDirect.
+  // The vertex a path's ray left: where, its light site, the ray's density there, and whether
+  // the ray is that vertex's non-specular scattering sample (weigh), which counts the lights
+  // it meets (weighted_emission).
+  struct LeftVertex {
+    Interaction it;
+    LightDistribution::Site site;
+    float pdf = 0;
+    bool weigh = false;
+  };
+
+  // What the path's scattering sample from `from` meets of the lights, weighted by the power
+  // heuristic against the light sample taken there: the other half of that vertex's direct
+  // lighting. A light whose pdf_li is 0 there counts nothing, as in pbrt-v3's EstimateDirect.
   static Rgb weighted_emission(const Self& I, bool found, const SurfaceInteraction& si,
-                               const RayDifferential& ray, const Interaction& from,
-                               LightDistribution::Site light_site, float pdf) {
+                               const RayDifferential& ray, const LeftVertex& from) {
     const LightSet& lights = I.scene_->lights;
     Rgb l;
     if (found) {
@@ -180,8 +188,8 @@ struct Kernels {
         l = lights.area_le(si, -ray.d);
         if (l.is_black()) return l;
         const float light_pdf =
-            I.distribution_.pmf(light_site, int(light)) * lights.pdf_li(light, from, ray.d, &si);
-        return light_pdf == 0 ? Rgb() : l * power_heuristic(1, pdf, 1, light_pdf);
+            I.distribution_.pmf(from.site, int(light)) * lights.pdf_li(light, from.it, ray.d, &si);
+        return light_pdf == 0 ? Rgb() : l * power_heuristic(1, from.pdf, 1, light_pdf);
       }
       return l;
     }
@@ -189,9 +197,9 @@ struct Kernels {
       for (uint32_t light : lights.infinite_lights()) {
         const Rgb le = lights.infinite_le_one(light, ray);
         if (le.is_black()) continue;
-        const float light_pdf = I.distribution_.pmf(light_site, int(light)) *
-                                lights.pdf_li(light, from, ray.d, nullptr);
-        if (light_pdf > 0) l += le * power_heuristic(1, pdf, 1, light_pdf);
+        const float light_pdf = I.distribution_.pmf(from.site, int(light)) *
+                                lights.pdf_li(light, from.it, ray.d, nullptr);
+        if (light_pdf > 0) l += le * power_heuristic(1, from.pdf, 1, light_pdf);
       }
     return l;
   }
@@ -324,12 +332,7 @@ struct Kernels {
     RayDifferential ray = camera_ray;
     bool specular_bounce = false;
     float eta_scale = 1;
-    // The vertex the ray left, its light site and the ray's density there; weigh: the ray is
-    // that vertex's non-specular scattering sample (path: not one past an interface).
-    Interaction from;
-    LightDistribution::Site from_site;
-    float from_pdf = 0;
-    bool weigh = false;
+    LeftVertex from;  // path: weigh is cleared past an interface
     const int max_depth = I.settings_.max_depth;
     uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
@@ -359,39 +362,34 @@ struct Kernels {
           const LightDistribution::Site site = I.distribution_.site(mi.p);
           l += beta * sample_one_light<true, true>(I, mi, sc, sampler, &I.distribution_, c, &site);
           Vec3 wi;
-          from_pdf = sample_hg(mi.wo, sc.g, sampler.get_2d(), &wi);
-          from = mi;
-          from_site = site;
-          weigh = true;
+          const float phase_pdf = sample_hg(mi.wo, sc.g, sampler.get_2d(), &wi);
+          from = {mi, site, phase_pdf, true};
           ray = RayDifferential(mi.spawn_ray(wi));
           specular_bounce = false;
           if (!russian_roulette(I, &beta, eta_scale, bounces, sampler)) break;
           continue;
         }
       }
+      // volpath's scattering sample passes through interfaces (pbrt-v3's IntersectTr): an
+      // emitter on one counts nothing, and past the last vertex the sample still goes on
+      // through one to find the light it stands for.
+      const bool through = kMedia && found && I.scene_->shapes[si.shape].passes_through;
       if (bounces == 0 || specular_bounce) {
         if (found)
           l += beta * emitted(I, si, -ray.d);
         else
           l += beta * escaped(I, ray);
-      } else if (weigh) {
-        // volpath's scattering sample passes through interfaces (pbrt-v3's IntersectTr), and
-        // an emitter on one counts nothing there.
-        if (!kMedia || !found || !I.scene_->shapes[si.shape].passes_through)
-          l += beta * weighted_emission(I, found, si, ray, from, from_site, from_pdf);
+      } else if (from.weigh && !through) {
+        l += beta * weighted_emission(I, found, si, ray, from);
       }
       if (!found) break;
-      if (bounces >= max_depth) {
-        // Past the last vertex, volpath's scattering sample still goes on through interfaces
-        // to find the light it stands for.
-        if (!kMedia || !weigh || !I.scene_->shapes[si.shape].passes_through) break;
-      }
+      if (bounces >= max_depth && !(through && from.weigh)) break;
       Bsdf bsdf;
       if (!scattering_at(*I.scene_, &si, ray, TransportMode::kRadiance, true, &bsdf)) {
         if constexpr (kMedia) medium = medium_after(I, si, ray.d, medium);
         // path's scattering sample (pbrt-v3's EstimateDirect) stops at the interface, whatever
         // lies behind it; volpath's goes on.
-        if constexpr (!kMedia) weigh = false;
+        if constexpr (!kMedia) from.weigh = false;
         ray = RayDifferential(si.spawn_ray(ray.d));
         --bounces;
         continue;
@@ -407,10 +405,7 @@ struct Kernels {
       if (f.is_black() || pdf == 0) break;
       beta *= f * (abs_dot(wi, si.shading.n) / pdf);
       specular_bounce = flags & kSpecular;
-      from = si;
-      from_site = light_site;
-      from_pdf = pdf;
-      weigh = !specular_bounce;
+      from = {si, light_site, pdf, !specular_bounce};
       if ((flags & kSpecular) && (flags & kTransmission)) {
         float eta = bsdf.eta;
         eta_scale *= dot(wo, si.n) > 0 ? eta * eta : 1 / (eta * eta);
@@ -443,10 +438,7 @@ struct Kernels {
           if (fe.is_black() || exit_pdf == 0) break;
           beta *= fe * (abs_dot(wi, pi.shading.n) / exit_pdf);
           specular_bounce = exit_flags & kSpecular;
-          from = pi;
-          from_site = exit_site;
-          from_pdf = exit_pdf;
-          weigh = !specular_bounce;
+          from = {pi, exit_site, exit_pdf, !specular_bounce};
           if constexpr (kMedia) medium = medium_after(I, pi, wi, arrived_in);
           ray = RayDifferential(pi.spawn_ray(wi));
         }
