@@ -33,8 +33,13 @@ struct Interaction {
     Vec3 o = offset_ray_origin(p, p_error, n, p2 - p);
     return Ray{o, p2 - o, 1 - kShadowEpsilon, time};
   }
-  Ray spawn_ray_to(const Interaction& it) const {
-    Vec3 o = offset_ray_origin(p, p_error, n, it.p - p);
+  Ray spawn_ray_to(const Interaction& it) const { return spawn_ray_to(it, it.p - p); }
+  // As above, but leaving by the side that direction `side` (a light sample's wi) leaves by: for
+  // a grazing wi, it.p - p (it.p rounded far away: an infinite light's point) can name the
+  // other side, and the ray would start beyond the surface the scattering function saw wi stay
+  // in front of (light leaked into a closed sphere far from the origin).
+  Ray spawn_ray_to(const Interaction& it, Vec3 side) const {
+    Vec3 o = offset_ray_origin(p, p_error, n, side);
     Vec3 t = offset_ray_origin(it.p, it.p_error, it.n, o - it.p);
     return Ray{o, t - o, 1 - kShadowEpsilon, time};
   }
