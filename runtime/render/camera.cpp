@@ -99,6 +99,12 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
     p_max = p_max / p_max.z;
     image_area_ = std::abs((p_max.x - p_min.x) * (p_max.y - p_min.y));
   }
+  still_pinhole_ = type_ == Type::kPerspective && lens_radius_ == 0 && !motion_.animated();
+  if (still_pinhole_) {
+    dir_x_ = camera_to_world_.vector(dx_camera_);
+    dir_y_ = camera_to_world_.vector(dy_camera_);
+    dir_0_ = camera_to_world_.vector(raster_to_camera_.point({0, 0, 0}));
+  }
   return true;
 }
 
@@ -170,7 +176,26 @@ CameraSampleUse Camera::sample_use(uint64_t effects) const {
   return use;
 }
 
+// The same rays as the general path below up to rounding, in a third of its arithmetic: one
+// 3x3 product, no perspective divide, one normalisation per direction. (Camera rays took
+// 8-14% of the whitted hm-* scenes' time.)
+float Camera::still_pinhole_ray(const CameraSample& s, RayDifferential* out) const {
+  const Vec3 v = s.p_film.x * dir_x_ + s.p_film.y * dir_y_ + dir_0_;
+  out->d = normalize(v);
+  out->o = origin_past_error(origin_world_, out->d, origin_error_);
+  out->tmax = kInfinity;
+  out->time = lerp(s.time, shutter_open_, shutter_close_);
+  out->has_differentials = differentials_;
+  if (differentials_) {
+    out->rx_o = out->ry_o = origin_world_;
+    out->rx_d = normalize(v + dir_x_);
+    out->ry_d = normalize(v + dir_y_);
+  }
+  return 1;
+}
+
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
+  if (still_pinhole_) return still_pinhole_ray(s, out);
   if (type_ == Type::kRealistic) {
     const Transform w = to_world(lerp(s.time, shutter_open_, shutter_close_));
     auto world_ray = [&](const CameraSample& cs, Ray* r) {

@@ -141,6 +141,12 @@ class Camera {
   }
   // The camera-space origin in world space (still camera) and its rounding bound.
   Vec3 origin_world_, origin_error_;
+  // A still pinhole perspective camera's ray through raster point (x, y) points along
+  // x dir_x_ + y dir_y_ + dir_0_ (world space, unnormalised): the raster plane maps affinely
+  // onto the camera's near plane, and normalising drops the scale.
+  bool still_pinhole_ = false;
+  Vec3 dir_x_, dir_y_, dir_0_;
+  float still_pinhole_ray(const CameraSample& sample, RayDifferential* ray) const;
   Transform raster_to_camera_;
   Vec3 dx_camera_, dy_camera_;
   float lens_radius_ = 0, focal_distance_ = 1e6f;
