@@ -154,6 +154,12 @@ T MipMap::fetch(int level, int s, int t) const {
       if (s < 0 || s >= l.w || t < 0 || t >= l.h) return T(0.f);
       break;
   }
+  return fetch_inside<T>(level, s, t);
+}
+
+template <class T>
+T MipMap::fetch_inside(int level, int s, int t) const {
+  const Level& l = levels_[level];
   int row = flip_rows_ ? l.h - 1 - t : t;
   return from_texel<T>(l.data + (size_t(row) * l.w + s) * channels_, channels_);
 }
@@ -172,6 +178,11 @@ T MipMap::triangle(int level, Vec2 st) const {
   float t = st.y * levels_[level].h - 0.5f;
   int s0 = int(std::floor(s)), t0 = int(std::floor(t));
   float ds = s - s0, dt = t - t0;
+  if (inside(level, s0, t0, s0 + 1, t0 + 1))
+    return (1 - ds) * (1 - dt) * fetch_inside<T>(level, s0, t0) +
+           (1 - ds) * dt * fetch_inside<T>(level, s0, t0 + 1) +
+           ds * (1 - dt) * fetch_inside<T>(level, s0 + 1, t0) +
+           ds * dt * fetch_inside<T>(level, s0 + 1, t0 + 1);
   return (1 - ds) * (1 - dt) * fetch<T>(level, s0, t0) +
          (1 - ds) * dt * fetch<T>(level, s0, t0 + 1) + ds * (1 - dt) * fetch<T>(level, s0 + 1, t0) +
          ds * dt * fetch<T>(level, s0 + 1, t0 + 1);
@@ -246,19 +257,25 @@ T MipMap::ewa(int level, Vec2 st, Vec2 dst0, Vec2 dst1) const {
   int t1 = int(std::floor(st.y + 2 * inv_det * v_sqrt));
   T sum(0.f);
   float sum_w = 0;
-  for (int it = t0; it <= t1; ++it) {
-    float tt = it - st.y;
-    for (int is = s0; is <= s1; ++is) {
-      float ss = is - st.x;
-      float r2 = a * ss * ss + b * ss * tt + c * tt * tt;
-      if (r2 < 1) {
-        int index = std::min(int(r2 * kWeightLutSize), kWeightLutSize - 1);
-        float weight = kWeights.w[index];
-        sum += fetch<T>(level, is, it) * weight;
-        sum_w += weight;
+  auto accumulate = [&](auto texel) {
+    for (int it = t0; it <= t1; ++it) {
+      float tt = it - st.y;
+      for (int is = s0; is <= s1; ++is) {
+        float ss = is - st.x;
+        float r2 = a * ss * ss + b * ss * tt + c * tt * tt;
+        if (r2 < 1) {
+          int index = std::min(int(r2 * kWeightLutSize), kWeightLutSize - 1);
+          float weight = kWeights.w[index];
+          sum += texel(is, it) * weight;
+          sum_w += weight;
+        }
       }
     }
-  }
+  };
+  if (inside(level, s0, t0, s1, t1))
+    accumulate([&](int is, int it) { return fetch_inside<T>(level, is, it); });
+  else
+    accumulate([&](int is, int it) { return fetch<T>(level, is, it); });
   return sum / sum_w;
 }
 

@@ -86,6 +86,14 @@ class MipMap {
   };
   template <class T>
   T fetch(int level, int s, int t) const;
+  // fetch() for a texel known to lie inside the level: no wrap (whose integer modulo per
+  // texel cost EWA lookups more than their arithmetic).
+  template <class T>
+  T fetch_inside(int level, int s, int t) const;
+  bool inside(int level, int s0, int t0, int s1, int t1) const {
+    const Level& l = levels_[level];
+    return s0 >= 0 && t0 >= 0 && s1 < l.w && t1 < l.h;
+  }
   template <class T>
   T triangle(int level, Vec2 st) const;
   template <class T>
