@@ -46,9 +46,10 @@ bool keep_off_edges(const Vec3 p[3], Vec3 p_error, float* b0, float* b1, float* 
   const float e2[3] = {length_squared(p[2] - p[1]), length_squared(p[0] - p[2]),
                        length_squared(p[1] - p[0])};
   float b[3] = {*b0, *b1, *b2};
+  const float k = m2 / area2;  // one division for the three margins
   float s = 0;
   for (int i = 0; i < 3; ++i) {
-    const float mu2 = m2 * e2[i] / area2;
+    const float mu2 = k * e2[i];
     if (b[i] > 0 && b[i] * b[i] >= mu2) continue;
     const float mu = std::sqrt(mu2);
     s = mu >= 1.f / 3 ? 1 : std::max(s, (mu - b[i]) / (1.f / 3 - b[i]));
