@@ -153,10 +153,7 @@ Bounds3 CurveShape::piece_bounds(uint32_t piece) const {
   const CurveSegment& s = segment_of(piece);
   float a = u0(piece), b = u1(piece);
   Bounds3 box;
-  box.extend(blossom(s.cp, a, a, a));
-  box.extend(blossom(s.cp, a, a, b));
-  box.extend(blossom(s.cp, a, b, b));
-  box.extend(blossom(s.cp, b, b, b));
+  for (int i = 0; i < 4; ++i) box.extend(points_of(piece)[i]);
   float h = 0.5f * std::max(width_at(s, a), width_at(s, b));
   box.lo = box.lo - Vec3{h, h, h};
   box.hi = box.hi + Vec3{h, h, h};
@@ -233,14 +230,23 @@ bool make_curve(const pbrta::SceneArchive& a, uint32_t e, CurveShape* out, std::
       s.inv_sin_normal_angle = 1 / std::sin(s.normal_angle);
     }
   }
+  out->piece_points.resize(4 * size_t(out->num_pieces()));
+  for (uint32_t piece = 0; piece < out->num_pieces(); ++piece) {
+    const Vec3* cp = out->segment_of(piece).cp;
+    const float a = out->u0(piece), b = out->u1(piece);
+    Vec3* p = &out->piece_points[4 * size_t(piece)];
+    p[0] = blossom(cp, a, a, a);
+    p[1] = blossom(cp, a, a, b);
+    p[2] = blossom(cp, a, b, b);
+    p[3] = blossom(cp, b, b, b);
+  }
   return true;
 }
 
 bool intersect_curve_piece(const CurveShape& c, uint32_t piece, const Ray& ray, CurveHit* hit) {
   const CurveSegment& seg = c.segment_of(piece);
   const float u0 = c.u0(piece), u1 = c.u1(piece);
-  Vec3 cp_obj[4] = {blossom(seg.cp, u0, u0, u0), blossom(seg.cp, u0, u0, u1),
-                    blossom(seg.cp, u0, u1, u1), blossom(seg.cp, u1, u1, u1)};
+  const Vec3* cp_obj = c.points_of(piece);
   Search s;
   s.curve = &c;
   s.seg = &seg;

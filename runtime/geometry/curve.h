@@ -44,7 +44,11 @@ struct CurveShape {
   CurveType type = CurveType::kFlat;
   int split_depth = 3;
   std::vector<CurveSegment> segments;
+  // Each piece's own four Bezier points (its segment's blossoms over [u0, u1]), made once by
+  // make_curve: every ray through a piece's box starts from them.
+  std::vector<Vec3> piece_points;
   uint32_t num_pieces() const { return uint32_t(segments.size()) << split_depth; }
+  const Vec3* points_of(uint32_t piece) const { return &piece_points[4 * size_t(piece)]; }
   const CurveSegment& segment_of(uint32_t piece) const { return segments[piece >> split_depth]; }
   // The u interval of a piece within its segment.
   float u0(uint32_t piece) const {
