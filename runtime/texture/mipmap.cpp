@@ -157,6 +157,16 @@ T MipMap::fetch(int level, int s, int t) const {
   return fetch_inside<T>(level, s, t);
 }
 
+bool MipMap::inside(int level, int s0, int t0, int s1, int t1, int* shift_s, int* shift_t) const {
+  const Level& l = levels_[level];
+  *shift_s = *shift_t = 0;
+  if (wrap_ == ImageWrap::kRepeat) {
+    *shift_s = mod(s0, l.w) - s0;
+    *shift_t = mod(t0, l.h) - t0;
+  }
+  return s0 + *shift_s >= 0 && t0 + *shift_t >= 0 && s1 + *shift_s < l.w && t1 + *shift_t < l.h;
+}
+
 template <class T>
 T MipMap::fetch_inside(int level, int s, int t) const {
   const Level& l = levels_[level];
@@ -178,11 +188,14 @@ T MipMap::triangle(int level, Vec2 st) const {
   float t = st.y * levels_[level].h - 0.5f;
   int s0 = int(std::floor(s)), t0 = int(std::floor(t));
   float ds = s - s0, dt = t - t0;
-  if (inside(level, s0, t0, s0 + 1, t0 + 1))
-    return (1 - ds) * (1 - dt) * fetch_inside<T>(level, s0, t0) +
-           (1 - ds) * dt * fetch_inside<T>(level, s0, t0 + 1) +
-           ds * (1 - dt) * fetch_inside<T>(level, s0 + 1, t0) +
-           ds * dt * fetch_inside<T>(level, s0 + 1, t0 + 1);
+  int ks, kt;
+  if (inside(level, s0, t0, s0 + 1, t0 + 1, &ks, &kt)) {
+    const int a = s0 + ks, b = t0 + kt;
+    return (1 - ds) * (1 - dt) * fetch_inside<T>(level, a, b) +
+           (1 - ds) * dt * fetch_inside<T>(level, a, b + 1) +
+           ds * (1 - dt) * fetch_inside<T>(level, a + 1, b) +
+           ds * dt * fetch_inside<T>(level, a + 1, b + 1);
+  }
   return (1 - ds) * (1 - dt) * fetch<T>(level, s0, t0) +
          (1 - ds) * dt * fetch<T>(level, s0, t0 + 1) + ds * (1 - dt) * fetch<T>(level, s0 + 1, t0) +
          ds * dt * fetch<T>(level, s0 + 1, t0 + 1);
@@ -272,8 +285,9 @@ T MipMap::ewa(int level, Vec2 st, Vec2 dst0, Vec2 dst1) const {
       }
     }
   };
-  if (inside(level, s0, t0, s1, t1))
-    accumulate([&](int is, int it) { return fetch_inside<T>(level, is, it); });
+  int ks, kt;
+  if (inside(level, s0, t0, s1, t1, &ks, &kt))
+    accumulate([&](int is, int it) { return fetch_inside<T>(level, is + ks, it + kt); });
   else
     accumulate([&](int is, int it) { return fetch<T>(level, is, it); });
   return sum / sum_w;

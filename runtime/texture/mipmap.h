@@ -90,10 +90,10 @@ class MipMap {
   // texel cost EWA lookups more than their arithmetic).
   template <class T>
   T fetch_inside(int level, int s, int t) const;
-  bool inside(int level, int s0, int t0, int s1, int t1) const {
-    const Level& l = levels_[level];
-    return s0 >= 0 && t0 >= 0 && s1 < l.w && t1 < l.h;
-  }
+  // Whether texels [s0, s1] x [t0, t1] lie inside the level once moved by whole periods of a
+  // repeating image (textures tiled with uscale 15 read far outside [0, 1]); if so, the move
+  // in *shift_s, *shift_t (0 for clamp and black).
+  bool inside(int level, int s0, int t0, int s1, int t1, int* shift_s, int* shift_t) const;
   template <class T>
   T triangle(int level, Vec2 st) const;
   template <class T>
