@@ -71,6 +71,33 @@ TEST(CameraDifferentials, PinholeMakesThemOnlyForTextures) {
   expect_same_rays("diff_pinhole", "Camera \"perspective\" \"float fov\" 40", false);
 }
 
+// A still pinhole's differential rays are its rays through the points one pixel over in x
+// and in y, from the same origin (Camera::still_pinhole_ray makes all three from one map).
+TEST(CameraDifferentials, PinholeDifferentialsAreTheRaysOnePixelOver) {
+  pbrta::SceneArchive a;
+  Camera camera;
+  ASSERT_TRUE(build_camera("diff_pinhole_over",
+                           scene("Camera \"perspective\" \"float fov\" 40", true), &a, &camera));
+  Rng rng(5);
+  for (int i = 0; i < 200; ++i) {
+    CameraSample cs;
+    cs.p_film = {39 * rng.next_float(), 29 * rng.next_float()};
+    RayDifferential r, rx, ry;
+    ASSERT_EQ(camera.generate_ray_differential(cs, &r), 1);
+    CameraSample sx = cs, sy = cs;
+    sx.p_film.x += 1;
+    sy.p_film.y += 1;
+    ASSERT_EQ(camera.generate_ray_differential(sx, &rx), 1);
+    ASSERT_EQ(camera.generate_ray_differential(sy, &ry), 1);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(r.rx_d[k], rx.d[k], 1e-6f);
+      EXPECT_NEAR(r.ry_d[k], ry.d[k], 1e-6f);
+      EXPECT_NEAR(r.rx_o[k], r.o[k], 1e-5f);
+      EXPECT_EQ(r.rx_o[k], r.ry_o[k]);
+    }
+  }
+}
+
 TEST(CameraDifferentials, ThinLensMakesThemOnlyForTextures) {
   expect_same_rays(
       "diff_lens",
