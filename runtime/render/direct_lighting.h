@@ -102,7 +102,7 @@ Rgb estimate_light_sample(const RenderScene& scene, const Interaction& it, const
     if (!f.is_black()) {
       ++c->shadow_rays;
       if constexpr (kMedia)
-        li *= transmittance(scene, it, ls.p_light, sc.medium_toward(ls.wi), sampler, c);
+        li *= transmittance(scene, it, ls.p_light, ls.wi, sc.medium_toward(ls.wi), sampler, c);
       else if (scene.geometry.occluded(it.spawn_ray_to(ls.p_light, ls.wi), ls.own_shape))
         li = Rgb();
       if (!li.is_black()) {

@@ -287,7 +287,7 @@ struct Kernels {
         Rgb f = bsdf.f(si.wo, ls.wi);
         if (f.is_black()) continue;
         ++c->shadow_rays;
-        if (!I.scene_->geometry.occluded(si.spawn_ray_to(ls.p_light), ls.own_shape))
+        if (!I.scene_->geometry.occluded(si.spawn_ray_to(ls.p_light, ls.wi), ls.own_shape))
           l += f * li * (abs_dot(ls.wi, si.shading.n) / ls.pdf);
       }
     } else if (lights.count() > 0) {

@@ -5,7 +5,12 @@ namespace rt {
 
 Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
                   uint32_t medium, Sampler& sampler, RayCounters* c) {
-  Ray ray = from.spawn_ray_to(to);
+  return transmittance(scene, from, to, to.p - from.p, medium, sampler, c);
+}
+
+Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
+                  Vec3 side, uint32_t medium, Sampler& sampler, RayCounters* c) {
+  Ray ray = from.spawn_ray_to(to, side);
   // pbrt-v3 finds every hit whole here; only a surface the ray passes through is read.
   if (medium == kNone && scene.opaque_shapes)
     return scene.geometry.occluded(ray) ? Rgb() : Rgb(1.f);

@@ -33,5 +33,9 @@ inline uint32_t medium_after(const RenderScene& scene, const SurfaceInteraction&
 
 Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
                   uint32_t medium, Sampler& sampler, RayCounters* counters);
+// The same, the ray leaving `from` by the side direction `side` names (a light sample's wi:
+// Interaction::spawn_ray_to says why).
+Rgb transmittance(const RenderScene& scene, const Interaction& from, const Interaction& to,
+                  Vec3 side, uint32_t medium, Sampler& sampler, RayCounters* counters);
 
 }  // namespace rt
