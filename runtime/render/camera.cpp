@@ -103,7 +103,7 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
   if (still_pinhole_) {
     dir_x_ = camera_to_world_.vector(dx_camera_);
     dir_y_ = camera_to_world_.vector(dy_camera_);
-    dir_0_ = camera_to_world_.vector(raster_to_camera_.point({0, 0, 0}));
+    dir_0_ = camera_to_world_.vector(o);
   }
   return true;
 }
@@ -280,9 +280,9 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
     }
   }
   // To world space: a still camera's transform is read in place, and where every ray leaves
-  // from the camera-space origin its world point was taken there once, in build().
-  const bool fixed_origin = !motion_.animated() && lens_radius_ == 0 &&
-                            (type_ == Type::kPerspective || type_ == Type::kEnvironment);
+  // from the camera-space origin its world point was taken there once, in build(). (A still
+  // pinhole perspective camera never gets here: still_pinhole_ray.)
+  const bool fixed_origin = !motion_.animated() && type_ == Type::kEnvironment;
   auto to_world_ray = [&](const Transform& w) {
     const Vec3 dw = w.vector(r.d);
     out->o = fixed_origin ? origin_past_error(origin_world_, dw, origin_error_)

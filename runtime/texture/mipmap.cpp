@@ -169,9 +169,7 @@ bool MipMap::inside(int level, int s0, int t0, int s1, int t1, int* shift_s, int
 
 template <class T>
 T MipMap::fetch_inside(int level, int s, int t) const {
-  const Level& l = levels_[level];
-  int row = flip_rows_ ? l.h - 1 - t : t;
-  return from_texel<T>(l.data + (size_t(row) * l.w + s) * channels_, channels_);
+  return from_texel<T>(texel_data(level, s, t), channels_);
 }
 
 Rgb MipMap::texel(int level, int s, int t) const {
@@ -188,17 +186,14 @@ T MipMap::triangle(int level, Vec2 st) const {
   float t = st.y * levels_[level].h - 0.5f;
   int s0 = int(std::floor(s)), t0 = int(std::floor(t));
   float ds = s - s0, dt = t - t0;
+  auto blend = [&](auto texel) {
+    return (1 - ds) * (1 - dt) * texel(s0, t0) + (1 - ds) * dt * texel(s0, t0 + 1) +
+           ds * (1 - dt) * texel(s0 + 1, t0) + ds * dt * texel(s0 + 1, t0 + 1);
+  };
   int ks, kt;
-  if (inside(level, s0, t0, s0 + 1, t0 + 1, &ks, &kt)) {
-    const int a = s0 + ks, b = t0 + kt;
-    return (1 - ds) * (1 - dt) * fetch_inside<T>(level, a, b) +
-           (1 - ds) * dt * fetch_inside<T>(level, a, b + 1) +
-           ds * (1 - dt) * fetch_inside<T>(level, a + 1, b) +
-           ds * dt * fetch_inside<T>(level, a + 1, b + 1);
-  }
-  return (1 - ds) * (1 - dt) * fetch<T>(level, s0, t0) +
-         (1 - ds) * dt * fetch<T>(level, s0, t0 + 1) + ds * (1 - dt) * fetch<T>(level, s0 + 1, t0) +
-         ds * dt * fetch<T>(level, s0 + 1, t0 + 1);
+  if (inside(level, s0, t0, s0 + 1, t0 + 1, &ks, &kt))
+    return blend([&](int is, int it) { return fetch_inside<T>(level, is + ks, it + kt); });
+  return blend([&](int is, int it) { return fetch<T>(level, is, it); });
 }
 
 Rgb MipMap::bilerp(int level, Vec2 st) const {
@@ -216,8 +211,7 @@ void MipMap::prefetch_bilinear(Vec2 st) const {
   const int s0 = clamp(int(st.x * l.w - 0.5f), 0, l.w - 2 < 0 ? 0 : l.w - 2);
   const int t0 = clamp(int(st.y * l.h - 0.5f), 0, l.h - 1);
   for (int t : {t0, std::min(t0 + 1, l.h - 1)}) {
-    const int row = flip_rows_ ? l.h - 1 - t : t;
-    const float* p = l.data + (size_t(row) * l.w + s0) * channels_;
+    const float* p = texel_data(0, s0, t);
     __builtin_prefetch(p);
     __builtin_prefetch(p + 2 * channels_ - 1);
   }

@@ -90,6 +90,12 @@ class MipMap {
   // texel cost EWA lookups more than their arithmetic).
   template <class T>
   T fetch_inside(int level, int s, int t) const;
+  // The first float of texel (s, t) of the level, which must hold it.
+  const float* texel_data(int level, int s, int t) const {
+    const Level& l = levels_[level];
+    const int row = flip_rows_ ? l.h - 1 - t : t;
+    return l.data + (size_t(row) * l.w + s) * channels_;
+  }
   // Whether texels [s0, s1] x [t0, t1] lie inside the level once moved by whole periods of a
   // repeating image (textures tiled with uscale 15 read far outside [0, 1]); if so, the move
   // in *shift_s, *shift_t (0 for clamp and black).
