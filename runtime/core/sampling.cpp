@@ -5,9 +5,6 @@
 
 namespace rt {
 
-// Entries of a Distribution1D's cdf per cutpoint of its guide table.
-constexpr int kGuideStep = 8;
-
 Vec2 concentric_sample_disk(Vec2 u) {
   float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
   if (ox == 0 && oy == 0) return {0, 0};
@@ -44,77 +41,83 @@ Vec3 uniform_sample_cone(Vec2 u, float cos_max) {
   return {std::cos(phi) * sin_theta, std::sin(phi) * sin_theta, cos_theta};
 }
 
-Distribution1D::Distribution1D(const float* f, int n, bool view)
-    : own_(view ? f + n : f, f + n), func_(view ? f : own_.data()), n_(n), cdf_(n + 1) {
-  cdf_[0] = 0;
-  for (int i = 1; i <= n; ++i) cdf_[i] = cdf_[i - 1] + std::fabs(func_[i - 1]) / n;
-  integral_ = cdf_[n];
-  if (integral_ == 0) {
-    for (int i = 1; i <= n; ++i) cdf_[i] = float(i) / n;
-  } else {
-    for (int i = 1; i <= n; ++i) cdf_[i] /= integral_;
-  }
-  // guide_[j]: how many cdf entries are <= j / m (what upper_bound returns), m = n / 8
-  // rounded up: a search between two cutpoints covers about 8 entries, one cache line, and
-  // the guide takes an eighth of the cdf's memory (an environment map's distribution has
-  // 4096 x 2048 entries). Only for a finite, hence sorted, cdf.
-  if (!std::isfinite(integral_)) return;
-  const int m = (n + kGuideStep - 1) / kGuideStep;
-  guide_.resize(size_t(m) + 1);
-  int i = 0;
-  for (int j = 0; j <= m; ++j) {
-    float t = float(j) / float(m);
-    while (i <= n && cdf_[i] <= t) ++i;
-    guide_[j] = i;
-  }
-}
-
-Distribution1D& Distribution1D::operator=(const Distribution1D& o) {
-  if (this == &o) return *this;
-  own_ = o.own_;
-  func_ = o.func_ == o.own_.data() ? own_.data() : o.func_;
-  n_ = o.n_;
-  cdf_ = o.cdf_;
-  guide_ = o.guide_;
-  integral_ = o.integral_;
-  return *this;
-}
-
 namespace {
 
-// The last i with cdf[i] <= u, clamped to a valid bucket.
-int cdf_interval(const float* cdf, int n, float u) {
-  const float* it = std::upper_bound(cdf, cdf + n + 1, u);
+// cdf entries a coarse table entry stands for: one 64-byte line.
+constexpr int kLine = 16;
+
+// cdf[0..n] of f's n values (|f|, normalised; uniform when they sum to 0); returns their
+// integral over [0,1].
+float build_cdf(const float* f, int n, float* cdf) {
+  cdf[0] = 0;
+  for (int i = 1; i <= n; ++i) cdf[i] = cdf[i - 1] + std::fabs(f[i - 1]) / n;
+  const float integral = cdf[n];
+  if (integral == 0) {
+    for (int i = 1; i <= n; ++i) cdf[i] = float(i) / n;
+  } else {
+    for (int i = 1; i <= n; ++i) cdf[i] /= integral;
+  }
+  return integral;
+}
+
+int coarse_count(int n) {
+  return n / kLine + 1;
+}
+
+void build_coarse(const float* cdf, int n, float* coarse) {
+  for (int k = 0; k < coarse_count(n); ++k) coarse[k] = cdf[k * kLine];
+}
+
+// The last i with cdf[i] <= u, clamped to a bucket. coarse (every 16th entry) may be null
+// (a cdf that is not finite, hence maybe not sorted): a full search then. With func, the
+// line of values beside the answer's cdf line is fetched too.
+int find_interval(const float* cdf, const float* coarse, int n, float u,
+                  const float* func = nullptr) {
+  if (!coarse) {
+    const float* it = std::upper_bound(cdf, cdf + n + 1, u);
+    return clamp(int(it - cdf) - 1, 0, n - 1);
+  }
+  // Sorted, so the entries <= u are a prefix: the last coarse entry <= u, cdf[16 k], and
+  // the next, cdf[16 k + 16] > u, bound the answer to 16 k .. 16 k + 15.
+  const int k = int(std::upper_bound(coarse, coarse + coarse_count(n), u) - coarse) - 1;
+  if (k < 0) return 0;
+  const int lo = k * kLine;
+  if (func) {
+    __builtin_prefetch(func + lo);
+    __builtin_prefetch(func + std::min(lo + kLine - 1, n - 1));
+  }
+  const float* it = std::upper_bound(cdf + lo + 1, cdf + std::min(lo + kLine, n + 1), u);
   return clamp(int(it - cdf) - 1, 0, n - 1);
+}
+
+// A continuous sample in [0,1) of one tabulated function, its pdf and bucket.
+float sample_table(const float* func, const float* cdf, const float* coarse, int n, float integral,
+                   float u, float* pdf, int* offset) {
+  const int i = find_interval(cdf, coarse, n, u, pdf ? func : nullptr);
+  if (offset) *offset = i;
+  float du = u - cdf[i];
+  if (cdf[i + 1] - cdf[i] > 0) du /= cdf[i + 1] - cdf[i];
+  if (pdf) *pdf = integral > 0 ? func[i] / integral : 0;
+  return (i + du) / n;
 }
 
 }  // namespace
 
+Distribution1D::Distribution1D(const float* f, int n)
+    : func_(f, f + n), n_(n), cdf_(size_t(n) + 1) {
+  integral_ = build_cdf(f, n, cdf_.data());
+  if (!std::isfinite(integral_)) return;
+  coarse_.resize(size_t(coarse_count(n)));
+  build_coarse(cdf_.data(), n, coarse_.data());
+}
+
 int Distribution1D::find_interval(float u) const {
-  const int n = count();
-  const float* cdf = cdf_.data();
-  if (n > 8 && !guide_.empty() && u >= 0 && u < 1) {
-    const int m = int(guide_.size()) - 1;
-    int j = std::min(int(u * float(m)), m - 1);
-    int lo = guide_[j], hi = guide_[j + 1];
-    // The answer (the count of entries <= u) lies in [lo, hi] when cdf[lo-1]
-    // <= u < cdf[hi]; float rounding of u * n could break that at a cutpoint,
-    // so check and fall back to the full search.
-    if ((lo == 0 || cdf[lo - 1] <= u) && (hi > n || cdf[hi] > u)) {
-      const float* it = std::upper_bound(cdf + lo, cdf + std::min(hi, n + 1), u);
-      return clamp(int(it - cdf) - 1, 0, n - 1);
-    }
-  }
-  return cdf_interval(cdf, n, u);
+  return rt::find_interval(cdf_.data(), coarse_.empty() ? nullptr : coarse_.data(), n_, u);
 }
 
 float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const {
-  int i = find_interval(u);
-  if (offset) *offset = i;
-  float du = u - cdf_[i];
-  if (cdf_[i + 1] - cdf_[i] > 0) du /= cdf_[i + 1] - cdf_[i];
-  if (pdf) *pdf = integral_ > 0 ? func_[i] / integral_ : 0;
-  return (i + du) / count();
+  return sample_table(func_.data(), cdf_.data(), coarse_.empty() ? nullptr : coarse_.data(), n_,
+                      integral_, u, pdf, offset);
 }
 
 int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const {
@@ -128,33 +131,60 @@ int Distribution1D::sample_discrete(float u, float* pmf, float* remapped) const 
 }
 
 float Distribution1D::discrete_pdf(int i) const {
-  return integral_ > 0 ? func_[i] / (integral_ * count()) : 0;
+  return integral_ > 0 ? func_[size_t(i)] / (integral_ * count()) : 0;
 }
 
-Distribution2D::Distribution2D(const float* f, int nu, int nv, bool view) {
-  conditional_.reserve(nv);
-  std::vector<float> marginal(nv);
+Distribution2D::Distribution2D(const float* f, int nu, int nv, bool view)
+    : own_(f, view ? f : f + size_t(nu) * nv),
+      func_(view ? f : own_.data()),
+      nu_(nu),
+      nv_(nv),
+      cdf_stride_(size_t(nu + kLine) / kLine * kLine),
+      coarse_stride_(size_t(coarse_count(nu))),
+      cdf_(size_t(nv) * cdf_stride_),
+      coarse_(size_t(nv) * coarse_stride_) {
+  std::vector<float> integrals(nv);
   for (int v = 0; v < nv; ++v) {
-    conditional_.emplace_back(f + size_t(v) * nu, nu, view);
-    marginal[v] = conditional_.back().integral();
+    float* cdf = &cdf_[size_t(v) * cdf_stride_];
+    integrals[v] = build_cdf(func_ + size_t(v) * nu, nu, cdf);
+    // A row whose integral is not finite is searched in full; the marginal says which.
+    if (std::isfinite(integrals[v])) build_coarse(cdf, nu, &coarse_[size_t(v) * coarse_stride_]);
   }
-  marginal_ = Distribution1D(marginal.data(), nv);
+  marginal_ = Distribution1D(integrals.data(), nv);
+}
+
+Distribution2D& Distribution2D::operator=(const Distribution2D& o) {
+  if (this == &o) return *this;
+  own_ = o.own_;
+  func_ = o.func_ == o.own_.data() ? own_.data() : o.func_;
+  nu_ = o.nu_;
+  nv_ = o.nv_;
+  cdf_stride_ = o.cdf_stride_;
+  coarse_stride_ = o.coarse_stride_;
+  cdf_ = o.cdf_;
+  coarse_ = o.coarse_;
+  marginal_ = o.marginal_;
+  return *this;
 }
 
 Vec2 Distribution2D::sample_continuous(Vec2 u, float* pdf) const {
-  float pdfs[2];
+  float pdf_v;
   int v;
-  float d1 = marginal_.sample_continuous(u.y, &pdfs[1], &v);
-  float d0 = conditional_[v].sample_continuous(u.x, &pdfs[0]);
-  *pdf = pdfs[0] * pdfs[1];
+  const float d1 = marginal_.sample_continuous(u.y, &pdf_v, &v);
+  const float integral = marginal_.value(v);
+  const size_t row = size_t(v);
+  const float* coarse = std::isfinite(integral) ? &coarse_[row * coarse_stride_] : nullptr;
+  float pdf_u;
+  const float d0 = sample_table(func_ + row * nu_, &cdf_[row * cdf_stride_], coarse, nu_, integral,
+                                u.x, &pdf_u, nullptr);
+  *pdf = pdf_u * pdf_v;
   return {d0, d1};
 }
 
 const float* Distribution2D::cell_value(Vec2 p) const {
-  int nu = conditional_[0].count(), nv = marginal_.count();
-  int iu = clamp(int(p.x * nu), 0, nu - 1);
-  int iv = clamp(int(p.y * nv), 0, nv - 1);
-  return conditional_[iv].func_data() + iu;
+  int iu = clamp(int(p.x * nu_), 0, nu_ - 1);
+  int iv = clamp(int(p.y * nv_), 0, nv_ - 1);
+  return func_ + size_t(iv) * nu_ + iu;
 }
 
 float Distribution2D::pdf(Vec2 p) const {
@@ -164,7 +194,7 @@ float Distribution2D::pdf(Vec2 p) const {
 }
 
 void Distribution2D::prefetch_value(Vec2 p) const {
-  if (!conditional_.empty()) __builtin_prefetch(cell_value(p));
+  if (func_) __builtin_prefetch(cell_value(p));
 }
 
 }  // namespace rt

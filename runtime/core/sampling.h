@@ -7,6 +7,7 @@
 // for environment maps and the power light distribution.
 #pragma once
 
+#include <new>
 #include <vector>
 
 #include "runtime/core/vec.h"
@@ -50,48 +51,69 @@ inline float balance_heuristic(int nf, float f_pdf, int ng, float g_pdf) {
   return (nf * f_pdf) / (nf * f_pdf + ng * g_pdf);
 }
 
-// find_interval() starts from a guide table (the cutpoint method): guide_[j]
-// is the search result at u = j/m (m = n/8), so a lookup searches only the entries
-// between two neighbouring cutpoints instead of the whole cdf (large
-// environment-map tables otherwise miss the cache at every step). The result
-// is checked against the cdf and is the same as a full binary search.
+// A vector whose buffer starts on a 64-byte cache line.
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) {}
+  T* allocate(size_t n) {
+    return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(64)));
+  }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t(64)); }
+  bool operator==(const CacheLineAllocator&) const { return true; }
+  bool operator!=(const CacheLineAllocator&) const { return false; }
+};
+using CacheLineFloats = std::vector<float, CacheLineAllocator<float>>;
+
+// A cdf search in two steps: a coarse table of every 16th cdf entry (a sixteenth of the cdf,
+// small enough to stay in cache) finds the 64-byte line of the cdf that holds the answer,
+// and one search inside that line finishes it. A plain binary search over a large table (an
+// environment map's rows) misses the cache at nearly every step; this misses once, and the
+// function value the pdf needs can be fetched alongside. The result is the same as a full
+// binary search's (std::upper_bound, less one, clamped to a bucket).
 class Distribution1D {
  public:
   Distribution1D() = default;
-  // Copies f's n values, or with view uses them in place: f must then outlive this object
-  // and its copies (an environment map's table in the archive, 32 MB for a 2048x1024 map).
-  Distribution1D(const float* f, int n, bool view = false);
-  Distribution1D(const Distribution1D& o) { *this = o; }
-  Distribution1D& operator=(const Distribution1D& o);
-  Distribution1D(Distribution1D&&) noexcept = default;  // a moved vector keeps its buffer
-  Distribution1D& operator=(Distribution1D&&) noexcept = default;
+  Distribution1D(const float* f, int n);  // copies f's n values
 
   int count() const { return n_; }
   float integral() const { return integral_; }
-  float value(int i) const { return func_[i]; }
+  float value(int i) const { return func_[size_t(i)]; }
   // A continuous sample in [0,1), its pdf, and the bucket it fell in.
   float sample_continuous(float u, float* pdf, int* offset = nullptr) const;
   // A bucket, with probability value / sum; *remapped is u rescaled within it.
   int sample_discrete(float u, float* pmf = nullptr, float* remapped = nullptr) const;
   float discrete_pdf(int i) const;
-  const float* func_data() const { return func_; }
+  const float* func_data() const { return func_.data(); }
   const float* cdf_data() const { return cdf_.data(); }
 
  private:
   int find_interval(float u) const;
-  std::vector<float> own_;       // the values, when copied
-  const float* func_ = nullptr;  // own_'s or the viewed ones
+  std::vector<float> func_;
   int n_ = 0;
-  std::vector<float> cdf_;
-  std::vector<int> guide_;  // n/8 + 1 cutpoints
+  CacheLineFloats cdf_;        // n + 1 entries
+  std::vector<float> coarse_;  // cdf_[16 k], k = 0 .. n / 16; empty if the cdf is not finite
   float integral_ = 0;
 };
 
+// Rows are laid out flat: row v's values, cdf and coarse table start at v times their row
+// length in three arrays (each cdf row on a cache line of its own start), so once the
+// marginal has chosen v no per-row object or pointer is read. Every bucket and pdf equals a
+// Distribution1D's over the row.
 class Distribution2D {
  public:
   Distribution2D() = default;
-  // f is nv rows of nu values, copied or (view) used in place as Distribution1D does.
+  // f is nv rows of nu values, copied, or with view used in place: f must then outlive this
+  // object and its copies (an environment map's table in the archive: a copy would be 32 MB
+  // for a 2048x1024 map).
   Distribution2D(const float* f, int nu, int nv, bool view = false);
+  Distribution2D(const Distribution2D& o) { *this = o; }
+  Distribution2D& operator=(const Distribution2D& o);
+  Distribution2D(Distribution2D&&) noexcept = default;
+  Distribution2D& operator=(Distribution2D&&) noexcept = default;
+
   Vec2 sample_continuous(Vec2 u, float* pdf) const;
   float pdf(Vec2 p) const;
   // A hint: starts loading the value pdf(p) reads.
@@ -99,8 +121,13 @@ class Distribution2D {
 
  private:
   const float* cell_value(Vec2 p) const;  // the function value of p's cell
-  std::vector<Distribution1D> conditional_;
-  Distribution1D marginal_;
+  std::vector<float> own_;                // the values, when copied
+  const float* func_ = nullptr;           // own_'s or the viewed ones, nv rows of nu
+  int nu_ = 0, nv_ = 0;
+  size_t cdf_stride_ = 0, coarse_stride_ = 0;  // floats a row
+  CacheLineFloats cdf_;                        // nv rows of nu + 1, padded to whole lines
+  std::vector<float> coarse_;                  // nv rows of nu / 16 + 1
+  Distribution1D marginal_;                    // over the rows' integrals
 };
 
 }  // namespace rt

@@ -1,5 +1,6 @@
-// Distribution1D's guide table must not change any result: every bucket,
-// pmf, pdf and remapped value equals a plain binary search over the cdf.
+// Distribution1D's two-step search (a coarse table, then one cache line of the cdf) must not
+// change any result: every bucket, pmf, pdf and remapped value equals a plain binary search
+// over the cdf. Distribution2D's rows must sample as Distribution1Ds over them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,7 +20,7 @@ int reference_bucket(const std::vector<float>& cdf, float u) {
   return clamp(i, 0, n - 1);
 }
 
-TEST(DistributionGuide, SameBucketsAsFullSearch) {
+TEST(DistributionSearch, SameBucketsAsFullSearch) {
   Rng rng(5);
   for (int trial = 0; trial < 60; ++trial) {
     int n = 1 + int(rng.next_u32(trial < 30 ? 40 : 3000));
@@ -69,21 +70,16 @@ TEST(DistributionGuide, SameBucketsAsFullSearch) {
 namespace rt {
 namespace {
 
-// A copying distribution owns its values, and so do its copies and moves; a viewing one
-// reads them where they are (an environment map's table in the archive), and so do its
-// copies.
-TEST(Distribution1D, CopiesOwnTheirValuesViewsDoNot) {
+// A distribution owns its values, and so do its copies and moves.
+TEST(Distribution1D, CopiesOwnTheirValues) {
   std::vector<float> f = {1, 3, 0, 4};
-  Distribution1D owned(f.data(), 4), viewed(f.data(), 4, true);
-  Distribution1D owned_copy, moved, viewed_copy;
+  Distribution1D owned(f.data(), 4);
+  Distribution1D owned_copy, moved;
   {
     Distribution1D a = owned, b = owned;
     owned_copy = a;  // outlives its source
     moved = std::move(b);
   }
-  viewed_copy = viewed;
-  EXPECT_EQ(viewed.func_data(), f.data());
-  EXPECT_EQ(viewed_copy.func_data(), f.data());
   EXPECT_NE(owned.func_data(), f.data());
   for (const Distribution1D* d : {&owned_copy, &moved}) {
     EXPECT_NE(d->func_data(), owned.func_data());
@@ -92,11 +88,63 @@ TEST(Distribution1D, CopiesOwnTheirValuesViewsDoNot) {
     EXPECT_EQ(d->sample_discrete(0.3f, &pmf), owned.sample_discrete(0.3f, &expect_pmf));
     EXPECT_EQ(pmf, expect_pmf);
   }
-  f[1] = 7;  // the views see it, the copies do not
-  EXPECT_EQ(viewed_copy.value(1), 7);
+  f[1] = 7;
   EXPECT_EQ(owned.value(1), 3);
   EXPECT_EQ(owned_copy.value(1), 3);
   EXPECT_EQ(moved.value(1), 3);
+}
+
+}  // namespace
+}  // namespace rt
+
+namespace rt {
+namespace {
+
+// Distribution2D keeps its rows in flat arrays; each row must sample exactly as a
+// Distribution1D over that row does (bucket, position and pdf), after the marginal over the
+// rows' integrals has chosen it. Rows of zeros, spikes and a copy (which must own its values)
+// included.
+TEST(Distribution2D, EachRowSamplesAsItsOwnDistribution1D) {
+  Rng rng(11);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int nu = 1 + int(rng.next_u32(trial < 6 ? 20 : 300));
+    const int nv = 1 + int(rng.next_u32(40));
+    std::vector<float> f(size_t(nu) * nv);
+    for (float& x : f) {
+      float r = rng.next_float();
+      x = r < 0.3f ? 0.f : (r > 0.97f ? 500 * r : r);
+    }
+    for (int u = 0; u < nu; ++u) f[u] = 0;  // a dark first row
+    std::vector<Distribution1D> rows;
+    std::vector<float> integrals;
+    for (int v = 0; v < nv; ++v) {
+      rows.emplace_back(f.data() + size_t(v) * nu, nu);
+      integrals.push_back(rows.back().integral());
+    }
+    Distribution1D marginal(integrals.data(), nv);
+    Distribution2D original(f.data(), nu, nv), viewed(f.data(), nu, nv, true);
+    Distribution2D copied = original;
+    original = Distribution2D();  // the copy must not read the original's values
+    for (int k = 0; k < 2000; ++k) {
+      const Vec2 u{rng.next_float(), rng.next_float()};
+      float pdf_v = 0, pdf_u = 0;
+      int v = -1;
+      const float y = marginal.sample_continuous(u.y, &pdf_v, &v);
+      const float x = rows[size_t(v)].sample_continuous(u.x, &pdf_u);
+      for (const Distribution2D* d : {&copied, &viewed}) {
+        float pdf = -1;
+        const Vec2 p = d->sample_continuous(u, &pdf);
+        ASSERT_EQ(p.x, x) << "trial " << trial << " u " << u.x << " " << u.y;
+        ASSERT_EQ(p.y, y);
+        ASSERT_EQ(pdf, pdf_u * pdf_v);
+        // pdf(p) is the cell's value over the whole integral.
+        const int iu = clamp(int(p.x * nu), 0, nu - 1), iv = clamp(int(p.y * nv), 0, nv - 1);
+        const float expect =
+            marginal.integral() == 0 ? 0 : f[size_t(iv) * nu + iu] / marginal.integral();
+        ASSERT_EQ(d->pdf(p), expect);
+      }
+    }
+  }
 }
 
 }  // namespace
