@@ -73,11 +73,30 @@ Rgb LightSet::positional_factor(LightKind kind, const PositionalLight& pl, Vec3 
   return factor;
 }
 
-Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world) const {
-  if (il.map == kNone) return il.l;
-  Vec3 w = normalize(il.world_to_light.vector(w_world));
-  Vec2 st{spherical_phi(w) * kInv2Pi, spherical_theta(w) * kInvPi};
-  return maps_[il.map].lookup_trilinear(st) * il.l;
+namespace {
+// A density over the map's (u, v) = (phi / 2pi, theta / pi) as one over solid angle: the
+// Jacobian from the unit square to the sphere is 1 / (2 pi^2 sin theta); 0 at the poles.
+// Not only sin theta == 0: a direction exactly at the -z pole has theta = pi rounded to a
+// float, whose sine is -8.7e-8, which would make the pdf hugely negative.
+float map_pdf_to_solid_angle(float map_pdf, float sin_theta) {
+  return sin_theta <= 0 ? 0 : map_pdf / (2 * kPi * kPi * sin_theta);
+}
+
+// The map's (u, v) = (phi / 2pi, theta / pi) of a world direction, and sin theta.
+Vec2 map_coordinates(const Transform& world_to_light, Vec3 w_world, float* sin_theta) {
+  const Vec3 w = normalize(world_to_light.vector(w_world));
+  const float theta = spherical_theta(w);
+  *sin_theta = std::sin(theta);
+  return {spherical_phi(w) * kInv2Pi, theta * kInvPi};
+}
+}  // namespace
+
+Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf) const {
+  if (il.map == kNone && !pdf) return il.l;
+  float sin_theta;
+  const Vec2 st = map_coordinates(il.world_to_light, w_world, &sin_theta);
+  if (pdf) *pdf = map_pdf_to_solid_angle(il.distribution.pdf(st), sin_theta);
+  return il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(st) * il.l;
 }
 
 bool LightSet::sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* wi,
@@ -85,22 +104,22 @@ bool LightSet::sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* 
   float map_pdf = 0;
   *uv = il.distribution.sample_continuous(u, &map_pdf);
   if (map_pdf == 0) return false;
-  // (u, v) is (phi / 2pi, theta / pi) of the map's spherical parameterisation;
-  // the 1 / (2 pi^2 sin theta) is the Jacobian from the unit square to solid angle.
+  // The radiance lookup that follows misses the cache (the map's texels, the distribution's
+  // table and a scene's textures do not fit it together): start it before the trigonometry.
+  if (il.map != kNone) maps_[il.map].prefetch_bilinear(*uv);
+  // (u, v) is (phi / 2pi, theta / pi) of the map's spherical parameterisation.
   float theta = uv->y * kPi, phi = uv->x * 2 * kPi;
   float sin_theta = std::sin(theta);
   *wi = il.light_to_world.vector(
       Vec3{sin_theta * std::cos(phi), sin_theta * std::sin(phi), std::cos(theta)});
-  *pdf = sin_theta == 0 ? 0 : map_pdf / (2 * kPi * kPi * sin_theta);
+  *pdf = map_pdf_to_solid_angle(map_pdf, sin_theta);
   return true;
 }
 
 float LightSet::infinite_pdf(const InfiniteLight& il, Vec3 wi) const {
-  Vec3 w = il.world_to_light.vector(wi);
-  float theta = spherical_theta(w), phi = spherical_phi(w);
-  float sin_theta = std::sin(theta);
-  if (sin_theta == 0) return 0;
-  return il.distribution.pdf(Vec2{phi * kInv2Pi, theta * kInvPi}) / (2 * kPi * kPi * sin_theta);
+  float sin_theta;
+  const Vec2 st = map_coordinates(il.world_to_light, wi, &sin_theta);
+  return map_pdf_to_solid_angle(il.distribution.pdf(st), sin_theta);
 }
 
 Rgb LightSet::infinite_at(const InfiniteLight& il, Vec2 uv) const {
@@ -241,10 +260,10 @@ Rgb LightSet::infinite_le(const RayDifferential& ray) const {
   return l;
 }
 
-Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray) const {
+Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li) const {
   const Entry& e = entries_[light];
   if (e.kind != LightKind::kInfinite) return Rgb();
-  return infinite_lookup(infinite_[e.data], ray.d);
+  return infinite_lookup(infinite_[e.data], ray.d, pdf_li);
 }
 
 void LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {

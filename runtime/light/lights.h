@@ -94,8 +94,10 @@ class LightSet {
   Rgb area_le(const SurfaceInteraction& hit, Vec3 w) const;
   Rgb infinite_le(const RayDifferential& ray) const;
   // One infinite light's radiance along an escaping ray (0 for other kinds):
-  // direct lighting's BSDF sample counts only the light it is estimating.
-  Rgb infinite_le_one(uint32_t light, const RayDifferential& ray) const;
+  // direct lighting's BSDF sample counts only the light it is estimating. With pdf_li, also
+  // pdf_li(light, any, ray.d) from the same spherical angles (an escaping BSDF sample needs
+  // both for its MIS weight; the angles' acos and atan2 are then paid once).
+  Rgb infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li = nullptr) const;
   // A hint, no result: starts loading what infinite_le_one and pdf_li read for a ray leaving
   // along a unit w (world) should light `light` be an infinite map, so that a caller who traces the
   // ray first finds them in cache. An environment map and its distribution are tens of MB,
@@ -170,7 +172,8 @@ class LightSet {
   };
 
   Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
-  Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world) const;
+  // The radiance along w_world (towards the light); with pdf, also infinite_pdf's value.
+  Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf = nullptr) const;
   // An infinite light's importance sampling, shared by the Li and Le paths: a
   // direction wi towards the light drawn from the distribution, its map (u, v)
   // and solid-angle pdf (0 at the poles); false when the distribution gives 0.

@@ -152,8 +152,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   } else if constexpr (kInfinite) {
     if (lights.kind(light) == LightKind::kInfinite) {
       RayDifferential rd(ray);
-      le = lights.infinite_le_one(light, rd);
-      if (!sampled_specular) light_pdf = lights.pdf_li(light, it, wi, nullptr);
+      le = lights.infinite_le_one(light, rd, sampled_specular ? nullptr : &light_pdf);
     }
   }
   if (le.is_black()) return ld;

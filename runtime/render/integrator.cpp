@@ -130,6 +130,14 @@ struct Kernels {
     return Rgb();
   }
 
+  // A hint: should the ray leaving along w escape, the lookups of the environment maps it
+  // then reads are on their way while it is traced (each is a cache miss).
+  static void prefetch_escape(const Self& I, Vec3 w) {
+    if constexpr (kInfinite)
+      for (uint32_t light : I.scene_->lights.infinite_lights())
+        I.scene_->lights.prefetch_infinite(light, w);
+  }
+
   static Rgb escaped(const Self& I, const RayDifferential& ray) {
     if constexpr (kInfinite) return I.scene_->lights.infinite_le(ray);
     return Rgb();
@@ -195,10 +203,10 @@ struct Kernels {
     }
     if constexpr (kInfinite)
       for (uint32_t light : lights.infinite_lights()) {
-        const Rgb le = lights.infinite_le_one(light, ray);
+        float pdf_li = 0;
+        const Rgb le = lights.infinite_le_one(light, ray, &pdf_li);
         if (le.is_black()) continue;
-        const float light_pdf = I.distribution_.pmf(from.site, int(light)) *
-                                lights.pdf_li(light, from.it, ray.d, nullptr);
+        const float light_pdf = I.distribution_.pmf(from.site, int(light)) * pdf_li;
         if (light_pdf > 0) l += le * power_heuristic(1, from.pdf, 1, light_pdf);
       }
     return l;
@@ -413,6 +421,7 @@ struct Kernels {
       const uint32_t arrived_in = medium;
       if constexpr (kMedia) medium = medium_after(I, si, wi, medium);
       ray = RayDifferential(si.spawn_ray(wi));
+      prefetch_escape(I, wi);
       if constexpr (kSubsurface) {
         // Light refracted into a subsurface material leaves it at a point the BSSRDF picks,
         // where it is lit directly and continues by the exit lobe.

@@ -79,6 +79,22 @@ TEST_F(EnvironmentMap, PdfIntegratesToOneOverTheSphere) {
   EXPECT_NEAR(sum / (nz * nphi), 1.0, 0.01);
 }
 
+// At and around the map's poles (here world +-y) sin theta is 0 or rounds below it (theta
+// = pi as a float has a sine of -8.7e-8): the pdf must stay finite and not negative there.
+TEST_F(EnvironmentMap, PdfAtThePolesIsFiniteAndNotNegative) {
+  Interaction ref = surface_point({0, 0, 0}, {0, 0, 1});
+  Rng rng(12);
+  for (float pole : {-1.f, 1.f})
+    for (int k = 0; k < 2000; ++k) {
+      const float e = k == 0 ? 0 : 1e-3f * rng.next_float();
+      const Vec3 w =
+          normalize(Vec3{e * (rng.next_float() - .5f), pole, e * (rng.next_float() - .5f)});
+      const float pdf = s_.lights.pdf_li(0, ref, w, nullptr);
+      ASSERT_TRUE(std::isfinite(pdf) && pdf >= 0)
+          << "w " << w.x << " " << w.y << " " << w.z << " pdf " << pdf;
+    }
+}
+
 TEST_F(EnvironmentMap, SamplesAgreeWithPdfAndRadiance) {
   Interaction ref = surface_point({0.1f, 0.2f, 0.3f}, {0, 1, 0});
   Rng rng(4);
