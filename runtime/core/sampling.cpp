@@ -106,7 +106,8 @@ float sample_table(const float* func, const float* cdf, const float* coarse, int
 Distribution1D::Distribution1D(const float* f, int n)
     : func_(f, f + n), n_(n), cdf_(size_t(n) + 1) {
   integral_ = build_cdf(f, n, cdf_.data());
-  if (!std::isfinite(integral_)) return;
+  // Small distributions (a light choice per voxel, thousands of them) skip the coarse table.
+  if (!std::isfinite(integral_) || n <= kLine) return;
   coarse_.resize(size_t(coarse_count(n)));
   build_coarse(cdf_.data(), n, coarse_.data());
 }
