@@ -119,9 +119,11 @@ float fbm(Vec3 p, Vec3 dpdx, Vec3 dpdy, float omega, int max_octaves) {
     lambda *= 1.99f;
     o *= omega;
   }
-  // The partial octave fades in rather than popping.
-  float n_partial = n - n_int;
-  sum += o * smooth_step(.3f, .7f, n_partial) * noise(lambda * p);
+  // The partial octave fades in rather than popping. Its weight is 0 whenever the footprint
+  // allows every octave (n = max_octaves, the common case up close): then its noise, which
+  // could only add a zero, is not computed.
+  const float weight = smooth_step(.3f, .7f, n - n_int);
+  if (weight != 0) sum += o * weight * noise(lambda * p);
   return sum;
 }
 
@@ -137,8 +139,8 @@ float turbulence(Vec3 p, Vec3 dpdx, Vec3 dpdy, float omega, int max_octaves) {
   // Octaves cut for antialiasing contribute their average |noise| (about
   // 0.2) instead, so the texture does not darken with distance. As pbrt-v3,
   // the partial octave's amplitude is counted again by the first clamped one.
-  float n_partial = n - n_int;
-  sum += o * lerp(smooth_step(.3f, .7f, n_partial), 0.2f, std::fabs(noise(lambda * p)));
+  const float weight = smooth_step(.3f, .7f, n - n_int);
+  sum += o * (weight == 0 ? 0.2f : lerp(weight, 0.2f, std::fabs(noise(lambda * p))));
   for (int i = n_int; i < max_octaves; ++i) {
     sum += o * 0.2f;
     o *= omega;
