@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "runtime/core/rng.h"
 #include "runtime/runtime_test_support.h"
 #include "runtime/texture/noise.h"
 #include "runtime/texture/textures.h"
@@ -321,6 +322,49 @@ TEST(Textures, NoiseIsContinuousAndBounded) {
   EXPECT_GT(hi, .2f);
   // Period 256 on the lattice (the permutation wraps).
   EXPECT_NEAR(noise(.3f, .4f, .5f), noise(256.3f, .4f, .5f), 1e-4);
+}
+
+// fbm and turbulence against their definition (pbrt-v3's octave loops, noise() by noise()),
+// over footprints from every octave allowed down to none and max_octaves 1 to 9: skipping
+// the partial octave's noise when its weight is 0 must change no bit.
+TEST(Textures, FbmAndTurbulenceAreTheirOctaveSums) {
+  Rng rng(22);
+  auto smooth = [](float v) {
+    const float t = clamp((v - .3f) / (.7f - .3f), 0.f, 1.f);
+    return t * t * (-2 * t + 3);
+  };
+  int skipped = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const Vec3 p{40 * rng.next_float() - 20, 40 * rng.next_float() - 20,
+                 40 * rng.next_float() - 20};
+    const float len = std::pow(10.f, -4 + 4 * rng.next_float());
+    const Vec3 dpdx{len, 0, 0}, dpdy{0, len * rng.next_float(), 0};
+    const float omega = .3f + .5f * rng.next_float();
+    const int max_octaves = 1 + k % 9;
+    const float len2 = std::max(length_squared(dpdx), length_squared(dpdy));
+    const float n = clamp(-1 - .5f * (std::log(len2) * 1.442695040888963387004650940071f), 0.f,
+                          float(max_octaves));
+    const int n_int = int(std::floor(n));
+    float f = 0, t = 0, lambda = 1, o = 1;
+    for (int i = 0; i < n_int; ++i) {
+      f += o * noise(lambda * p);
+      t += o * std::fabs(noise(lambda * p));
+      lambda *= 1.99f;
+      o *= omega;
+    }
+    const float w = smooth(n - n_int);
+    skipped += w == 0;
+    f += o * w * noise(lambda * p);
+    t += o * lerp(w, 0.2f, std::fabs(noise(lambda * p)));
+    for (int i = n_int; i < max_octaves; ++i) {
+      t += o * 0.2f;
+      o *= omega;
+    }
+    ASSERT_EQ(fbm(p, dpdx, dpdy, omega, max_octaves), f) << "k " << k;
+    ASSERT_EQ(turbulence(p, dpdx, dpdy, omega, max_octaves), t) << "k " << k;
+  }
+  EXPECT_GT(skipped, 300);   // the case the skip is for is well covered
+  EXPECT_LT(skipped, 2700);  // and so is a partial octave that counts
 }
 
 TEST(Textures, UnsupportedGivesMessage) {
