@@ -68,6 +68,18 @@ void build_coarse(const float* cdf, int n, float* coarse) {
   for (int k = 0; k < coarse_count(n); ++k) coarse[k] = cdf[k * kLine];
 }
 
+// How many of a sorted run's m entries are <= u, without branches: a binary search over a
+// random u mispredicts about every other step, and a short run is cheaper to count whole
+// (the compiler vectorises the loop). Sorted, so the count is upper_bound's offset.
+int count_at_most(const float* a, int m, float u) {
+  int c = 0;
+  for (int j = 0; j < m; ++j) c += a[j] <= u;
+  return c;
+}
+
+// Coarse tables up to this length are counted, longer ones binary-searched.
+constexpr int kCountedCoarse = 64;
+
 // The last i with cdf[i] <= u, clamped to a bucket. coarse (every 16th entry) may be null
 // (a cdf that is not finite, hence maybe not sorted): a full search then. With func, the
 // line of values beside the answer's cdf line is fetched too.
@@ -79,13 +91,18 @@ int find_interval(const float* cdf, const float* coarse, int n, float u,
   }
   // Sorted, so the entries <= u are a prefix: the last coarse entry <= u, cdf[16 k], and
   // the next, cdf[16 k + 16] > u, bound the answer to 16 k .. 16 k + 15.
-  const int k = int(std::upper_bound(coarse, coarse + coarse_count(n), u) - coarse) - 1;
+  const int m = coarse_count(n);
+  const int k = (m <= kCountedCoarse ? count_at_most(coarse, m, u)
+                                     : int(std::upper_bound(coarse, coarse + m, u) - coarse)) -
+                1;
   if (k < 0) return 0;
   const int lo = k * kLine;
   if (func) {
     __builtin_prefetch(func + lo);
     __builtin_prefetch(func + std::min(lo + kLine - 1, n - 1));
   }
+  // cdf[lo] <= u, so the answer is lo plus the count of the line's other entries <= u.
+  if (lo + kLine - 1 <= n) return clamp(lo + count_at_most(cdf + lo, kLine, u) - 1, 0, n - 1);
   const float* it = std::upper_bound(cdf + lo + 1, cdf + std::min(lo + kLine, n + 1), u);
   return clamp(int(it - cdf) - 1, 0, n - 1);
 }
@@ -113,6 +130,9 @@ Distribution1D::Distribution1D(const float* f, int n)
 }
 
 int Distribution1D::find_interval(float u) const {
+  // A small finite (so sorted) table is counted whole: a light choice among a few lights.
+  if (coarse_.empty() && std::isfinite(integral_))
+    return clamp(count_at_most(cdf_.data(), n_ + 1, u) - 1, 0, n_ - 1);
   return rt::find_interval(cdf_.data(), coarse_.empty() ? nullptr : coarse_.data(), n_, u);
 }
 
