@@ -80,6 +80,16 @@ int count_at_most(const float* a, int m, float u) {
 // Coarse tables up to this length are counted, longer ones binary-searched.
 constexpr int kCountedCoarse = 64;
 
+// Where the line of the cdf that holds u's bucket starts (-1: before the first entry).
+// Sorted, so the entries <= u are a prefix: the last coarse entry <= u, cdf[16 k], and the
+// next, cdf[16 k + 16] > u, bound the answer to 16 k .. 16 k + 15.
+int line_start(const float* coarse, int n, float u) {
+  const int m = coarse_count(n);
+  const int k = m <= kCountedCoarse ? count_at_most(coarse, m, u)
+                                    : int(std::upper_bound(coarse, coarse + m, u) - coarse);
+  return (k - 1) * kLine;
+}
+
 // The last i with cdf[i] <= u, clamped to a bucket. coarse (every 16th entry) may be null
 // (a cdf that is not finite, hence maybe not sorted): a full search then. With func, the
 // line of values beside the answer's cdf line is fetched too.
@@ -89,14 +99,8 @@ int find_interval(const float* cdf, const float* coarse, int n, float u,
     const float* it = std::upper_bound(cdf, cdf + n + 1, u);
     return clamp(int(it - cdf) - 1, 0, n - 1);
   }
-  // Sorted, so the entries <= u are a prefix: the last coarse entry <= u, cdf[16 k], and
-  // the next, cdf[16 k + 16] > u, bound the answer to 16 k .. 16 k + 15.
-  const int m = coarse_count(n);
-  const int k = (m <= kCountedCoarse ? count_at_most(coarse, m, u)
-                                     : int(std::upper_bound(coarse, coarse + m, u) - coarse)) -
-                1;
-  if (k < 0) return 0;
-  const int lo = k * kLine;
+  const int lo = line_start(coarse, n, u);
+  if (lo < 0) return 0;
   if (func) {
     __builtin_prefetch(func + lo);
     __builtin_prefetch(func + std::min(lo + kLine - 1, n - 1));
@@ -200,6 +204,16 @@ Vec2 Distribution2D::sample_continuous(Vec2 u, float* pdf) const {
                                 u.x, &pdf_u, nullptr);
   *pdf = pdf_u * pdf_v;
   return {d0, d1};
+}
+
+void Distribution2D::prefetch_sample(Vec2 u) const {
+  const int v = marginal_.sample_discrete(u.y);
+  const size_t row = size_t(v);
+  if (!std::isfinite(marginal_.value(v))) return;
+  const int lo = std::max(0, line_start(&coarse_[row * coarse_stride_], nu_, u.x));
+  __builtin_prefetch(&cdf_[row * cdf_stride_ + size_t(lo)]);
+  __builtin_prefetch(func_ + row * nu_ + size_t(lo));
+  __builtin_prefetch(func_ + row * nu_ + size_t(std::min(lo + kLine - 1, nu_ - 1)));
 }
 
 const float* Distribution2D::cell_value(Vec2 p) const {

@@ -119,6 +119,10 @@ class Distribution2D {
   float pdf(Vec2 p) const;
   // A hint: starts loading the value pdf(p) reads.
   void prefetch_value(Vec2 p) const;
+  // A hint: starts loading the line of a row's cdf (and its values) that sample_continuous(u)
+  // will read, a cache miss that work done between the two calls hides. The marginal and the
+  // rows' coarse tables it reads to find that line are small enough to stay in cache.
+  void prefetch_sample(Vec2 u) const;
 
  private:
   const float* cell_value(Vec2 p) const;  // the function value of p's cell

@@ -278,6 +278,11 @@ void LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
   il.distribution.prefetch_value(st);
 }
 
+void LightSet::prefetch_sample(uint32_t light, Vec2 u) const {
+  const Entry& e = entries_[light];
+  if (e.kind == LightKind::kInfinite) infinite_[e.data].distribution.prefetch_sample(u);
+}
+
 Rgb LightSet::power(uint32_t light) const {
   const Entry& e = entries_[light];
   switch (e.kind) {

@@ -103,6 +103,9 @@ class LightSet {
   // ray first finds them in cache. An environment map and its distribution are tens of MB,
   // read at random: each read is a miss, and tracing hides it.
   void prefetch_infinite(uint32_t light, Vec3 w) const;
+  // A hint, no result: starts loading what sample_li(light, it, u, ...) will read of an
+  // environment map's sampling table, so that work between the two calls hides the miss.
+  void prefetch_sample(uint32_t light, Vec2 u) const;
   bool has_infinite() const { return !infinite_lights_.empty(); }
   const std::vector<uint32_t>& infinite_lights() const { return infinite_lights_; }
   Rgb power(uint32_t light) const;

@@ -164,42 +164,66 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   return ld + f * le * (weight / scattering_pdf);
 }
 
+// sample_one_light's first half: the light chosen for a vertex (with the probability *pick
+// records) and the values drawn for its sample, in pbrt-v3's order; with kLightOnly the
+// scattering sample's dimension is skipped here too. false: no light to sample (no lights,
+// or the choice's pmf is 0), the light half then adds nothing.
+struct LightPick {
+  uint32_t light = 0;
+  float pmf = 0;
+  Vec2 u;
+  bool delta = false;
+};
+template <bool kLightOnly>
+bool pick_light(const RenderScene& scene, const Interaction& it, Sampler& sampler,
+                const LightDistribution* distribution, const LightDistribution::Site* site,
+                LightPick* pick) {
+  uint32_t n = scene.lights.count();
+  if (n == 0) return false;
+  if (distribution) {
+    const float u = sampler.get_1d();
+    pick->light = uint32_t(site ? distribution->sample(*site, u, &pick->pmf)
+                                : distribution->sample(it.p, u, &pick->pmf));
+    if (pick->pmf == 0) return false;
+  } else {
+    pick->light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
+    pick->pmf = 1.f / n;
+  }
+  // A delta light reads neither value (its one direction needs no sample, and no BSDF sample
+  // can hit it).
+  pick->delta = scene.lights.is_delta(pick->light);
+  pick->u = sampler.get_2d_if(!pick->delta);
+  if constexpr (kLightOnly) sampler.skip_2d();
+  return true;
+}
+
 // kLightOnly: only the light's half, weighted against the path's own next scattering sample
 // (drawn from every lobe), which the caller weighs where it meets a light (pbrt-v4's path
 // integrator does the same; one ray a vertex fewer than pbrt-v3's, the same expectation). The
 // scattering sample's dimension is skipped, so the sampler's later dimensions stay pbrt-v3's.
+// A caller may also pick_light, do other work, then light_half: the same result.
+template <bool kMedia>
+Rgb light_half(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
+               const LightPick& pick, Sampler& sampler, RayCounters* c) {
+  return estimate_light_sample<kMedia>(scene, it, sc, pick.light, pick.u, kAllBxdf, pick.pmf,
+                                       sampler, c) /
+         pick.pmf;
+}
+
 template <bool kAreaLights, bool kInfinite, bool kMedia, bool kLightOnly = false>
 Rgb sample_one_light(const RenderScene& scene, const Interaction& it, const VertexScatter& sc,
                      Sampler& sampler, const LightDistribution* distribution, RayCounters* c,
                      const LightDistribution::Site* site = nullptr) {
-  uint32_t n = scene.lights.count();
-  if (n == 0) return Rgb();
-  uint32_t light;
-  float light_pmf;
-  if (distribution) {
-    const float u = sampler.get_1d();
-    light = uint32_t(site ? distribution->sample(*site, u, &light_pmf)
-                          : distribution->sample(it.p, u, &light_pmf));
-    if (light_pmf == 0) return Rgb();
-  } else {
-    light = std::min(uint32_t(sampler.get_1d() * n), n - 1);
-    light_pmf = 1.f / n;
-  }
-  // A delta light reads neither value (its one direction needs no sample, and no BSDF sample
-  // can hit it).
-  const bool delta = scene.lights.is_delta(light);
-  Vec2 u_light = sampler.get_2d_if(!delta);
+  LightPick pick;
+  if (!pick_light<kLightOnly>(scene, it, sampler, distribution, site, &pick)) return Rgb();
   if constexpr (kLightOnly) {
-    sampler.skip_2d();
-    return estimate_light_sample<kMedia>(scene, it, sc, light, u_light, kAllBxdf, light_pmf,
-                                         sampler, c) /
-           light_pmf;
+    return light_half<kMedia>(scene, it, sc, pick, sampler, c);
   } else {
     static_assert(!kMedia, "pbrt-v3's whole EstimateDirect runs on surfaces without media only");
-    Vec2 u_scattering = sampler.get_2d_if(!delta);
-    return estimate_direct<kAreaLights, kInfinite>(scene, it, sc, u_scattering, light, u_light,
+    Vec2 u_scattering = sampler.get_2d_if(!pick.delta);
+    return estimate_direct<kAreaLights, kInfinite>(scene, it, sc, u_scattering, pick.light, pick.u,
                                                    sampler, c) /
-           light_pmf;
+           pick.pmf;
   }
 }
 

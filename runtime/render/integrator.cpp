@@ -402,14 +402,27 @@ struct Kernels {
         --bounces;
         continue;
       }
+      // Without media the light sample's values are drawn first, as ever, but it is taken after
+      // the BSDF's sample: the environment map's table line it reads (a cache miss) loads
+      // meanwhile. Nothing either computes depends on the other.
+      LightPick pick;
+      bool picked = false;
       if (bsdf.num_components(kAllBxdf & ~kSpecular) > 0) {
-        l += beta * sample_one_light<kMedia, true>(I, si, surface_scatter(I, si, bsdf, medium),
-                                                   sampler, &I.distribution_, c, &light_site);
+        if constexpr (kMedia) {
+          l += beta * sample_one_light<kMedia, true>(I, si, surface_scatter(I, si, bsdf, medium),
+                                                     sampler, &I.distribution_, c, &light_site);
+        } else {
+          picked = pick_light<true>(*I.scene_, si, sampler, &I.distribution_, &light_site, &pick);
+          if (kInfinite && picked) I.scene_->lights.prefetch_sample(pick.light, pick.u);
+        }
       }
       Vec3 wo = -ray.d, wi;
       float pdf = 0;
       uint8_t flags = 0;
       Rgb f = bsdf.sample_f(wo, &wi, sampler.get_2d(), &pdf, kAllBxdf, &flags);
+      if (picked)
+        l += beta * light_half<false>(*I.scene_, si, surface_scatter(I, si, bsdf, medium), pick,
+                                      sampler, c);
       if (f.is_black() || pdf == 0) break;
       beta *= f * (abs_dot(wi, si.shading.n) / pdf);
       specular_bounce = flags & kSpecular;
