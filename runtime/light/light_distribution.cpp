@@ -149,6 +149,7 @@ bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bound
   float bmax = diag[max_dimension(diag)];
   for (int i = 0; i < 3; ++i)
     nvoxels_[i] = bmax > 0 ? std::max(1, int(std::round(diag[i] / bmax * kMaxVoxels))) : 1;
+  for (int i = 0; i < 3; ++i) voxels_per_unit_[i] = diag[i] > 0 ? nvoxels_[i] / diag[i] : 0;
   const size_t voxels = size_t(nvoxels_[0]) * nvoxels_[1] * nvoxels_[2];
   cache_ = std::make_shared<VoxelCache>(voxels);
   if (n <= uint32_t(kFlatLights)) flat_ = std::make_shared<FlatTable>(voxels, int(n));
@@ -166,9 +167,12 @@ bool LightDistribution::build(const LightSet& lights, const Bounds3& world_bound
 }
 
 size_t LightDistribution::voxel_index(Vec3 p) const {
-  Vec3 o = bounds_.offset(p);
+  // Two sites a hit (a prefetch, then the point): multiplying by voxels_per_unit_ rather than
+  // dividing by the extent (pbrt-v3's Bounds3::Offset) moves a point by rounding only, and
+  // a voxel's distribution is a choice of sampling density, never of value.
   int v[3];
-  for (int i = 0; i < 3; ++i) v[i] = clamp(int(o[i] * nvoxels_[i]), 0, nvoxels_[i] - 1);
+  for (int i = 0; i < 3; ++i)
+    v[i] = clamp(int((p[i] - bounds_.lo[i]) * voxels_per_unit_[i]), 0, nvoxels_[i] - 1);
   return (size_t(v[2]) * nvoxels_[1] + v[1]) * nvoxels_[0] + v[0];
 }
 

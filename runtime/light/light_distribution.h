@@ -71,6 +71,7 @@ class LightDistribution {
   Bounds3 bounds_;
   bool spatial_ = false;
   std::array<int, 3> nvoxels_{{1, 1, 1}};
+  std::array<float, 3> voxels_per_unit_{{0, 0, 0}};
   Distribution1D single_;  // uniform / power
   std::shared_ptr<VoxelCache> cache_;
   std::shared_ptr<FlatTable> flat_;  // null when there are too many lights
