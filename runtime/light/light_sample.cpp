@@ -133,6 +133,7 @@ void clear(LightSample* s) {
   s->pdf = 0;
   s->delta = false;
   s->own_shape = kNone;
+  s->pending_map = kNone;
 }
 }  // namespace
 
@@ -184,7 +185,8 @@ Rgb LightSet::area_li(uint32_t light, const Interaction& ref, Interaction it, fl
   return s->li;
 }
 
-Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const {
+Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s,
+                        bool defer_map) const {
   const Entry& e = entries_[light];
   clear(s);
   switch (e.kind) {
@@ -222,7 +224,13 @@ Rgb LightSet::sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSam
       Vec2 uv;
       if (!sample_infinite(il, u, &uv, &s->wi, &s->pdf)) return s->li;
       s->p_light = point_at(ref.p + s->wi * (2 * world_radius_), ref.time);
-      s->li = infinite_at(il, uv);
+      if (defer_map && il.map != kNone) {
+        s->pending_map = il.map;
+        s->map_uv = uv;
+        s->li = il.l;
+      } else {
+        s->li = infinite_at(il, uv);
+      }
       return s->li;
     }
   }

@@ -66,6 +66,10 @@ struct LightSample {
   // An area light's own sphere or disk: it cannot block the shadow ray to
   // p_light (SceneGeometry::occluded's skip_shape). kNone otherwise.
   uint32_t own_shape = kNone;
+  // sample_li(..., defer_map) of an environment map: li is still the light's scale, without
+  // the texel lookup, which finish_li() adds (kNone: li is whole).
+  uint32_t pending_map = kNone;
+  Vec2 map_uv;
 };
 
 class LightSet {
@@ -77,7 +81,15 @@ class LightSet {
   LightKind kind(uint32_t light) const { return entries_[light].kind; }
   bool is_delta(uint32_t light) const;
   int nsamples(uint32_t light) const;
-  Rgb sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s) const;
+  // defer_map: an environment map's texels (a cache miss) are read by finish_li(*s) instead,
+  // which a caller calls once it knows the sample counts (its shadow ray is clear): the miss
+  // then loads behind the ray, and a blocked sample never reads it. *s's li is already
+  // non-black exactly when the light's scale is.
+  Rgb sample_li(uint32_t light, const Interaction& ref, Vec2 u, LightSample* s,
+                bool defer_map = false) const;
+  Rgb finish_li(const LightSample& s) const {
+    return s.pending_map == kNone ? s.li : maps_[s.pending_map].lookup_trilinear(s.map_uv) * s.li;
+  }
   // sample_li in two steps, for callers that sample one light with the same u from many
   // points (the spatial light grid): a light on a triangle samples the same point for a given
   // u wherever ref is. triangle_point gives that point and its area pdf (false for other

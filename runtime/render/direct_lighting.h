@@ -94,7 +94,9 @@ Rgb estimate_light_sample(const RenderScene& scene, const Interaction& it, const
   const LightSet& lights = scene.lights;
   Rgb ld;
   LightSample ls;
-  Rgb li = lights.sample_li(light, it, u_light, &ls);
+  // An environment map's texels are read once the shadow ray is clear (behind it, and never
+  // for a blocked sample); the scale stands in for them until then.
+  Rgb li = lights.sample_li(light, it, u_light, &ls, !kMedia);
   const bool delta = lights.is_delta(light);
   if (ls.pdf > 0 && !li.is_black()) {
     float scattering_pdf = 0;
@@ -105,6 +107,8 @@ Rgb estimate_light_sample(const RenderScene& scene, const Interaction& it, const
         li *= transmittance(scene, it, ls.p_light, ls.wi, sc.medium_toward(ls.wi), sampler, c);
       else if (scene.geometry.occluded(it.spawn_ray_to(ls.p_light, ls.wi), ls.own_shape))
         li = Rgb();
+      else
+        li = lights.finish_li(ls);
       if (!li.is_black()) {
         if (delta)
           ld += f * li / ls.pdf;
