@@ -47,7 +47,7 @@ class PhotonSequence {
     // enough that hashed values (unstratified, still unbiased) do.
     if (dim >= kHaltonDimensions) return hashed_uniform(seed_, Point2i{}, index, uint64_t(dim));
     const double v = permutations_ ? permutations_->scrambled(dim, index)
-                                   : radical_inverse(halton_prime(dim), index);
+                                   : radical_inverse_of_dimension(dim, index);
     return std::min(float(v), kOneMinusEpsilon);
   }
 

@@ -108,6 +108,34 @@ double radical_inverse(uint32_t base, uint64_t a) {
   return double(reversed) * inv_base_n;
 }
 
+double radical_inverse_of_dimension(int d, uint64_t a) {
+  const uint32_t base = halton_prime(d);
+  if (base <= 3) return radical_inverse(base, a);
+  // The division by a variable base is a hardware divide per digit (tens of cycles, and
+  // sppm's photons draw every value this way); below 2^32 a multiplication by the base's
+  // rounded-up reciprocal gives the same quotient. The loop is radical_inverse's otherwise.
+  static const std::vector<uint64_t> recips = [] {
+    std::vector<uint64_t> r(static_cast<size_t>(kHaltonDimensions));
+    for (int i = 0; i < kHaltonDimensions; ++i) r[size_t(i)] = ~uint64_t(0) / halton_prime(i) + 1;
+    return r;
+  }();
+  const uint64_t recip = recips[size_t(d)];
+  const double inv_base = 1.0 / base;
+  uint64_t reversed = 0;
+  double inv_base_n = 1;
+  for (; a > 0xffffffffull; a /= base) {
+    reversed = reversed * base + a % base;
+    inv_base_n *= inv_base;
+  }
+  for (uint32_t a32 = uint32_t(a); a32;) {
+    const uint32_t next = div_by_reciprocal(recip, a32);
+    reversed = reversed * base + (a32 - next * base);
+    inv_base_n *= inv_base;
+    a32 = next;
+  }
+  return double(reversed) * inv_base_n;
+}
+
 double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm) {
   const double inv_base = 1.0 / base;
   double reversed = 0, inv_base_n = 1;

@@ -31,6 +31,8 @@ inline uint64_t reverse_bits(uint64_t r) {
 }
 
 double radical_inverse(uint32_t base, uint64_t a);
+// radical_inverse(halton_prime(d), a), bit for bit, without a hardware divide per digit.
+double radical_inverse_of_dimension(int d, uint64_t a);
 // The same with every digit (including the infinite tail of zeros) mapped
 // through perm, a permutation of 0..base-1.
 double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm);
