@@ -146,5 +146,25 @@ TEST_F(EnvironmentMap, ImportanceSampledIrradianceMatchesQuadrature) {
   EXPECT_GT(quad.b, 0);
 }
 
+// A sample taken with its texel lookup deferred (the surface kernels read the texels only once
+// the shadow ray is clear) finishes to exactly the sample taken whole; before finish_li its
+// radiance is the light's scale, non-black exactly when the whole sample's can be.
+TEST_F(EnvironmentMap, DeferredTexelsFinishToTheWholeSample) {
+  Interaction ref = surface_point({0.1f, -0.2f, 0.3f}, {0, 0, 1});
+  Rng rng(17);
+  for (int i = 0; i < 5000; ++i) {
+    const Vec2 u{rng.next_float(), rng.next_float()};
+    LightSample whole, deferred;
+    const Rgb li = s_.lights.sample_li(0, ref, u, &whole);
+    const Rgb scale = s_.lights.sample_li(0, ref, u, &deferred, true);
+    ASSERT_EQ(deferred.pdf, whole.pdf);
+    ASSERT_EQ(deferred.wi, whole.wi);
+    if (whole.pdf == 0) continue;
+    EXPECT_EQ(scale, Rgb(1.5f, 0.75f, 3));
+    EXPECT_EQ(s_.lights.finish_li(deferred), li) << "u " << u.x << " " << u.y;
+    EXPECT_EQ(s_.lights.finish_li(whole), li);
+  }
+}
+
 }  // namespace
 }  // namespace rt
