@@ -90,36 +90,12 @@ inline uint32_t div_by_reciprocal(uint64_t recip, uint32_t a) {
 
 }  // namespace
 
-double radical_inverse(uint32_t base, uint64_t a) {
-  if (base == 2) {
-    // Mirroring binary digits is a bit reversal.
-    return double(reverse_bits(a)) * 0x1p-64;
-  }
-  if (base == 3) return radical_inverse_base3(a);
-  const double inv_base = 1.0 / base;
-  uint64_t reversed = 0;
-  double inv_base_n = 1;
-  while (a) {
-    uint64_t next = a / base;
-    reversed = reversed * base + (a - next * base);
-    inv_base_n *= inv_base;
-    a = next;
-  }
-  return double(reversed) * inv_base_n;
-}
+namespace {
 
-double radical_inverse_of_dimension(int d, uint64_t a) {
-  const uint32_t base = halton_prime(d);
-  if (base <= 3) return radical_inverse(base, a);
-  // The division by a variable base is a hardware divide per digit (tens of cycles, and
-  // sppm's photons draw every value this way); below 2^32 a multiplication by the base's
-  // rounded-up reciprocal gives the same quotient. The loop is radical_inverse's otherwise.
-  static const std::vector<uint64_t> recips = [] {
-    std::vector<uint64_t> r(static_cast<size_t>(kHaltonDimensions));
-    for (int i = 0; i < kHaltonDimensions; ++i) r[size_t(i)] = ~uint64_t(0) / halton_prime(i) + 1;
-    return r;
-  }();
-  const uint64_t recip = recips[size_t(d)];
+// The digit loop of a base above 3, given the base's rounded-up reciprocal: below 2^32 the
+// quotient is a multiplication by it, not a hardware divide a digit (tens of cycles; sppm's
+// photons draw every value this way).
+double radical_inverse_by_reciprocal(uint32_t base, uint64_t recip, uint64_t a) {
   const double inv_base = 1.0 / base;
   uint64_t reversed = 0;
   double inv_base_n = 1;
@@ -134,6 +110,33 @@ double radical_inverse_of_dimension(int d, uint64_t a) {
     a32 = next;
   }
   return double(reversed) * inv_base_n;
+}
+
+uint64_t reciprocal(uint32_t base) {
+  return ~uint64_t(0) / base + 1;
+}
+
+}  // namespace
+
+double radical_inverse(uint32_t base, uint64_t a) {
+  if (base == 2) {
+    // Mirroring binary digits is a bit reversal.
+    return double(reverse_bits(a)) * 0x1p-64;
+  }
+  if (base == 3) return radical_inverse_base3(a);
+  return radical_inverse_by_reciprocal(base, reciprocal(base), a);
+}
+
+double radical_inverse_of_dimension(int d, uint64_t a) {
+  const uint32_t base = halton_prime(d);
+  if (base <= 3) return radical_inverse(base, a);
+  // The reciprocals made once: a divide a call is a visible part of sppm's photon values.
+  static const std::vector<uint64_t> recips = [] {
+    std::vector<uint64_t> r(static_cast<size_t>(kHaltonDimensions));
+    for (int i = 0; i < kHaltonDimensions; ++i) r[size_t(i)] = reciprocal(halton_prime(i));
+    return r;
+  }();
+  return radical_inverse_by_reciprocal(base, recips[size_t(d)], a);
 }
 
 double scrambled_radical_inverse(uint32_t base, uint64_t a, const uint16_t* perm) {

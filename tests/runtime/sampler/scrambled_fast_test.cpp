@@ -68,8 +68,9 @@ TEST(ScrambledFast, BaseThreeMatchesDigitLoop) {
   }
 }
 
-// radical_inverse_of_dimension() divides by a reciprocal below 2^32; it must equal the plain
-// digit loop (a hardware divide per digit) bit for bit, for every dimension and index size.
+// radical_inverse_of_dimension() and radical_inverse() divide by a reciprocal below 2^32; they
+// must equal the plain digit loop (a hardware divide per digit) bit for bit, for every
+// dimension and index size.
 TEST(ScrambledFast, UnscrambledDimensionMatchesDigitLoop) {
   Rng rng(4242);
   for (int d = 0; d < kHaltonDimensions; d += (d < 64 ? 1 : 29)) {
@@ -87,6 +88,8 @@ TEST(ScrambledFast, UnscrambledDimensionMatchesDigitLoop) {
       }
       ASSERT_EQ(bits(radical_inverse_of_dimension(d, a)), bits(double(reversed) * inv_n))
           << "dim " << d << " index " << a;
+      ASSERT_EQ(bits(radical_inverse(uint32_t(base), a)), bits(double(reversed) * inv_n))
+          << "base " << base << " index " << a;
     }
   }
 }
