@@ -68,6 +68,15 @@ void build_coarse(const float* cdf, int n, float* coarse) {
   for (int k = 0; k < coarse_count(n); ++k) coarse[k] = cdf[k * kLine];
 }
 
+// A cdf with a coarse table is stored as whole lines, cdf[n] followed by +inf (above every u)
+// to the end of the last: whichever line the coarse table names is counted whole.
+size_t padded_cdf_size(int n) {
+  return size_t(coarse_count(n)) * kLine;
+}
+void pad_cdf(float* cdf, int n) {
+  std::fill(cdf + n + 1, cdf + padded_cdf_size(n), kInfinity);
+}
+
 // How many of a sorted run's m entries are <= u, without branches: a binary search over a
 // random u mispredicts about every other step, and a short run is cheaper to count whole
 // (the compiler vectorises the loop). Sorted, so the count is upper_bound's offset.
@@ -90,12 +99,15 @@ int line_start(const float* coarse, int n, float u) {
   return (k - 1) * kLine;
 }
 
-// The last i with cdf[i] <= u, clamped to a bucket. coarse (every 16th entry) may be null
-// (a cdf that is not finite, hence maybe not sorted): a full search then. With func, the
-// line of values beside the answer's cdf line is fetched too.
-int find_interval(const float* cdf, const float* coarse, int n, float u,
+// The last i with cdf[i] <= u, clamped to a bucket. A sorted (finite) cdf is counted: within
+// the line its coarse table (every 16th entry) names (the cdf padded by pad_cdf), or whole
+// when it has none (16 buckets or fewer). One that is not finite, hence maybe not sorted, has
+// no coarse table and is binary-searched in full. With func, the line of values beside the
+// answer's cdf line is fetched too.
+int find_interval(const float* cdf, const float* coarse, int n, float u, bool sorted,
                   const float* func = nullptr) {
   if (!coarse) {
+    if (sorted) return clamp(count_at_most(cdf, n + 1, u) - 1, 0, n - 1);
     const float* it = std::upper_bound(cdf, cdf + n + 1, u);
     return clamp(int(it - cdf) - 1, 0, n - 1);
   }
@@ -106,15 +118,13 @@ int find_interval(const float* cdf, const float* coarse, int n, float u,
     __builtin_prefetch(func + std::min(lo + kLine - 1, n - 1));
   }
   // cdf[lo] <= u, so the answer is lo plus the count of the line's other entries <= u.
-  if (lo + kLine - 1 <= n) return clamp(lo + count_at_most(cdf + lo, kLine, u) - 1, 0, n - 1);
-  const float* it = std::upper_bound(cdf + lo + 1, cdf + std::min(lo + kLine, n + 1), u);
-  return clamp(int(it - cdf) - 1, 0, n - 1);
+  return clamp(lo + count_at_most(cdf + lo, kLine, u) - 1, 0, n - 1);
 }
 
 // A continuous sample in [0,1) of one tabulated function, its pdf and bucket.
 float sample_table(const float* func, const float* cdf, const float* coarse, int n, float integral,
                    float u, float* pdf, int* offset) {
-  const int i = find_interval(cdf, coarse, n, u, pdf ? func : nullptr);
+  const int i = find_interval(cdf, coarse, n, u, std::isfinite(integral), pdf ? func : nullptr);
   if (offset) *offset = i;
   float du = u - cdf[i];
   if (cdf[i + 1] - cdf[i] > 0) du /= cdf[i + 1] - cdf[i];
@@ -129,15 +139,15 @@ Distribution1D::Distribution1D(const float* f, int n)
   integral_ = build_cdf(f, n, cdf_.data());
   // Small distributions (a light choice per voxel, thousands of them) skip the coarse table.
   if (!std::isfinite(integral_) || n <= kLine) return;
+  cdf_.resize(padded_cdf_size(n));
+  pad_cdf(cdf_.data(), n);
   coarse_.resize(size_t(coarse_count(n)));
   build_coarse(cdf_.data(), n, coarse_.data());
 }
 
 int Distribution1D::find_interval(float u) const {
-  // A small finite (so sorted) table is counted whole: a light choice among a few lights.
-  if (coarse_.empty() && std::isfinite(integral_))
-    return clamp(count_at_most(cdf_.data(), n_ + 1, u) - 1, 0, n_ - 1);
-  return rt::find_interval(cdf_.data(), coarse_.empty() ? nullptr : coarse_.data(), n_, u);
+  return rt::find_interval(cdf_.data(), coarse_.empty() ? nullptr : coarse_.data(), n_, u,
+                           std::isfinite(integral_));
 }
 
 float Distribution1D::sample_continuous(float u, float* pdf, int* offset) const {
@@ -164,7 +174,7 @@ Distribution2D::Distribution2D(const float* f, int nu, int nv, bool view)
       func_(view ? f : own_.data()),
       nu_(nu),
       nv_(nv),
-      cdf_stride_(size_t(nu + kLine) / kLine * kLine),
+      cdf_stride_(padded_cdf_size(nu)),
       coarse_stride_(size_t(coarse_count(nu))),
       cdf_(size_t(nv) * cdf_stride_),
       coarse_(size_t(nv) * coarse_stride_) {
@@ -172,6 +182,7 @@ Distribution2D::Distribution2D(const float* f, int nu, int nv, bool view)
   for (int v = 0; v < nv; ++v) {
     float* cdf = &cdf_[size_t(v) * cdf_stride_];
     integrals[v] = build_cdf(func_ + size_t(v) * nu, nu, cdf);
+    pad_cdf(cdf, nu);
     // A row whose integral is not finite is searched in full; the marginal says which.
     if (std::isfinite(integrals[v])) build_coarse(cdf, nu, &coarse_[size_t(v) * coarse_stride_]);
   }

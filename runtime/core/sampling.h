@@ -93,7 +93,7 @@ class Distribution1D {
   int find_interval(float u) const;
   std::vector<float> func_;
   int n_ = 0;
-  std::vector<float> cdf_;     // n + 1 entries
+  std::vector<float> cdf_;     // n + 1 entries, padded to whole lines with a coarse table
   std::vector<float> coarse_;  // cdf_[16 k], k = 0 .. n / 16; empty if the cdf is not finite,
                                // or fits a line or two anyway (n <= 16)
   float integral_ = 0;
