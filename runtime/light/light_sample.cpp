@@ -3,7 +3,7 @@
 #include <cmath>
 #include <utility>
 
-#include "runtime/core/approx_angles.h"
+#include "runtime/core/fast_trig.h"
 #include "runtime/geometry/shape_sampling.h"
 #include "runtime/light/lights.h"
 
@@ -85,10 +85,10 @@ float map_pdf_to_solid_angle(float map_pdf, float sin_theta) {
 // The map's (u, v) = (phi / 2pi, theta / pi) of a world direction, and sin theta.
 Vec2 map_coordinates(const Transform& world_to_light, Vec3 w_world, float* sin_theta) {
   const Vec3 w = normalize(world_to_light.vector(w_world));
-  const float theta = spherical_theta(w);
   // sin(acos z), without a sine: the same to rounding, and 0 (no density) at the poles.
   *sin_theta = std::sqrt(std::max(0.f, (1 - w.z) * (1 + w.z)));
-  return {spherical_phi(w) * kInv2Pi, theta * kInvPi};
+  const float phi = fast_atan2(w.y, w.x);
+  return {(phi < 0 ? phi + 2 * kPi : phi) * kInv2Pi, fast_acos(w.z) * kInvPi};
 }
 }  // namespace
 
@@ -280,9 +280,8 @@ void LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
   if (e.kind != LightKind::kInfinite) return;
   const InfiniteLight& il = infinite_[e.data];
   if (il.map == kNone) return;
-  // A hint needs the texel, not the exact angles (a 2048-wide map's spans 3e-3 radians).
-  const Vec3 w = il.world_to_light.vector(w_world);
-  const Vec2 st{approx_spherical_phi(w) * kInv2Pi, approx_spherical_theta(w) * kInvPi};
+  float sin_theta;
+  const Vec2 st = map_coordinates(il.world_to_light, w_world, &sin_theta);
   maps_[il.map].prefetch_bilinear(st);
   il.distribution.prefetch_value(st);
 }
