@@ -11,6 +11,10 @@
 // their pieces (curve_hit.h). Alpha and shadowalpha are
 // Embree filters that drop hits where the value is exactly 0.
 //
+// A scene of a few still world shapes is not queried through Embree at all, and a scene's
+// few still world quadrics may be tested beside Embree's tree rather than from its
+// callbacks: prim_list.h, set_max_listed().
+//
 // intersect() rebuilds the closest hit in world space exactly as pbrt-v3's
 // Triangle::Intersect would (triangle_hit.h), so materials, lights and ray
 // spawning see pbrt-v3's numbers; the hit on Embree's triangle is measured
@@ -47,10 +51,15 @@ struct GeometryStats {
   uint64_t embree_bytes = 0;  // Embree's own allocations after the build
   uint32_t triangles = 0, quadrics = 0, curves = 0, instances = 0, copied_meshes = 0;
   uint32_t sampled_motions = 0;  // moving meshes and instances given time steps
+  uint32_t listed = 0;  // primitives tested one by one beside (or instead of) Embree's tree
 };
 
 class SceneGeometry {
  public:
+  // set_max_listed's default; the most triangles a scene may have for all of its shapes to
+  // be listed, and the most quadrics listed beside Embree's tree in a scene with more.
+  static constexpr size_t kDefaultMaxListed = 32, kMaxListedTriangles = 8, kMaxListedBesideTree = 4;
+
   SceneGeometry();
   ~SceneGeometry();
   SceneGeometry(const SceneGeometry&) = delete;
@@ -67,6 +76,15 @@ class SceneGeometry {
   // how many); the patches close those cracks at the cost of a box per
   // vertex in the BVH, so they are opt-in (pbrtrun --watertight).
   void set_watertight(bool on) { watertight_ = on; }
+  // Before build(): shapes tested one by one behind their boxes (prim_list.h) rather than put
+  // in Embree, unless watertight: a scene of at most n primitives, kMaxListedTriangles of them
+  // triangles at most, all of them still world shapes without masks (no instances or curves),
+  // is listed whole and Embree is never asked; otherwise its still world quadrics without
+  // masks, when there are at most kMaxListedBesideTree and Embree would have no other user
+  // geometry (curves, moving or instanced quadrics), are listed and tested beside Embree's
+  // tree. 0: nothing listed. Hits are pbrt-v3's triangle test's and the same quadric test;
+  // tests compare.
+  void set_max_listed(size_t n) { max_listed_ = n; }
   // Before build(): Embree's device configuration (rtcNewDevice's string), e.g.
   // "max_isa=sse4.2" to use the kernels a CPU without AVX would. Hits do not depend on
   // it (intersect() measures Embree's triangle again itself); tests check that.
@@ -108,6 +126,7 @@ class SceneGeometry {
   std::unique_ptr<Impl> impl_;
   Bounds3 world_bounds_;
   bool watertight_ = false;
+  size_t max_listed_ = kDefaultMaxListed;
   std::string embree_config_;
   GeometryStats stats_;
 };

@@ -354,6 +354,15 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,
       (unsigned long long)rs.nonfinite_samples, threads, peak_memory_mib);
   std::string out = buf;
+  if (gs.listed == 0) {
+    out += "  traversal              Embree's tree\n";
+  } else {
+    std::snprintf(buf, sizeof buf, "  traversal              %u primitives tested each, %s\n",
+                  gs.listed,
+                  gs.listed == gs.triangles + gs.quadrics ? "no tree (a small scene)"
+                                                          : "the rest in Embree's tree");
+    out += buf;
+  }
   if (gs.sampled_motions > 0) {
     std::snprintf(buf, sizeof buf,
                   "  motion time steps      %u moving meshes or instances sampled (shear, or "

@@ -1,0 +1,118 @@
+// runtime/geometry/prim_list.cpp — see prim_list.h.
+#include "runtime/geometry/prim_list.h"
+
+#include <xmmintrin.h>
+
+#include <algorithm>
+
+#include "runtime/geometry/watertight.h"
+
+namespace rt {
+
+void PrimList::add_box(const Bounds3& b) {
+  const size_t k = entries_.size() % 4;
+  if (k == 0) groups_.push_back({});
+  BoxGroup& g = groups_.back();
+  for (int i = 0; i < 3; ++i) {
+    g.lo[i][k] = next_float_down(b.lo[i]);
+    g.hi[i][k] = next_float_up(b.hi[i]);
+  }
+}
+
+void PrimList::add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim) {
+  Bounds3 b;
+  b.extend(p0);
+  b.extend(p1);
+  b.extend(p2);
+  add_box(b);
+  entries_.push_back({tag, prim, -1, uint32_t(tris_.size() / 3)});
+  tris_.insert(tris_.end(), {p0, p1, p2});
+}
+
+void PrimList::add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
+                           uint32_t tag, uint32_t shape) {
+  add_box(world_box);
+  entries_.push_back({tag, 0, int32_t(quadrics_.size()), 0});
+  quadrics_.push_back({&s, &q, shape});
+}
+
+// The slab test on four boxes at once. The far distances are widened by their rounding (pbrt
+// book 3rd ed. 3.9.2), so no box the ray meets is missed. A slab distance that is NaN (0
+// times an infinite 1 / d: the origin on a face the ray runs along) bounds nothing:
+// cmpunord marks it, and max / min return their second operand, the running bound, for it.
+int PrimList::group_mask(size_t g, const float o[3], const float inv[3], float tmax) const {
+  const BoxGroup& b = groups_[g];
+  __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
+  const __m128 widen = _mm_set1_ps(1 + 2 * gamma_bound(3));
+  for (int i = 0; i < 3; ++i) {
+    const __m128 oi = _mm_set1_ps(o[i]), ii = _mm_set1_ps(inv[i]);
+    const __m128 ta = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(b.lo[i]), oi), ii);
+    const __m128 tb = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(b.hi[i]), oi), ii);
+    const __m128 nan = _mm_cmpunord_ps(ta, tb);
+    const __m128 near = _mm_or_ps(_mm_min_ps(ta, tb), nan);
+    const __m128 far = _mm_or_ps(_mm_mul_ps(_mm_max_ps(ta, tb), widen), nan);
+    t0 = _mm_max_ps(near, t0);
+    t1 = _mm_min_ps(far, t1);
+  }
+  return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+}
+
+bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
+                    SurfaceInteraction* si) const {
+  if (e.quadric < 0) {
+    const Vec3* p = &tris_[3 * size_t(e.triangle)];
+    float b1, b2;
+    if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best))
+      return false;
+    if (hit) *hit = {false, e.tag, e.prim, *t, b1, b2};
+    return true;
+  }
+  const QuadricRef& q = quadrics_[size_t(e.quadric)];
+  Ray r = ray;
+  r.tmax = best;
+  SurfaceInteraction qsi;  // a candidate's: a rejected test may have written part of it
+  if (!intersect_quadric(*q.s, q.q->shape, q.q->world_to_object, r, t, si ? &qsi : nullptr) ||
+      !(*t < best))
+    return false;
+  if (hit) *hit = {true, e.tag, 0, *t, 0, 0};
+  if (si) *si = qsi;
+  return true;
+}
+
+bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
+  const float o[3] = {ray.o.x, ray.o.y, ray.o.z};
+  const float inv[3] = {1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
+  float best = ray.tmax;
+  bool found = false;
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    int mask = group_mask(g, o, inv, best);
+    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
+    for (size_t k = 0; k < lanes; ++k, mask >>= 1) {
+      float t;
+      if ((mask & 1) && test(entries_[4 * g + k], ray, best, &t, hit, si)) {
+        best = t;
+        found = true;
+      }
+    }
+  }
+  return found;
+}
+
+bool PrimList::any(const Ray& ray, uint32_t skip_shape) const {
+  const float o[3] = {ray.o.x, ray.o.y, ray.o.z};
+  const float inv[3] = {1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    int mask = group_mask(g, o, inv, ray.tmax);
+    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
+    for (size_t k = 0; k < lanes; ++k, mask >>= 1) {
+      const Entry& e = entries_[4 * g + k];
+      if (!(mask & 1) || (e.quadric >= 0 && quadrics_[size_t(e.quadric)].shape == skip_shape))
+        continue;
+      float t;
+      if (test(e, ray, ray.tmax, &t, nullptr, nullptr)) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace rt

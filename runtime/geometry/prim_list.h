@@ -1,0 +1,77 @@
+// runtime/geometry/prim_list.h — a scene of a few world primitives, traversed by testing each.
+//
+// Most reference scenes are a handful of triangles and quadrics (a Cornell box, a floor under
+// a sphere, the bdpt test rooms). There a ray spends more in Embree's per-query machinery
+// (its ray and context records, the robust traversal of a one-node tree, a filter callback
+// per triangle hit) than in the primitives. PrimList holds such a scene's triangles (world
+// vertices, as pbrt-v3 transforms meshes at load) and still quadrics, each behind its box,
+// and answers a query by testing every box the ray meets: triangles with pbrt-v3's own
+// watertight test (watertight.h), which also rejects a hit within its error bound of the
+// origin as pbrt-v3's does, quadrics with intersect_quadric. SceneGeometry uses it for scenes
+// that qualify (scene_geometry.h) and Embree for every other.
+//
+// A triangle hit gives the caller its tag and triangle and the barycentrics of the hit; a
+// quadric hit its tag and, for a closest-hit query, its whole interaction. Hits are taken in
+// (0, ray.tmax), the interval open at tmax. Const queries are thread-safe.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "runtime/core/interaction.h"
+#include "runtime/core/ray.h"
+#include "runtime/geometry/quadric_intersect.h"
+#include "runtime/geometry/shape_table.h"
+
+namespace rt {
+
+class PrimList {
+ public:
+  // Triangle `prim` of a mesh whose world vertices are p0, p1, p2; tag names the mesh.
+  void add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim);
+  // A still quadric; s and q must outlive the list. shape is its ShapeTable index (occluded's
+  // skip_shape).
+  void add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
+                   uint32_t tag, uint32_t shape);
+  size_t size() const { return entries_.size(); }
+
+  struct Hit {
+    bool quadric = false;
+    uint32_t tag = 0, prim = 0;
+    float t = 0, b1 = 0, b2 = 0;  // triangles: barycentrics of p1 and p2
+  };
+  // The closest hit; a quadric's interaction goes to *si (untouched for a triangle's).
+  bool closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const;
+  // Any hit, skipping the quadric of ShapeTable index skip_shape.
+  bool any(const Ray& ray, uint32_t skip_shape) const;
+
+ private:
+  struct Entry {
+    uint32_t tag, prim;
+    int32_t quadric;  // index into quadrics_, or -1 for triangle prim of tris_
+    uint32_t triangle;
+  };
+  struct QuadricRef {
+    const ShapeInfo* s;
+    const PreparedQuadric* q;
+    uint32_t shape;
+  };
+  // Boxes four at a time, padded outwards by an ulp: lo x, y, z then hi x, y, z of entries
+  // 4 g .. 4 g + 3 (a partial last group's missing lanes are never read).
+  struct alignas(16) BoxGroup {
+    float lo[3][4], hi[3][4];
+  };
+  void add_box(const Bounds3& b);
+  // Which of group g's boxes the ray meets within [0, tmax] (bit k: entry 4 g + k).
+  int group_mask(size_t g, const float o[3], const float inv[3], float tmax) const;
+  // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction.
+  bool test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
+            SurfaceInteraction* si) const;
+
+  std::vector<BoxGroup> groups_;
+  std::vector<Entry> entries_;
+  std::vector<Vec3> tris_;  // 3 world vertices per triangle
+  std::vector<QuadricRef> quadrics_;
+};
+
+}  // namespace rt
