@@ -84,13 +84,14 @@ double radical_inverse_base3(uint64_t a) {
 // Bases up to this have a table of digit pairs (61^2 entries fit in 16 bits).
 constexpr uint32_t kMaxPairBase = 61;
 
+// ceil(2^64 / base), the multiplier div_by_reciprocal divides by base with.
+uint64_t reciprocal(uint32_t base) {
+  return ~uint64_t(0) / base + 1;
+}
+
 inline uint32_t div_by_reciprocal(uint64_t recip, uint32_t a) {
   return uint32_t((static_cast<unsigned __int128>(recip) * a) >> 64);
 }
-
-}  // namespace
-
-namespace {
 
 // The digit loop of a base above 3, given the base's rounded-up reciprocal: below 2^32 the
 // quotient is a multiplication by it, not a hardware divide a digit (tens of cycles; sppm's
@@ -110,10 +111,6 @@ double radical_inverse_by_reciprocal(uint32_t base, uint64_t recip, uint64_t a) 
     a32 = next;
   }
   return double(reversed) * inv_base_n;
-}
-
-uint64_t reciprocal(uint32_t base) {
-  return ~uint64_t(0) / base + 1;
 }
 
 }  // namespace
@@ -161,9 +158,9 @@ DigitPermutations::DigitPermutations(uint64_t seed)
   for (int d = 0; d < kHaltonDimensions; ++d) {
     Dimension& dim = dims_[size_t(d)];
     dim.base = halton_prime(d);
-    dim.recip = ~uint64_t(0) / dim.base + 1;
+    dim.recip = reciprocal(dim.base);
     dim.base2 = dim.base * dim.base;
-    dim.recip2 = ~uint64_t(0) / dim.base2 + 1;
+    dim.recip2 = reciprocal(dim.base2);
     // The reference loop's digit count and scale, replayed with its own
     // operations so the rounding is the same.
     const double inv_base = 1.0 / dim.base;
