@@ -64,7 +64,7 @@ bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* h
     float b1, b2;
     if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best))
       return false;
-    if (hit) *hit = {false, e.tag, e.prim, *t, b1, b2};
+    if (hit) *hit = {e.tag, e.prim, *t, b1, b2};
     return true;
   }
   const QuadricRef& q = quadrics_[size_t(e.quadric)];
@@ -74,45 +74,44 @@ bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* h
   if (!intersect_quadric(*q.s, q.q->shape, q.q->world_to_object, r, t, si ? &qsi : nullptr) ||
       !(*t < best))
     return false;
-  if (hit) *hit = {true, e.tag, 0, *t, 0, 0};
+  if (hit) *hit = {e.tag, 0, *t, 0, 0};
   if (si) *si = qsi;
   return true;
 }
 
-bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
+template <class Visit>
+bool PrimList::each_met(const Ray& ray, const float* tmax, Visit visit) const {
   const float o[3] = {ray.o.x, ray.o.y, ray.o.z};
   const float inv[3] = {1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    int mask = group_mask(g, o, inv, *tmax);
+    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
+    for (size_t k = 0; k < lanes; ++k, mask >>= 1)
+      if ((mask & 1) && visit(entries_[4 * g + k])) return true;
+  }
+  return false;
+}
+
+bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
   float best = ray.tmax;
   bool found = false;
-  for (size_t g = 0; g < groups_.size(); ++g) {
-    int mask = group_mask(g, o, inv, best);
-    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
-    for (size_t k = 0; k < lanes; ++k, mask >>= 1) {
-      float t;
-      if ((mask & 1) && test(entries_[4 * g + k], ray, best, &t, hit, si)) {
-        best = t;
-        found = true;
-      }
+  each_met(ray, &best, [&](const Entry& e) {
+    float t;
+    if (test(e, ray, best, &t, hit, si)) {
+      best = t;
+      found = true;
     }
-  }
+    return false;
+  });
   return found;
 }
 
 bool PrimList::any(const Ray& ray, uint32_t skip_shape) const {
-  const float o[3] = {ray.o.x, ray.o.y, ray.o.z};
-  const float inv[3] = {1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
-  for (size_t g = 0; g < groups_.size(); ++g) {
-    int mask = group_mask(g, o, inv, ray.tmax);
-    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
-    for (size_t k = 0; k < lanes; ++k, mask >>= 1) {
-      const Entry& e = entries_[4 * g + k];
-      if (!(mask & 1) || (e.quadric >= 0 && quadrics_[size_t(e.quadric)].shape == skip_shape))
-        continue;
-      float t;
-      if (test(e, ray, ray.tmax, &t, nullptr, nullptr)) return true;
-    }
-  }
-  return false;
+  return each_met(ray, &ray.tmax, [&](const Entry& e) {
+    if (e.quadric >= 0 && quadrics_[size_t(e.quadric)].shape == skip_shape) return false;
+    float t;
+    return test(e, ray, ray.tmax, &t, nullptr, nullptr);
+  });
 }
 
 }  // namespace rt

@@ -36,7 +36,6 @@ class PrimList {
   size_t size() const { return entries_.size(); }
 
   struct Hit {
-    bool quadric = false;
     uint32_t tag = 0, prim = 0;
     float t = 0, b1 = 0, b2 = 0;  // triangles: barycentrics of p1 and p2
   };
@@ -64,6 +63,10 @@ class PrimList {
   void add_box(const Bounds3& b);
   // Which of group g's boxes the ray meets within [0, tmax] (bit k: entry 4 g + k).
   int group_mask(size_t g, const float o[3], const float inv[3], float tmax) const;
+  // visit(entry) for each entry whose box the ray meets within [0, *tmax] (read for every
+  // group: closest() shrinks it as it goes), until visit returns true; whether one did.
+  template <class Visit>
+  bool each_met(const Ray& ray, const float* tmax, Visit visit) const;
   // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction.
   bool test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
             SurfaceInteraction* si) const;

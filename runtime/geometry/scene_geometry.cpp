@@ -73,9 +73,13 @@ bool is_quadric(ShapeKind k) {
   return k != ShapeKind::kTriangles && k != ShapeKind::kCurve;
 }
 
-// A world quadric PrimList may hold: still and without masks.
+// A world shape PrimList may hold: still and without masks.
 bool listable(const ShapeInfo& s) {
   return s.object == kNone && !s.motion && !s.has_alpha_mask() && !s.has_shadow_mask();
+}
+
+bool empty_mesh(const ShapeInfo& s) {
+  return s.mesh.num_triangles == 0 || s.mesh.num_vertices == 0;
 }
 
 }  // namespace
@@ -881,9 +885,6 @@ bool Builder::run() {
     if (geoms.size() <= id) geoms.resize(id + 1, nullptr);
     geoms[id] = g;
   };
-  auto empty_mesh = [](const ShapeInfo& s) {
-    return s.mesh.num_triangles == 0 || s.mesh.num_vertices == 0;
-  };
 
   // World shapes, in the top level: quadrics and curves (their callbacks take world rays), and
   // still meshes, those with a transform copied through it as pbrt-v3 transforms them at
@@ -1022,8 +1023,8 @@ Impl::Listing choose_listing(const Impl& impl, size_t max_listed) {
       ++quadrics;
     } else if (is_quadric(s.kind) || s.kind == ShapeKind::kCurve) {
       unlisted_user_geometry = unlisted_user_geometry || s.object == kNone || instanced;
-    } else if (s.object == kNone && !s.motion && !s.has_alpha_mask() && !s.has_shadow_mask()) {
-      triangles += s.mesh.num_vertices > 0 ? s.mesh.num_triangles : 0;
+    } else if (listable(s)) {
+      triangles += empty_mesh(s) ? 0 : s.mesh.num_triangles;
     } else {
       other_meshes = true;
     }
