@@ -92,10 +92,12 @@ Vec2 map_coordinates(const Transform& world_to_light, Vec3 w_world, float* sin_t
 }
 }  // namespace
 
-Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf) const {
+Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf,
+                              const MapDirection& known) const {
   if (il.map == kNone && !pdf) return il.l;
-  float sin_theta;
-  const Vec2 st = map_coordinates(il.world_to_light, w_world, &sin_theta);
+  float sin_theta = known.sin_theta;
+  const Vec2 st =
+      known.w == w_world ? known.st : map_coordinates(il.world_to_light, w_world, &sin_theta);
   if (pdf) *pdf = map_pdf_to_solid_angle(il.distribution.pdf(st), sin_theta);
   return il.map == kNone ? il.l : maps_[il.map].lookup_trilinear(st) * il.l;
 }
@@ -269,21 +271,24 @@ Rgb LightSet::infinite_le(const RayDifferential& ray) const {
   return l;
 }
 
-Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li) const {
+Rgb LightSet::infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li,
+                              const MapDirection& known) const {
   const Entry& e = entries_[light];
   if (e.kind != LightKind::kInfinite) return Rgb();
-  return infinite_lookup(infinite_[e.data], ray.d, pdf_li);
+  return infinite_lookup(infinite_[e.data], ray.d, pdf_li, known);
 }
 
-void LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
+MapDirection LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
   const Entry& e = entries_[light];
-  if (e.kind != LightKind::kInfinite) return;
+  if (e.kind != LightKind::kInfinite) return {};
   const InfiniteLight& il = infinite_[e.data];
-  if (il.map == kNone) return;
-  float sin_theta;
-  const Vec2 st = map_coordinates(il.world_to_light, w_world, &sin_theta);
-  maps_[il.map].prefetch_bilinear(st);
-  il.distribution.prefetch_value(st);
+  if (il.map == kNone) return {};
+  MapDirection d;
+  d.st = map_coordinates(il.world_to_light, w_world, &d.sin_theta);
+  d.w = w_world;
+  maps_[il.map].prefetch_bilinear(d.st);
+  il.distribution.prefetch_value(d.st);
+  return d;
 }
 
 void LightSet::prefetch_sample(uint32_t light, Vec2 u) const {

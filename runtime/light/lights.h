@@ -72,6 +72,15 @@ struct LightSample {
   Vec2 map_uv;
 };
 
+// A unit direction w's (u, v) in one infinite light's map and its sin theta, as
+// LightSet::prefetch_infinite computes them: given back to infinite_le_one for the same light
+// and a ray along the same w, they spare it the acos and atan2 (any other ray ignores them).
+struct MapDirection {
+  Vec3 w;  // zero: no direction
+  Vec2 st;
+  float sin_theta = 0;
+};
+
 class LightSet {
  public:
   // world_bounds: the scene's bounds (distant and infinite lights sit outside its sphere).
@@ -109,12 +118,14 @@ class LightSet {
   // direct lighting's BSDF sample counts only the light it is estimating. With pdf_li, also
   // pdf_li(light, any, ray.d) from the same spherical angles (an escaping BSDF sample needs
   // both for its MIS weight; the angles' acos and atan2 are then paid once).
-  Rgb infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li = nullptr) const;
-  // A hint, no result: starts loading what infinite_le_one and pdf_li read for a ray leaving
-  // along a unit w (world) should light `light` be an infinite map, so that a caller who traces the
-  // ray first finds them in cache. An environment map and its distribution are tens of MB,
-  // read at random: each read is a miss, and tracing hides it.
-  void prefetch_infinite(uint32_t light, Vec3 w) const;
+  Rgb infinite_le_one(uint32_t light, const RayDifferential& ray, float* pdf_li = nullptr,
+                      const MapDirection& known = {}) const;
+  // A hint: starts loading what infinite_le_one and pdf_li read for a ray leaving along a unit
+  // w (world) should light `light` be an infinite map, so that a caller who traces the ray
+  // first finds them in cache. An environment map and its distribution are tens of MB, read
+  // at random: each read is a miss, and tracing hides it. Returns w's map coordinates (no
+  // direction for other lights).
+  MapDirection prefetch_infinite(uint32_t light, Vec3 w) const;
   // A hint, no result: starts loading what sample_li(light, it, u, ...) will read of an
   // environment map's sampling table, so that work between the two calls hides the miss.
   void prefetch_sample(uint32_t light, Vec2 u) const;
@@ -188,7 +199,8 @@ class LightSet {
 
   Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
   // The radiance along w_world (towards the light); with pdf, also infinite_pdf's value.
-  Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf = nullptr) const;
+  Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf = nullptr,
+                      const MapDirection& known = {}) const;
   // An infinite light's importance sampling, shared by the Li and Le paths: a
   // direction wi towards the light drawn from the distribution, its map (u, v)
   // and solid-angle pdf (0 at the poles); false when the distribution gives 0.

@@ -135,7 +135,8 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   bool sampled_specular = false;
   Rgb f = sc.sample(u_scattering, &wi, &scattering_pdf, &sampled_specular);
   if (f.is_black() || scattering_pdf <= 0) return ld;
-  if constexpr (kInfinite) lights.prefetch_infinite(light, wi);
+  MapDirection map_wi;
+  if constexpr (kInfinite) map_wi = lights.prefetch_infinite(light, wi);
   Ray ray = it.spawn_ray(wi);
   SurfaceInteraction hit;
   // Only a hit on this light is read: the rest of a triangle's interaction waits until it is
@@ -156,7 +157,7 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   } else if constexpr (kInfinite) {
     if (lights.kind(light) == LightKind::kInfinite) {
       RayDifferential rd(ray);
-      le = lights.infinite_le_one(light, rd, sampled_specular ? nullptr : &light_pdf);
+      le = lights.infinite_le_one(light, rd, sampled_specular ? nullptr : &light_pdf, map_wi);
     }
   }
   if (le.is_black()) return ld;

@@ -131,11 +131,16 @@ struct Kernels {
   }
 
   // A hint: should the ray leaving along w escape, the lookups of the environment maps it
-  // then reads are on their way while it is traced (each is a cache miss).
-  static void prefetch_escape(const Self& I, Vec3 w) {
-    if constexpr (kInfinite)
-      for (uint32_t light : I.scene_->lights.infinite_lights())
-        I.scene_->lights.prefetch_infinite(light, w);
+  // then reads are on their way while it is traced (each is a cache miss). With one infinite
+  // light, w's coordinates in its map, for weighted_emission.
+  static MapDirection prefetch_escape(const Self& I, Vec3 w) {
+    MapDirection d;
+    if constexpr (kInfinite) {
+      const std::vector<uint32_t>& infinite = I.scene_->lights.infinite_lights();
+      for (uint32_t light : infinite) d = I.scene_->lights.prefetch_infinite(light, w);
+      if (infinite.size() > 1) d = {};
+    }
+    return d;
   }
 
   static Rgb escaped(const Self& I, const RayDifferential& ray) {
@@ -186,7 +191,8 @@ struct Kernels {
   // heuristic against the light sample taken there: the other half of that vertex's direct
   // lighting. A light whose pdf_li is 0 there counts nothing, as in pbrt-v3's EstimateDirect.
   static Rgb weighted_emission(const Self& I, bool found, const SurfaceInteraction& si,
-                               const RayDifferential& ray, const LeftVertex& from) {
+                               const RayDifferential& ray, const LeftVertex& from,
+                               const MapDirection& escape) {
     const LightSet& lights = I.scene_->lights;
     Rgb l;
     if (found) {
@@ -204,7 +210,7 @@ struct Kernels {
     if constexpr (kInfinite)
       for (uint32_t light : lights.infinite_lights()) {
         float pdf_li = 0;
-        const Rgb le = lights.infinite_le_one(light, ray, &pdf_li);
+        const Rgb le = lights.infinite_le_one(light, ray, &pdf_li, escape);
         if (le.is_black()) continue;
         const float light_pdf = I.distribution_.pmf(from.site, int(light)) * pdf_li;
         if (light_pdf > 0) l += le * power_heuristic(1, from.pdf, 1, light_pdf);
@@ -340,7 +346,8 @@ struct Kernels {
     RayDifferential ray = camera_ray;
     bool specular_bounce = false;
     float eta_scale = 1;
-    LeftVertex from;  // path: weigh is cleared past an interface
+    LeftVertex from;      // path: weigh is cleared past an interface
+    MapDirection escape;  // the BSDF sample's direction in the environment map
     const int max_depth = I.settings_.max_depth;
     uint32_t medium = kMedia ? I.scene_->camera_medium : kNone;
     for (int bounces = 0;; ++bounces) {
@@ -388,7 +395,7 @@ struct Kernels {
         else
           l += beta * escaped(I, ray);
       } else if (from.weigh && !through) {
-        l += beta * weighted_emission(I, found, si, ray, from);
+        l += beta * weighted_emission(I, found, si, ray, from, escape);
       }
       if (!found) break;
       if (bounces >= max_depth && !(through && from.weigh)) break;
@@ -434,7 +441,7 @@ struct Kernels {
       const uint32_t arrived_in = medium;
       if constexpr (kMedia) medium = medium_after(I, si, wi, medium);
       ray = RayDifferential(si.spawn_ray(wi));
-      prefetch_escape(I, wi);
+      escape = prefetch_escape(I, wi);
       if constexpr (kSubsurface) {
         // Light refracted into a subsurface material leaves it at a point the BSSRDF picks,
         // where it is lit directly and continues by the exit lobe.
