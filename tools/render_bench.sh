@@ -6,7 +6,7 @@
 # one-sample smoke test).
 #
 #   tools/render_bench.sh [--build DIR] [--threads "1 2"] [--rounds N] [--spp N] [--skip TEXT]...
-#                         [NAME-FILTER]
+#                         [--each] [NAME-FILTER]
 #
 # Entries whose name contains NAME-FILTER are measured (all without one), less those containing
 # any --skip TEXT (v3-figures/f10-1ac takes 512 light samples per camera sample, so a survey of
@@ -15,7 +15,7 @@
 # pbrt-v3 is ../shared/peers/pbrt-v3/pbrt (its README). Prints the CPU, then a Markdown table per
 # scene and thread count: each program's whole-process time (best and worst of the rounds), its
 # render-only time, and the ratios of pbrt-v3's to pbrtrun's (their range over the rounds, paired
-# round by round). Whole process: pbrt-v3 parses the scene text, pbrtrun loads the archive
+# round by round; --each also prints every round's pair to stderr). Whole process: pbrt-v3 parses the scene text, pbrtrun loads the archive
 # pbrtc compiled beforehand (compiling is not timed). Render only: pbrtrun's own --stats figure;
 # pbrt-v3 prints none, so its whole time less its load time, measured as its best whole time at
 # --spp 1 and a tiny resolution with the same thread count (which still parses and builds
@@ -28,6 +28,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build"
 threads="1 2"
 rounds=3
+each=0
 spp_override=""
 filter=""
 skips=()
@@ -38,6 +39,7 @@ while [ $# -gt 0 ]; do
     --rounds) rounds="$2"; shift 2 ;;
     --spp) spp_override="$2"; shift 2 ;;
     --skip) skips+=("$2"); shift 2 ;;
+    --each) each=1; shift ;;
     -h|--help) sed -n 2,25p "$0"; exit 0 ;;
     *) filter="$1"; shift ;;
   esac
@@ -129,6 +131,10 @@ while read -r entry ref spp resdiv ci ours _; do
       v3_render="$v3_render $vr" run_render="$run_render ${rr:-0}"
       whole_ratio="$whole_ratio $(awk -v a="$aw" -v b="$bw" 'BEGIN { if (b > 0) print a / b }')"
       render_ratio="$render_ratio $(awk -v a="$vr" -v b="${rr:-0}" 'BEGIN { if (b > 0) print a / b }')"
+      if [ "$each" = 1 ]; then
+        echo "  round $((r + 1)) $entry ${t}t: pbrt-v3 ${aw} s (render $vr), pbrtrun ${bw} s" \
+          "(render ${rr:-0}), render v3/run ${render_ratio##* }" >&2
+      fi
       v3_rss=$(( ${a##* } > v3_rss ? ${a##* } : v3_rss ))
       run_rss=$(( ${b##* } > run_rss ? ${b##* } : run_rss ))
     done
