@@ -58,7 +58,8 @@ class SceneGeometry {
  public:
   // set_max_listed's default; the most triangles a scene may have for all of its shapes to
   // be listed, and the most quadrics listed beside Embree's tree in a scene with more.
-  static constexpr size_t kDefaultMaxListed = 32, kMaxListedTriangles = 8, kMaxListedBesideTree = 4;
+  static constexpr size_t kDefaultMaxListed = 32, kMaxListedTriangles = 16,
+                          kMaxListedBesideTree = 4;
 
   SceneGeometry();
   ~SceneGeometry();
