@@ -40,6 +40,8 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
     return false;
   }
   camera_to_world_ = camera_from_world.inverse();
+  camera_from_world_ = camera_to_world_.inverse();
+  forward_world_ = normalize(camera_to_world_.vector({0, 0, 1}));
   origin_world_ = camera_to_world_.point({0, 0, 0}, &origin_error_);
   motion_ = AnimatedTransform(t.start, t.end, float(t.start_time), float(t.end_time), true);
   resolution_ = res;
@@ -84,6 +86,7 @@ bool Camera::build(const pbrta::SceneArchive& a, Point2i res, std::string* error
                                scale(1 / (sw[1] - sw[0]), 1 / (sw[2] - sw[3]), 1) *
                                translate({-sw[0], -sw[3], 0});
   raster_to_camera_ = camera_to_screen.inverse() * screen_to_raster.inverse();
+  raster_from_camera_ = raster_to_camera_.inverse();
   Vec3 o = raster_to_camera_.point({0, 0, 0});
   dx_camera_ = raster_to_camera_.point({1, 0, 0}) - o;
   dy_camera_ = raster_to_camera_.point({0, 1, 0}) - o;
@@ -317,16 +320,26 @@ bool Camera::inside_sample_bounds(Vec2 p) const {
 }
 
 bool Camera::project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const {
-  const Transform w = to_world(ray.time);
+  // A still camera's transforms are read in place (bdpt projects every light subpath vertex):
+  // copying them per call took most of this function's time.
+  if (motion_.animated()) {
+    const Transform w = motion_.at(ray.time);
+    return project_through(w.inverse(), normalize(w.vector({0, 0, 1})), ray, cos_theta, p_raster);
+  }
+  return project_through(camera_from_world_, forward_world_, ray, cos_theta, p_raster);
+}
+
+bool Camera::project_through(const Transform& from_world, Vec3 forward, const Ray& ray,
+                             float* cos_theta, Vec2* p_raster) const {
   Vec3 d = normalize(ray.d);
-  *cos_theta = dot(d, normalize(w.vector({0, 0, 1})));
+  *cos_theta = dot(d, forward);
   if (*cos_theta <= 0) return false;
   // A thin lens images the plane of focus sharply and a pinhole every depth, so the point where
   // the ray crosses that plane (z = 1 for the pinhole) projects to its raster position; the
   // ray leaves from the lens at z = 0.
   float t = (lens_radius_ > 0 ? focal_distance_ : 1) / *cos_theta;
-  Vec3 p_camera = w.inverse().point(ray.o + d * t);
-  Vec3 p = raster_to_camera_.inverse().point(p_camera);
+  Vec3 p_camera = from_world.point(ray.o + d * t);
+  Vec3 p = raster_from_camera_.point(p_camera);
   *p_raster = {p.x, p.y};
   return true;
 }

@@ -129,11 +129,18 @@ class Camera {
   // Where a ray leaving the lens meets the film, for we() and pdf_we(): false when it faces
   // away from the viewing direction; else its cosine to it and its raster point.
   bool project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const;
+  // The same with the camera's world-to-camera transform and its unit viewing direction
+  // (world) at the ray's time.
+  bool project_through(const Transform& from_world, Vec3 forward, const Ray& ray, float* cos_theta,
+                       Vec2* p_raster) const;
   bool inside_sample_bounds(Vec2 p_raster) const;
   float lens_area() const;
 
   Type type_ = Type::kPerspective;
   Transform camera_to_world_;
+  // Its inverse and its +z axis, normalised: a still camera's projection reads them.
+  Transform camera_from_world_;
+  Vec3 forward_world_;
   // An animated camera moves by pbrt-v3's interpolation of its world-from-camera keyframes.
   AnimatedTransform motion_;
   Transform to_world(float time) const {
@@ -147,7 +154,7 @@ class Camera {
   bool still_pinhole_ = false;
   Vec3 dir_x_, dir_y_, dir_0_;
   float still_pinhole_ray(const CameraSample& sample, RayDifferential* ray) const;
-  Transform raster_to_camera_;
+  Transform raster_to_camera_, raster_from_camera_;
   Vec3 dx_camera_, dy_camera_;
   float lens_radius_ = 0, focal_distance_ = 1e6f;
   float shutter_open_ = 0, shutter_close_ = 1;
