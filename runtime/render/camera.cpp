@@ -200,7 +200,8 @@ float Camera::still_pinhole_ray(const CameraSample& s, RayDifferential* out) con
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
   if (still_pinhole_) return still_pinhole_ray(s, out);
   if (type_ == Type::kRealistic) {
-    const Transform w = to_world(lerp(s.time, shutter_open_, shutter_close_));
+    std::optional<Transform> moving;
+    const Transform& w = to_world(lerp(s.time, shutter_open_, shutter_close_), &moving);
     auto world_ray = [&](const CameraSample& cs, Ray* r) {
       float weight = realistic_ray(cs, r);
       if (weight > 0) {
@@ -282,29 +283,25 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
       thin_lens(p_camera + dy_camera_, d_pinhole, &r.ry_o, &r.ry_d);
     }
   }
-  // To world space: a still camera's transform is read in place, and where every ray leaves
-  // from the camera-space origin its world point was taken there once, in build(). (A still
-  // pinhole perspective camera never gets here: still_pinhole_ray.)
+  // To world space: where every ray leaves from the camera-space origin, its world point was
+  // taken there once, in build(). (A still pinhole perspective camera never gets here:
+  // still_pinhole_ray.)
   const bool fixed_origin = !motion_.animated() && type_ == Type::kEnvironment;
-  auto to_world_ray = [&](const Transform& w) {
-    const Vec3 dw = w.vector(r.d);
-    out->o = fixed_origin ? origin_past_error(origin_world_, dw, origin_error_)
-                          : world_origin(w, r.o, dw);
-    out->d = normalize(dw);
-    out->tmax = kInfinity;
-    out->time = r.time;
-    out->has_differentials = r.has_differentials;
-    if (r.has_differentials) {
-      out->rx_o = fixed_origin ? origin_world_ : w.point(r.rx_o);
-      out->ry_o = fixed_origin ? origin_world_ : w.point(r.ry_o);
-      out->rx_d = normalize(w.vector(r.rx_d));
-      out->ry_d = normalize(w.vector(r.ry_d));
-    }
-  };
-  if (motion_.animated())
-    to_world_ray(motion_.at(r.time));
-  else
-    to_world_ray(camera_to_world_);
+  std::optional<Transform> moving;
+  const Transform& w = to_world(r.time, &moving);
+  const Vec3 dw = w.vector(r.d);
+  out->o =
+      fixed_origin ? origin_past_error(origin_world_, dw, origin_error_) : world_origin(w, r.o, dw);
+  out->d = normalize(dw);
+  out->tmax = kInfinity;
+  out->time = r.time;
+  out->has_differentials = r.has_differentials;
+  if (r.has_differentials) {
+    out->rx_o = fixed_origin ? origin_world_ : w.point(r.rx_o);
+    out->ry_o = fixed_origin ? origin_world_ : w.point(r.ry_o);
+    out->rx_d = normalize(w.vector(r.rx_d));
+    out->ry_d = normalize(w.vector(r.ry_d));
+  }
   return 1;
 }
 
@@ -320,13 +317,12 @@ bool Camera::inside_sample_bounds(Vec2 p) const {
 }
 
 bool Camera::project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const {
-  // A still camera's transforms are read in place (bdpt projects every light subpath vertex):
-  // copying them per call took most of this function's time.
-  if (motion_.animated()) {
-    const Transform w = motion_.at(ray.time);
-    return project_through(w.inverse(), normalize(w.vector({0, 0, 1})), ray, cos_theta, p_raster);
-  }
-  return project_through(camera_from_world_, forward_world_, ray, cos_theta, p_raster);
+  // A still camera's inverse and viewing direction are kept (bdpt projects every light
+  // subpath vertex): making them per call took most of this function's time.
+  if (!motion_.animated())
+    return project_through(camera_from_world_, forward_world_, ray, cos_theta, p_raster);
+  const Transform w = motion_.at(ray.time);
+  return project_through(w.inverse(), normalize(w.vector({0, 0, 1})), ray, cos_theta, p_raster);
 }
 
 bool Camera::project_through(const Transform& from_world, Vec3 forward, const Ray& ray,
@@ -374,7 +370,8 @@ Rgb Camera::sample_wi(const Interaction& ref, Vec2 u, Vec3* wi, float* pdf, Vec2
   *pdf = 0;
   *wi = {};
   if (type_ != Type::kPerspective) return Rgb(0);
-  const Transform w = to_world(ref.time);
+  std::optional<Transform> moving;
+  const Transform& w = to_world(ref.time, &moving);
   Vec2 p_lens = concentric_sample_disk(u) * lens_radius_;
   Interaction on_lens;
   on_lens.p = w.point({p_lens.x, p_lens.y, 0});

@@ -33,6 +33,7 @@
 // cameras answer 0, and supports_importance() says which is which.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "format/scene_archive.h"
@@ -143,8 +144,10 @@ class Camera {
   Vec3 forward_world_;
   // An animated camera moves by pbrt-v3's interpolation of its world-from-camera keyframes.
   AnimatedTransform motion_;
-  Transform to_world(float time) const {
-    return motion_.animated() ? motion_.at(time) : camera_to_world_;
+  // The world-from-camera transform at `time`: a still camera's read in place (no 128-byte
+  // copy a ray), a moving camera's built in *moving.
+  const Transform& to_world(float time, std::optional<Transform>* moving) const {
+    return motion_.animated() ? moving->emplace(motion_.at(time)) : camera_to_world_;
   }
   // The camera-space origin in world space (still camera) and its rounding bound.
   Vec3 origin_world_, origin_error_;
