@@ -194,12 +194,6 @@ bool LightSet::add_light(const pbrta::SceneArchive& a, uint32_t index, std::stri
         return false;
       }
       il.distribution = Distribution2D(dist.level_texels(0), dist.width(), dist.height(), true);
-    } else {
-      // pbrt-v3's constant map is one texel of L: its 2 x 2 distribution.
-      float y = il.l.luminance(), f[4];
-      for (int v = 0; v < 2; ++v)
-        for (int u = 0; u < 2; ++u) f[v * 2 + u] = y * std::sin(kPi * (v + .5f) / 2);
-      il.distribution = Distribution2D(f, 2, 2);
     }
     infinite_lights_.push_back(count());
     entries_.push_back({LightKind::kInfinite, uint32_t(infinite_.size()), kNone, 0});

@@ -94,7 +94,10 @@ Vec2 map_coordinates(const Transform& world_to_light, Vec3 w_world, float* sin_t
 
 Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf,
                               const MapDirection& known) const {
-  if (il.map == kNone && !pdf) return il.l;
+  if (il.map == kNone) {
+    if (pdf) *pdf = uniform_sphere_pdf();
+    return il.l;
+  }
   float sin_theta = known.sin_theta;
   const Vec2 st =
       known.w == w_world ? known.st : map_coordinates(il.world_to_light, w_world, &sin_theta);
@@ -104,6 +107,16 @@ Rgb LightSet::infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf,
 
 bool LightSet::sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* wi,
                                float* pdf) const {
+  if (il.map == kNone) {
+    // A constant light is sampled uniformly over the sphere, as pbrt-v4's uniform infinite
+    // light is: the same expectation as pbrt-v3's sampling of its one-texel map (which
+    // crowds samples at the poles), with a constant Li / pdf, one sine and cosine, and a
+    // constant density for MIS, where the map's took an arccosine and an arctangent.
+    *uv = u;
+    *wi = uniform_sample_sphere(u);
+    *pdf = uniform_sphere_pdf();
+    return true;
+  }
   float map_pdf = 0;
   *uv = il.distribution.sample_continuous(u, &map_pdf);
   if (map_pdf == 0) return false;
@@ -120,6 +133,7 @@ bool LightSet::sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* 
 }
 
 float LightSet::infinite_pdf(const InfiniteLight& il, Vec3 wi) const {
+  if (il.map == kNone) return uniform_sphere_pdf();
   float sin_theta;
   const Vec2 st = map_coordinates(il.world_to_light, wi, &sin_theta);
   return map_pdf_to_solid_angle(il.distribution.pdf(st), sin_theta);
@@ -293,7 +307,8 @@ MapDirection LightSet::prefetch_infinite(uint32_t light, Vec3 w_world) const {
 
 void LightSet::prefetch_sample(uint32_t light, Vec2 u) const {
   const Entry& e = entries_[light];
-  if (e.kind == LightKind::kInfinite) infinite_[e.data].distribution.prefetch_sample(u);
+  if (e.kind == LightKind::kInfinite && infinite_[e.data].map != kNone)
+    infinite_[e.data].distribution.prefetch_sample(u);
 }
 
 Rgb LightSet::power(uint32_t light) const {

@@ -194,7 +194,7 @@ class LightSet {
     Rgb l;                 // L * scale, multiplied after the map lookup
     uint32_t map = kNone;  // into maps_, kNone: constant L
     int nsamples = 1;
-    Distribution2D distribution;
+    Distribution2D distribution;  // the map's (none for a constant light: sampled uniformly)
   };
 
   Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
@@ -202,8 +202,9 @@ class LightSet {
   Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf = nullptr,
                       const MapDirection& known = {}) const;
   // An infinite light's importance sampling, shared by the Li and Le paths: a
-  // direction wi towards the light drawn from the distribution, its map (u, v)
-  // and solid-angle pdf (0 at the poles); false when the distribution gives 0.
+  // direction wi towards the light drawn from the map's distribution, its map (u, v)
+  // and solid-angle pdf (0 at the poles); false when the distribution gives 0. A
+  // constant light (no map) draws wi uniformly over the sphere (uv is then u).
   bool sample_infinite(const InfiniteLight& il, Vec2 u, Vec2* uv, Vec3* wi, float* pdf) const;
   float infinite_pdf(const InfiniteLight& il, Vec3 wi) const;  // wi towards the light
   Rgb infinite_at(const InfiniteLight& il, Vec2 uv) const;     // radiance at map (u, v)

@@ -1,4 +1,4 @@
-// Infinite lights: a constant one gives irradiance pi L on a plane; an
+// Infinite lights: a constant one gives irradiance pi L on a plane, sampled uniformly; an
 // environment map's importance sampling has a pdf that integrates to one
 // over the sphere and agrees between sample_li and pdf_li, with radiance
 // that agrees with infinite_le.
@@ -34,6 +34,22 @@ LightSource "infinite" "rgb L" [0.5 1 2] "rgb scale" [2 2 2] "integer nsamples" 
   EXPECT_EQ(s.lights.infinite_le(ray), Rgb(1, 2, 4));
   float r = std::sqrt(3.f);
   EXPECT_NEAR(s.lights.power(0).g, kPi * r * r * 2, 1e-4);
+
+  // Sampled uniformly over the sphere: half the directions have |z| < 1/2 (a one-texel map's
+  // sampling, uniform in theta, puts a third there), each at the density 1 / 4pi that
+  // pdf_li gives every direction, and the radiance is L in each.
+  Rng rng(7);
+  const int n = 40000;
+  int band = 0, bad = 0;
+  for (int i = 0; i < n; ++i) {
+    LightSample ls;
+    Rgb li = s.lights.sample_li(0, ref, {rng.next_float(), rng.next_float()}, &ls);
+    band += std::fabs(ls.wi.z) < 0.5f;
+    bad += li != Rgb(1, 2, 4) || ls.pdf != kInv4Pi ||
+           s.lights.pdf_li(0, ref, ls.wi, nullptr) != kInv4Pi;
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_NEAR(band / double(n), 0.5, 0.01);
 }
 
 class EnvironmentMap : public ::testing::Test {
