@@ -20,27 +20,34 @@ float roughness_to_alpha(float roughness) {
          0.000640711f * x * x * x * x;
 }
 
+// D and lambda from the direction's components instead of its angles: in the book's
+// (cos^2 phi / ax^2 + sin^2 phi / ay^2) tan^2 theta and alpha(phi)^2 tan^2 theta, cos phi and
+// sin phi are x and y over sin theta, which the tangent's sin theta cancels, leaving
+// (x^2 / ax^2 + y^2 / ay^2) / z^2 and (ax^2 x^2 + ay^2 y^2) / z^2. The same values up to
+// rounding (and without 1 - z^2's cancellation near the normal), with no square root and
+// fewer divisions. z = 0 (tan theta infinite) gives 0 in both, as in pbrt-v3.
 float MicrofacetDistribution::d(Vec3 wh) const {
-  float tan2 = tan2_theta(wh);
-  if (std::isinf(tan2)) return 0;
-  float cos4 = cos2_theta(wh) * cos2_theta(wh);
-  float e = (cos2_phi(wh) / (alpha_x * alpha_x) + sin2_phi(wh) / (alpha_y * alpha_y)) * tan2;
-  if (kind == MicrofacetKind::kBeckmann) return std::exp(-e) / (kPi * alpha_x * alpha_y * cos4);
-  return 1 / (kPi * alpha_x * alpha_y * cos4 * (1 + e) * (1 + e));
+  const float cos2 = wh.z * wh.z;
+  if (cos2 == 0) return 0;
+  const float slope2 = wh.x * wh.x / (alpha_x * alpha_x) + wh.y * wh.y / (alpha_y * alpha_y);
+  if (kind == MicrofacetKind::kBeckmann)
+    return std::exp(-slope2 / cos2) / (kPi * alpha_x * alpha_y * cos2 * cos2);
+  // cos^4 theta (1 + e)^2 is (cos^2 theta + slope2)^2.
+  const float s = cos2 + slope2;
+  return 1 / (kPi * alpha_x * alpha_y * s * s);
 }
 
 float MicrofacetDistribution::lambda(Vec3 w) const {
-  float abs_tan = std::fabs(tan_theta(w));
-  if (std::isinf(abs_tan)) return 0;
-  // The alpha seen in w's azimuth (anisotropic roughness interpolated).
-  float alpha = std::sqrt(cos2_phi(w) * alpha_x * alpha_x + sin2_phi(w) * alpha_y * alpha_y);
+  const float cos2 = w.z * w.z;
+  if (cos2 == 0) return 0;
+  // (alpha tan theta)^2, alpha the roughness seen in w's azimuth.
+  const float alpha2_tan2 = (alpha_x * alpha_x * w.x * w.x + alpha_y * alpha_y * w.y * w.y) / cos2;
   if (kind == MicrofacetKind::kBeckmann) {
     // Walter et al. 2007's rational approximation of the Beckmann lambda.
-    float a = 1 / (alpha * abs_tan);
+    const float a = 1 / std::sqrt(alpha2_tan2);
     if (a >= 1.6f) return 0;
     return (1 - 1.259f * a + 0.396f * a * a) / (3.535f * a + 2.181f * a * a);
   }
-  float alpha2_tan2 = (alpha * abs_tan) * (alpha * abs_tan);
   return (-1 + std::sqrt(1 + alpha2_tan2)) / 2;
 }
 

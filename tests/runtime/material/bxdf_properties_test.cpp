@@ -197,5 +197,51 @@ TEST(Microfacet, RoughnessRemapAndNormalisation) {
   }
 }
 
+// D and lambda are computed from the direction's components: they must agree with the book's
+// formulas in theta and phi (taken here in double) for both distributions, anisotropic, over
+// the whole sphere, and give 0 at z = 0 as pbrt-v3 does.
+TEST(Microfacet, DAndLambdaAgreeWithTheAngleForms) {
+  auto book_d = [](const MicrofacetDistribution& m, double theta, double phi) {
+    double ax = m.alpha_x, ay = m.alpha_y, c = std::cos(theta), t = std::tan(theta);
+    double e =
+        (std::cos(phi) * std::cos(phi) / (ax * ax) + std::sin(phi) * std::sin(phi) / (ay * ay)) *
+        t * t;
+    if (m.kind == MicrofacetKind::kBeckmann) return std::exp(-e) / (kPi * ax * ay * c * c * c * c);
+    return 1 / (kPi * ax * ay * c * c * c * c * (1 + e) * (1 + e));
+  };
+  auto book_lambda = [](const MicrofacetDistribution& m, double theta, double phi) {
+    double ax = m.alpha_x, ay = m.alpha_y, t = std::fabs(std::tan(theta));
+    double alpha = std::sqrt(std::cos(phi) * std::cos(phi) * ax * ax +
+                             std::sin(phi) * std::sin(phi) * ay * ay);
+    if (m.kind == MicrofacetKind::kBeckmann) {
+      double a = 1 / (alpha * t);
+      if (a >= 1.6) return 0.0;
+      return (1 - 1.259 * a + 0.396 * a * a) / (3.535 * a + 2.181 * a * a);
+    }
+    return (-1 + std::sqrt(1 + alpha * alpha * t * t)) / 2;
+  };
+  Rng rng(11);
+  for (MicrofacetKind kind : {MicrofacetKind::kTrowbridgeReitz, MicrofacetKind::kBeckmann})
+    for (Vec2 a : {Vec2{0.3f, 0.6f}, Vec2{0.05f, 0.05f}, Vec2{1.2f, 0.2f}}) {
+      MicrofacetDistribution m = tr(a.x, a.y);
+      m.kind = kind;
+      int bad = 0;
+      for (int i = 0; i < 20000; ++i) {
+        // theta away from the normal and the horizon by 1e-3, where the float inputs still
+        // pin the angles down to a relative 1e-4 of these functions.
+        double theta = 1e-3 + (kPi - 2e-3) * rng.next_float(), phi = 2 * kPi * rng.next_float();
+        if (std::fabs(theta - kPi / 2) < 1e-3) continue;
+        Vec3 w{float(std::sin(theta) * std::cos(phi)), float(std::sin(theta) * std::sin(phi)),
+               float(std::cos(theta))};
+        double d0 = book_d(m, theta, phi), l0 = book_lambda(m, theta, phi);
+        bad += std::fabs(m.d(w) - d0) > 1e-4 * d0 + 1e-30;
+        bad += std::fabs(m.lambda(w) - l0) > 1e-4 * l0 + 1e-6;
+      }
+      EXPECT_EQ(bad, 0) << int(kind) << " " << a.x << " " << a.y;
+      EXPECT_EQ(m.d({1, 0, 0}), 0);
+      EXPECT_EQ(m.lambda({0, 1, 0}), 0);
+    }
+}
+
 }  // namespace
 }  // namespace rt
