@@ -2,8 +2,9 @@
 // (5e-7 absolute) of the exact values: for an environment map's coordinates of a direction,
 // taken for every light sample's density and every escaping ray, where libm's acosf and
 // atan2f (with its wrapper) cost about three times the polynomials below (callgrind). Values
-// differ from libm's by rounding only. Geometry (quadric phi, curve frames) keeps libm:
-// pbrt-v3's intersection tests compare those angles against limits. (Sine and cosine stay
+// differ from libm's by rounding only; also for a quadric hit's (u, v) where no cut compares
+// the angle (a whole turn's phi, a sphere's theta). Angles pbrt-v3's intersection tests
+// compare against limits (a cut quadric's phi, curve frames) keep libm. (Sine and cosine stay
 // libm's: its sincosf took fewer instructions than a reduction and two series here.)
 #pragma once
 

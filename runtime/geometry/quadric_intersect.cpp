@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "runtime/core/fast_trig.h"
 #include "runtime/geometry/efloat.h"
 #include "runtime/geometry/quadric_shape.h"
 
@@ -16,6 +17,13 @@ bool is_quadric(ShapeKind k) {
 
 float phi_of(float x, float y) {
   float phi = std::atan2(y, x);
+  return phi < 0 ? phi + 2 * kPi : phi;
+}
+
+// phi for a hit's u only, on a whole turn, where no cut compares it with phimax: the polynomial
+// arctangent (fast_trig.h), the same to rounding.
+float whole_turn_phi(float x, float y) {
+  float phi = fast_atan2(y, x);
   return phi < 0 ? phi + 2 * kPi : phi;
 }
 
@@ -142,14 +150,20 @@ bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
   return solve_quadratic(a, b, c, &t0, &t1) && t1 > 0;
 }
 
-// The phi of a (located) point p of the quadric.
+// The phi of a (located) point p of the quadric; phi_at(x, y) is the angle of (x, y) in [0, 2pi).
+template <float (*phi_at)(float, float)>
 float quadric_phi(const QuadricShape& q, Vec3 p) {
-  if (q.kind != ShapeKind::kHyperboloid) return phi_of(p.x, p.y);
+  if (q.kind != ShapeKind::kHyperboloid) return phi_at(p.x, p.y);
   // The hyperboloid's is relative to the generating line's point at this z.
   float v = (p.z - q.p1.z) / (q.p2.z - q.p1.z);
   Vec3 pr = (1 - v) * q.p1 + v * q.p2;
-  float phi = std::atan2(pr.x * p.y - p.x * pr.y, p.x * pr.x + p.y * pr.y);
-  return phi < 0 ? phi + 2 * kPi : phi;
+  return phi_at(p.x * pr.x + p.y * pr.y, pr.x * p.y - p.x * pr.y);
+}
+
+// The phi a hit's u is made of: the one locate() compared with phimax, or on a whole turn
+// (compared with nothing) the polynomial one.
+float hit_phi(const QuadricShape& q, Vec3 p) {
+  return q.phimax >= 2 * kPi ? quadric_phi<whole_turn_phi>(q, p) : quadric_phi<phi_of>(q, p);
 }
 
 // The hit point at t, refined onto the surface where the book does so; false when it lies
@@ -182,7 +196,7 @@ bool locate(const QuadricShape& q, const ObjectRay& r, float t, Vec3* p_out) {
   }
   *p_out = p;
   if (outside || p.has_nan()) return false;
-  return q.phimax >= 2 * kPi || !(quadric_phi(q, p) > q.phimax);
+  return q.phimax >= 2 * kPi || !(quadric_phi<phi_of>(q, p) > q.phimax);
 }
 
 Vec3 finite_or_zero(Vec3 v) {
@@ -248,12 +262,14 @@ bool surface_geometry(const QuadricShape& q, const ShapeInfo& s, const Transform
   Vec3 dpdv, d2pduv, d2pdvv, p_err;
   switch (q.kind) {
     case ShapeKind::kSphere: {
-      float theta = safe_acos(p.z / q.radius);
+      // theta only makes v (the z cuts compared p.z): the polynomial arccosine; and
+      // r sin theta is the point's distance from the axis.
+      float theta = fast_acos(p.z / q.radius);
       float dtheta = q.theta_zmax - q.theta_zmin;
       v = (theta - q.theta_zmin) / dtheta;
-      float inv_zr = 1 / std::sqrt(p.x * p.x + p.y * p.y);
+      float zr = std::sqrt(p.x * p.x + p.y * p.y), inv_zr = 1 / zr;
       float cos_phi = p.x * inv_zr, sin_phi = p.y * inv_zr;
-      dpdv = dtheta * Vec3{p.z * cos_phi, p.z * sin_phi, -q.radius * std::sin(theta)};
+      dpdv = dtheta * Vec3{p.z * cos_phi, p.z * sin_phi, -zr};
       d2pduv = dtheta * p.z * pm * Vec3{-sin_phi, cos_phi, 0};
       d2pdvv = -dtheta * dtheta * p;
       p_err = gamma_bound(5) * abs(p);
@@ -433,8 +449,7 @@ bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transfor
     t = t1;
     if (!locate(q, r, t.v, &p)) return false;
   }
-  if (si && !surface_geometry(q, s, world_to_object, r, t, p, quadric_phi(q, p), rw, si))
-    return false;
+  if (si && !surface_geometry(q, s, world_to_object, r, t, p, hit_phi(q, p), rw, si)) return false;
   *t_hit = t.v;
   return true;
 }
