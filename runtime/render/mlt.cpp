@@ -115,12 +115,17 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
   // Bootstrap: the luminance of independent paths of every depth.
   const int64_t n_bootstrap = settings.bootstrap_samples * depths;
   std::vector<float> weights(static_cast<size_t>(n_bootstrap));
+  // One sampler per thread, restarted for each path (as if made anew), so that its storage
+  // is allocated once, not once per path.
+  tbb::enumerable_thread_specific<MltSampler> bootstrap_samplers(
+      settings.mutations_per_pixel, uint64_t(0), settings.sigma, settings.large_step_probability,
+      kStreams, settings.seed);
   tbb::parallel_for(int64_t(0), settings.bootstrap_samples, [&](int64_t i) {
     RayCounters& c = counters.local();
+    MltSampler& sampler = bootstrap_samplers.local();
     for (int depth = 0; depth < depths; ++depth) {
       const int64_t index = i * depths + depth;
-      MltSampler sampler(settings.mutations_per_pixel, uint64_t(index), settings.sigma,
-                         settings.large_step_probability, kStreams, settings.seed);
+      sampler.restart(uint64_t(index));
       Vec2 p;
       weights[size_t(index)] = std::max(0.f, paths.l(sampler, depth, &p, &c).luminance());
     }

@@ -10,9 +10,19 @@ MltSampler::MltSampler(int64_t mutations_per_pixel, uint64_t rng_index, float si
                        float large_step_probability, int streams, uint64_t seed)
     : Sampler(mutations_per_pixel),
       rng_(seed, rng_index),
+      seed_(seed),
       sigma_(sigma),
       large_step_probability_(large_step_probability),
       streams_(streams) {}
+
+void MltSampler::restart(uint64_t rng_index) {
+  rng_ = Rng(seed_, rng_index);
+  x_.clear();
+  iteration_ = last_large_step_ = 0;
+  large_step_ = true;
+  stream_ = 0;
+  index_in_stream_ = 0;
+}
 
 std::unique_ptr<Sampler> MltSampler::clone() const {
   return std::make_unique<MltSampler>(*this);

@@ -29,6 +29,9 @@ class MltSampler : public Sampler {
   float get_1d() override;
   Vec2 get_2d() override;
 
+  // The sampler as constructed with rng_index (same sigma, streams and seed), keeping its
+  // storage: bootstrap paths each take a fresh sampler.
+  void restart(uint64_t rng_index);
   void start_iteration();
   void accept();
   void reject();
@@ -42,6 +45,7 @@ class MltSampler : public Sampler {
   void ensure_ready(size_t index);
 
   Rng rng_;
+  uint64_t seed_;
   float sigma_, large_step_probability_;
   int streams_;
   std::vector<PrimarySample> x_;

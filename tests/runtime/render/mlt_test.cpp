@@ -60,6 +60,33 @@ TEST(MltSampler, LargeStepsAreUniform) {
   EXPECT_NEAR(sum2 / n - (sum / n) * (sum / n), 1.0 / 12, 0.005);
 }
 
+// restart(i) gives what a sampler made with stream i gives, whatever the restarted one did
+// before (bootstrap paths share one sampler per thread).
+TEST(MltSampler, RestartIsAFreshSampler) {
+  auto run = [](MltSampler& s, std::vector<float>* out) {
+    for (int it = 0; it < 50; ++it) {
+      s.start_iteration();
+      for (int stream = 0; stream < 3; ++stream) {
+        s.start_stream(stream);
+        for (int d = 0; d < 1 + it % 7; ++d) out->push_back(s.get_1d());
+      }
+      if (it % 3)
+        s.accept();
+      else
+        s.reject();
+    }
+  };
+  MltSampler used(16, 3, 0.01f, 0.3f, 3, 9);
+  std::vector<float> ignored, fresh_values, restarted_values;
+  run(used, &ignored);
+  used.restart(8);
+  MltSampler fresh(16, 8, 0.01f, 0.3f, 3, 9);
+  run(fresh, &fresh_values);
+  run(used, &restarted_values);
+  EXPECT_EQ(fresh_values, restarted_values);
+  EXPECT_NE(ignored, fresh_values);
+}
+
 // pbrt-v3's 1000 chains: each chain keeps the path depth the bootstrap gave it, so with few
 // chains the share of each depth in the image is a coarse draw (64 chains put 7% too much light
 // on the floor for a given seed, whatever the mutation count).
