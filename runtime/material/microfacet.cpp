@@ -57,11 +57,13 @@ float MicrofacetDistribution::pdf(Vec3 wo, Vec3 wh) const {
 
 namespace {
 
-// Visible slopes for alpha = 1 Trowbridge-Reitz, seen from a direction with
-// the given cos theta. Slope x inverts the CDF in closed form; slope y uses
-// Heitz and d'Eon's rational fit of the inverse (constants from their paper).
-void trowbridge_reitz_sample11(float cos_theta_i, float u1, float u2, float* slope_x,
-                               float* slope_y) {
+// Visible slopes for alpha = 1 Trowbridge-Reitz, seen from a direction with the given cos and
+// sin theta (cos > 0). Slope x inverts the CDF in closed form; slope y uses Heitz and d'Eon's
+// rational fit of the inverse (constants from their paper). Their G1 for the direction,
+// 2 / (1 + sqrt(1 + tan^2)), is 2 cos / (1 + cos): the sampled slopes are theirs up to rounding,
+// with fewer divisions and square roots on the way.
+void trowbridge_reitz_sample11(float cos_theta_i, float sin_theta_i, float u1, float u2,
+                               float* slope_x, float* slope_y) {
   if (cos_theta_i > .9999f) {  // normal incidence: the plain slope distribution
     float r = std::sqrt(u1 / (1 - u1));
     float phi = 2 * kPi * u2;
@@ -69,18 +71,14 @@ void trowbridge_reitz_sample11(float cos_theta_i, float u1, float u2, float* slo
     *slope_y = r * std::sin(phi);
     return;
   }
-  float sin_theta_i = std::sqrt(std::max(0.f, 1 - cos_theta_i * cos_theta_i));
   float tan_theta_i = sin_theta_i / cos_theta_i;
-  float a = 1 / tan_theta_i;
-  float g1 = 2 / (1 + std::sqrt(1.f + 1.f / (a * a)));
-
-  float A = 2 * u1 / g1 - 1;
+  float A = u1 * (1 + cos_theta_i) / cos_theta_i - 1;  // 2 u1 / G1 - 1
   float tmp = 1.f / (A * A - 1.f);
   if (tmp > 1e10f) tmp = 1e10f;
   float B = tan_theta_i;
   float D = std::sqrt(std::max(B * B * tmp * tmp - (A * A - B * B) * tmp, 0.f));
   float sx1 = B * tmp - D, sx2 = B * tmp + D;
-  *slope_x = (A < 0 || sx2 > 1.f / tan_theta_i) ? sx1 : sx2;
+  *slope_x = (A < 0 || sx2 * tan_theta_i > 1.f) ? sx1 : sx2;
 
   float s;
   if (u2 > 0.5f) {
@@ -143,12 +141,19 @@ Vec3 MicrofacetDistribution::sample_wh(Vec3 wo, Vec2 u) const {
   bool flip = wo.z < 0;
   Vec3 wi = flip ? -wo : wo;
   Vec3 stretched = normalize(Vec3{alpha_x * wi.x, alpha_y * wi.y, wi.z});
+  // sin theta once, for the slopes and for cos phi and sin phi (local_frame.h's, shared).
+  const float sin_t = sin_theta(stretched);
   float sx, sy;
   if (kind == MicrofacetKind::kBeckmann)
     beckmann_sample11(cos_theta(stretched), u.x, u.y, &sx, &sy);
   else
-    trowbridge_reitz_sample11(cos_theta(stretched), u.x, u.y, &sx, &sy);
-  float cp = cos_phi(stretched), sp = sin_phi(stretched);
+    trowbridge_reitz_sample11(cos_theta(stretched), sin_t, u.x, u.y, &sx, &sy);
+  float cp = 1, sp = 0;
+  if (sin_t != 0) {
+    const float inv = 1 / sin_t;
+    cp = clamp(stretched.x * inv, -1.f, 1.f);
+    sp = clamp(stretched.y * inv, -1.f, 1.f);
+  }
   float rx = cp * sx - sp * sy;
   float ry = sp * sx + cp * sy;
   rx *= alpha_x;
