@@ -96,12 +96,20 @@ inline float value_of(EFloat x) {
 // T = EFloat, or T = float for the same values without the intervals (EFloat computes its
 // values with exactly these float operations), which quadric tests use to reject a ray
 // before building any interval.
-template <class T>
-[[gnu::always_inline]] inline bool solve_quadratic(T a, T b, T c, T* t0, T* t1) {
-  const float av = value_of(a), bv = value_of(b), cv = value_of(c);
-  double disc = double(bv) * double(bv) - 4.0 * double(av) * double(cv);
+//
+// discriminant_root: the discriminant's square root from the coefficients' values (false when
+// it is negative), which the EFloat and float instances share.
+inline bool discriminant_root(float av, float bv, float cv, double* root) {
+  const double disc = double(bv) * double(bv) - 4.0 * double(av) * double(cv);
   if (disc < 0) return false;
-  double root = std::sqrt(disc);
+  *root = std::sqrt(disc);
+  return true;
+}
+
+// The roots given discriminant_root's value for the same a, b, c.
+template <class T>
+[[gnu::always_inline]] inline void roots_from(T a, T b, T c, double root, T* t0, T* t1) {
+  const float bv = value_of(b);
   T root_e;
   if constexpr (std::is_same_v<T, EFloat>)
     root_e = EFloat(float(root), float(kMachineEpsilon * root));
@@ -111,6 +119,13 @@ template <class T>
   *t0 = q / a;
   *t1 = c / q;
   if (value_of(*t0) > value_of(*t1)) std::swap(*t0, *t1);
+}
+
+template <class T>
+[[gnu::always_inline]] inline bool solve_quadratic(T a, T b, T c, T* t0, T* t1) {
+  double root;
+  if (!discriminant_root(value_of(a), value_of(b), value_of(c), &root)) return false;
+  roots_from(a, b, c, root, t0, t1);
   return true;
 }
 

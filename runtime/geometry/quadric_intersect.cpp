@@ -144,10 +144,13 @@ void coefficients(const QuadricShape& q, const ObjectRay& r, EFloat* a, EFloat* 
 // intersect_quadric tries no second time. Most tests Embree asks for are rays through the box
 // that miss the surface, or rays leaving the surface they start on (whose roots are behind
 // them and at 0): they need no interval arithmetic at all.
-bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d) {
+// *root: the discriminant's square root, which the intervals' roots share (roots_from).
+bool may_hit(const QuadricShape& q, Vec3 o, Vec3 d, double* root) {
   float a, b, c, t0, t1;
   coefficients<float>(q, o.x, o.y, o.z, d.x, d.y, d.z, &a, &b, &c);
-  return solve_quadratic(a, b, c, &t0, &t1) && t1 > 0;
+  if (!discriminant_root(a, b, c, root)) return false;
+  roots_from(a, b, c, *root, &t0, &t1);
+  return t1 > 0;
 }
 
 // The phi of a (located) point p of the quadric; phi_at(x, y) is the angle of (x, y) in [0, 2pi).
@@ -420,11 +423,12 @@ bool intersect_quadric(const ShapeInfo& s, const QuadricShape& q, const Transfor
   const Vec3 d = world_to_object.vector(rw.d, &d_err);
   const Vec3 o = origin_past_error(world_to_object.point(rw.o, &o_err), d, o_err);
   if (s.kind == ShapeKind::kDisk) return intersect_disk(q, s, world_to_object, o, d, rw, t_hit, si);
-  if (!may_hit(q, o, d)) return false;
+  double root;
+  if (!may_hit(q, o, d, &root)) return false;
   ObjectRay r = with_intervals(o, d, o_err, d_err);
   EFloat a, b, c, t0, t1;
   coefficients(q, r, &a, &b, &c);
-  if (!solve_quadratic(a, b, c, &t0, &t1)) return false;
+  roots_from(a, b, c, root, &t0, &t1);
   if (!(t1.lower() > 0) && t1.v > 0) {
     // The far root is positive but its interval reaches 0: the transform's
     // rounding alone may hide a real hit. Far from the origin (errors of 1e-3
