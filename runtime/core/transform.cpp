@@ -129,38 +129,6 @@ bool Transform::has_scale() const {
   return not_one(len2({1, 0, 0})) || not_one(len2({0, 1, 0})) || not_one(len2({0, 0, 1}));
 }
 
-Vec3 Transform::point(Vec3 p, Vec3* err) const {
-  const auto& m = m_.m;
-  Vec3 r = point(p);
-  *err = gamma_bound(3) * Vec3{std::fabs(m[0][0] * p.x) + std::fabs(m[0][1] * p.y) +
-                                   std::fabs(m[0][2] * p.z) + std::fabs(m[0][3]),
-                               std::fabs(m[1][0] * p.x) + std::fabs(m[1][1] * p.y) +
-                                   std::fabs(m[1][2] * p.z) + std::fabs(m[1][3]),
-                               std::fabs(m[2][0] * p.x) + std::fabs(m[2][1] * p.y) +
-                                   std::fabs(m[2][2] * p.z) + std::fabs(m[2][3])};
-  return r;
-}
-
-Vec3 Transform::point(Vec3 p, Vec3 pe, Vec3* err) const {
-  const auto& m = m_.m;
-  Vec3 r = point(p);
-  for (int i = 0; i < 3; ++i) {
-    (*err)[i] = (gamma_bound(3) + 1) * (std::fabs(m[i][0]) * pe.x + std::fabs(m[i][1]) * pe.y +
-                                        std::fabs(m[i][2]) * pe.z) +
-                gamma_bound(3) * (std::fabs(m[i][0] * p.x) + std::fabs(m[i][1] * p.y) +
-                                  std::fabs(m[i][2] * p.z) + std::fabs(m[i][3]));
-  }
-  return r;
-}
-
-Vec3 Transform::vector(Vec3 v, Vec3* err) const {
-  const auto& m = m_.m;
-  for (int i = 0; i < 3; ++i)
-    (*err)[i] = gamma_bound(3) *
-                (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) + std::fabs(m[i][2] * v.z));
-  return vector(v);
-}
-
 Bounds3 Transform::bounds(const Bounds3& b) const {
   Bounds3 r;
   if (b.empty()) return r;

@@ -45,7 +45,7 @@ class Transform {
   // The upper 3x3 is not a rotation (lengths change).
   bool has_scale() const;
 
-  // Defined inline below: they run several times per ray hit.
+  // Defined inline below: they run several times per ray hit (and per quadric test).
   Vec3 point(Vec3 p) const;
   // p transformed, and the absolute error bound of the result in *err.
   Vec3 point(Vec3 p, Vec3* err) const;
@@ -78,6 +78,38 @@ inline Vec3 Transform::vector(Vec3 v) const {
   return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
           m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
           m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+}
+
+inline Vec3 Transform::point(Vec3 p, Vec3* err) const {
+  const auto& m = m_.m;
+  Vec3 r = point(p);
+  *err = gamma_bound(3) * Vec3{std::fabs(m[0][0] * p.x) + std::fabs(m[0][1] * p.y) +
+                                   std::fabs(m[0][2] * p.z) + std::fabs(m[0][3]),
+                               std::fabs(m[1][0] * p.x) + std::fabs(m[1][1] * p.y) +
+                                   std::fabs(m[1][2] * p.z) + std::fabs(m[1][3]),
+                               std::fabs(m[2][0] * p.x) + std::fabs(m[2][1] * p.y) +
+                                   std::fabs(m[2][2] * p.z) + std::fabs(m[2][3])};
+  return r;
+}
+
+inline Vec3 Transform::point(Vec3 p, Vec3 pe, Vec3* err) const {
+  const auto& m = m_.m;
+  Vec3 r = point(p);
+  for (int i = 0; i < 3; ++i) {
+    (*err)[i] = (gamma_bound(3) + 1) * (std::fabs(m[i][0]) * pe.x + std::fabs(m[i][1]) * pe.y +
+                                        std::fabs(m[i][2]) * pe.z) +
+                gamma_bound(3) * (std::fabs(m[i][0] * p.x) + std::fabs(m[i][1] * p.y) +
+                                  std::fabs(m[i][2] * p.z) + std::fabs(m[i][3]));
+  }
+  return r;
+}
+
+inline Vec3 Transform::vector(Vec3 v, Vec3* err) const {
+  const auto& m = m_.m;
+  for (int i = 0; i < 3; ++i)
+    (*err)[i] = gamma_bound(3) *
+                (std::fabs(m[i][0] * v.x) + std::fabs(m[i][1] * v.y) + std::fabs(m[i][2] * v.z));
+  return vector(v);
 }
 
 inline Vec3 Transform::normal(Vec3 n) const {
