@@ -31,13 +31,18 @@ inline float tan_theta(Vec3 w) {
 inline float tan2_theta(Vec3 w) {
   return sin2_theta(w) / cos2_theta(w);
 }
+// cos phi and sin phi given w's sin theta (sin_theta(w)), for callers that have it already.
+inline float cos_phi(Vec3 w, float sin_t) {
+  return sin_t == 0 ? 1 : clamp(w.x / sin_t, -1.f, 1.f);
+}
+inline float sin_phi(Vec3 w, float sin_t) {
+  return sin_t == 0 ? 0 : clamp(w.y / sin_t, -1.f, 1.f);
+}
 inline float cos_phi(Vec3 w) {
-  float s = sin_theta(w);
-  return s == 0 ? 1 : clamp(w.x / s, -1.f, 1.f);
+  return cos_phi(w, sin_theta(w));
 }
 inline float sin_phi(Vec3 w) {
-  float s = sin_theta(w);
-  return s == 0 ? 0 : clamp(w.y / s, -1.f, 1.f);
+  return sin_phi(w, sin_theta(w));
 }
 inline float cos2_phi(Vec3 w) {
   return sqr(cos_phi(w));

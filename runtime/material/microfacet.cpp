@@ -141,19 +141,14 @@ Vec3 MicrofacetDistribution::sample_wh(Vec3 wo, Vec2 u) const {
   bool flip = wo.z < 0;
   Vec3 wi = flip ? -wo : wo;
   Vec3 stretched = normalize(Vec3{alpha_x * wi.x, alpha_y * wi.y, wi.z});
-  // sin theta once, for the slopes and for cos phi and sin phi (local_frame.h's, shared).
+  // sin theta once, for the slopes and for cos phi and sin phi.
   const float sin_t = sin_theta(stretched);
   float sx, sy;
   if (kind == MicrofacetKind::kBeckmann)
     beckmann_sample11(cos_theta(stretched), u.x, u.y, &sx, &sy);
   else
     trowbridge_reitz_sample11(cos_theta(stretched), sin_t, u.x, u.y, &sx, &sy);
-  float cp = 1, sp = 0;
-  if (sin_t != 0) {
-    const float inv = 1 / sin_t;
-    cp = clamp(stretched.x * inv, -1.f, 1.f);
-    sp = clamp(stretched.y * inv, -1.f, 1.f);
-  }
+  const float cp = cos_phi(stretched, sin_t), sp = sin_phi(stretched, sin_t);
   float rx = cp * sx - sp * sy;
   float ry = sp * sx + cp * sy;
   rx *= alpha_x;
