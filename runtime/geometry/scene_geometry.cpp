@@ -29,7 +29,9 @@ struct GeomData {
   bool curve = false;                // the curve's pieces; prepared.world_to_object is the shape's
   const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
   bool copied = false;               // positions are a copy through the shape's transform
-  PreparedQuadric prepared;          // quadrics; inside instances only .shape applies
+  uint32_t placed = kNone;   // an instance copied into the world: its index in Impl::instances,
+                             // whose transform the positions went through too
+  PreparedQuadric prepared;  // quadrics; inside instances only .shape applies
 };
 
 // A top-level Embree instance: an object instance, or a moving mesh in its own scene.
@@ -105,6 +107,7 @@ struct SceneGeometry::Impl {
   std::deque<VertexPatches> patches;               // watertight vertex fallback (watertight.h)
   std::deque<AnimatedTransform> instance_motions;  // moving object instances
   bool watertight = false;                         // SceneGeometry::set_watertight
+  size_t max_placed = 0;                           // SceneGeometry::set_max_placed
   // Shapes queried by testing each (prim_list.h) rather than through Embree: every shape of a
   // scene of a few (kAll), or the still world quadrics of one with few (kQuadrics: no user
   // geometry callbacks in Embree's traversal). A listed hit's tag indexes listed_geoms.
@@ -144,9 +147,11 @@ struct SceneGeometry::Impl {
   // triangle_interaction measures them again (they depend on the CPU) and updates *t_hit.
   void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
                      const Ray& ray, float* t_hit, SurfaceInteraction* si) const {
+    if (g.placed != kNone) inst = &instances[g.placed];
     TriangleSpace space;
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
+    space.positions_in_world = g.placed != kNone;
     space.instance = inst != nullptr;
     space.instance_mirrors = inst && inst->mirrors;
     // A moving instance's transform is made per hit. (Not a std::optional<Transform>: GCC
@@ -167,6 +172,7 @@ struct SceneGeometry::Impl {
   // already in *si; a triangle's is left to complete() in *pending.
   void record_hit(const GeomData* g, const InstanceData* inst, uint32_t prim, float u, float v,
                   float t, SurfaceInteraction* si, SceneGeometry::PendingHit* pending) const {
+    if (g->placed != kNone) inst = &instances[g->placed];
     if (g->quadric || g->curve) {
       si->prim = g->curve ? prim : 0;
       si->face_index = 0;
@@ -475,10 +481,16 @@ class Builder {
   bool check_instances(std::vector<Transform>* transforms,
                        std::vector<const AnimatedTransform*>* motions);
   RTCScene new_scene();
-  unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds);
+  // placed: an instance (index into Impl::instances) the copy also goes through.
+  unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds,
+                       uint32_t placed = kNone);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
+  // Which objects' instances are copied into the world (SceneGeometry::set_max_placed).
+  std::vector<bool> placed_objects(const std::vector<const AnimatedTransform*>& instance_motions);
+  // Object instance i of a placed object: its meshes copied into the top level.
+  void place_instance(uint32_t i, const Transform& to_world);
   // A moving mesh inside an object whose instance's transform is a right-handed similarity
   // (rotation, uniform scale, translation: M = T R s) that, if it moves, only translates: the
   // instance's keyframes times the mesh's as one motion, or null for another instance. Its
@@ -580,21 +592,25 @@ void Builder::record_top(unsigned id, const GeomData* g, uint32_t instance) {
 // A triangle mesh: the archive's arrays in place, or (copy) its positions
 // through the shape's transform. bounds grows by its vertices in the space
 // the geometry lives in.
-unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds) {
+unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds,
+                              uint32_t placed) {
   const ShapeInfo& s = shapes_[shape];
   const MeshView& m = s.mesh;
   const float* positions = m.positions;
-  if (copy) {
+  const Transform* to_world = placed != kNone ? &impl_->instances[placed].to_world : nullptr;
+  if (copy || to_world) {
     // 4 floats of zero padding: Embree loads vertices 16 bytes at a time.
     std::vector<float>& c = impl_->copies.emplace_back(3 * size_t(m.num_vertices) + 4, 0.f);
     for (uint32_t v = 0; v < m.num_vertices; ++v) {
-      Vec3 p = s.object_to_world.point(m.position(v));
+      // Each transform on its own, as triangle_interaction takes an instanced vertex to world.
+      Vec3 p = copy ? s.object_to_world.point(m.position(v)) : m.position(v);
+      if (to_world) p = to_world->point(p);
       c[3 * v] = p.x;
       c[3 * v + 1] = p.y;
       c[3 * v + 2] = p.z;
     }
     positions = c.data();
-    ++stats_->copied_meshes;
+    if (copy) ++stats_->copied_meshes;
   }
   for (uint32_t v = 0; v < m.num_vertices; ++v)
     bounds->extend(Vec3{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]});
@@ -604,6 +620,7 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
   g.shape = shape;
   g.positions = positions;
   g.copied = copy;
+  g.placed = placed;
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
   // Embree only reads these buffers; its API is not const-correct.
   rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -720,6 +737,61 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
   rtcReleaseGeometry(geom);
   record_top(id, nullptr, uint32_t(impl_->instances.size() - 1));
   bounds_->extend(to_world.bounds(impl_->children[child].bounds));
+}
+
+// Objects whose every shape is a still triangle mesh and whose every instance is still, in the
+// archive's order, while their copies (triangles times instances) fit in max_placed.
+std::vector<bool> Builder::placed_objects(
+    const std::vector<const AnimatedTransform*>& instance_motions) {
+  std::vector<bool> placed(a_.objects.size, false);
+  std::vector<uint64_t> uses(a_.objects.size, 0);
+  std::vector<bool> moves(a_.objects.size, false);
+  for (uint32_t i = 0; i < a_.instances.size; ++i) {
+    ++uses[a_.instances[i].object];
+    if (instance_motions[i]) moves[a_.instances[i].object] = true;
+  }
+  uint64_t budget = impl_->max_placed;
+  for (uint32_t o = 0; o < a_.objects.size; ++o) {
+    if (uses[o] == 0 || moves[o]) continue;
+    const pbrta::ObjectRecord& rec = a_.objects[o];
+    uint64_t triangles = 0;
+    bool still_meshes = true;
+    for (uint32_t k = 0; k < rec.num_shapes; ++k) {
+      const ShapeInfo& s = shapes_[a_.object_shapes[rec.first_shape + k]];
+      still_meshes = still_meshes && s.kind == ShapeKind::kTriangles && !s.motion;
+      triangles += empty_mesh(s) ? 0 : s.mesh.num_triangles;
+    }
+    if (!still_meshes || triangles == 0 || triangles * uses[o] > budget) continue;
+    budget -= triangles * uses[o];
+    placed[o] = true;
+  }
+  return placed;
+}
+
+void Builder::place_instance(uint32_t i, const Transform& to_world) {
+  InstanceData d;
+  d.to_world = to_world;
+  d.archive_instance = i;
+  d.mirrors = to_world.swaps_handedness();
+  impl_->instances.push_back(d);
+  const uint32_t index = uint32_t(impl_->instances.size() - 1);
+  const pbrta::ObjectRecord& rec = a_.objects[a_.instances[i].object];
+  // pbrt-v3's world bound takes the object's box through the instance's transform, as
+  // attach_instance does, not the (tighter) box of the copied vertices.
+  Bounds3 object_box, copies_box;
+  for (uint32_t k = 0; k < rec.num_shapes; ++k) {
+    const uint32_t shape = a_.object_shapes[rec.first_shape + k];
+    const ShapeInfo& s = shapes_[shape];
+    if (empty_mesh(s)) continue;
+    const bool copy = !s.object_to_world.is_identity();
+    for (uint32_t v = 0; v < s.mesh.num_vertices; ++v)
+      object_box.extend(copy ? s.object_to_world.point(s.mesh.position(v)) : s.mesh.position(v));
+    unsigned id = attach_mesh(impl_->top, shape, copy, &copies_box, index);
+    record_top(id, &impl_->geoms.back(), kNone);
+  }
+  bounds_->extend(to_world.bounds(object_box));
+  ++stats_->instances;
+  ++stats_->placed_instances;
 }
 
 // Time steps for a motion Embree's quaternion decomposition cannot hold. Between steps Embree
@@ -923,8 +995,9 @@ bool Builder::run() {
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> moving_in_object(a_.objects.size);
   std::vector<bool> instanced(a_.objects.size, false);
   for (const pbrta::InstanceRecord& r : a_.instances) instanced[r.object] = true;
+  const std::vector<bool> placed = placed_objects(instance_motions);
   for (uint32_t o = 0; o < a_.objects.size; ++o) {
-    if (!instanced[o]) continue;  // defined, never used
+    if (!instanced[o] || placed[o]) continue;  // defined, never used; or copied per instance
     const pbrta::ObjectRecord& rec = a_.objects[o];
     uint32_t child = kNone;
     for (uint32_t k = 0; k < rec.num_shapes; ++k) {
@@ -970,6 +1043,10 @@ bool Builder::run() {
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
     const uint32_t object = a_.instances[i].object;
     const AnimatedTransform* m = instance_motions[i];
+    if (placed[object]) {
+      place_instance(i, instance_transforms[i]);
+      continue;
+    }
     for (auto [own, shape] : moving_in_object[object]) {
       const ShapeInfo& s = shapes_[shape];
       if (const AnimatedTransform* whole = placed_motion(shape, i)) {
@@ -1061,6 +1138,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   rtcSetDeviceMemoryMonitorFunction(impl_->device, on_embree_memory, impl_.get());
 
   impl_->watertight = watertight_;
+  impl_->max_placed = max_placed_;
   impl_->listing = choose_listing(*impl_, max_listed_);
   Builder builder(impl_.get(), &stats_, &world_bounds_, error);
   if (!builder.run()) {

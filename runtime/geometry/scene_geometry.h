@@ -52,6 +52,7 @@ struct GeometryStats {
   uint32_t triangles = 0, quadrics = 0, curves = 0, instances = 0, copied_meshes = 0;
   uint32_t sampled_motions = 0;  // moving meshes and instances given time steps
   uint32_t listed = 0;  // primitives tested one by one beside (or instead of) Embree's tree
+  uint32_t placed_instances = 0;  // object instances copied into the world (set_max_placed)
 };
 
 class SceneGeometry {
@@ -60,6 +61,9 @@ class SceneGeometry {
   // be listed, and the most quadrics listed beside Embree's tree in a scene with more.
   static constexpr size_t kDefaultMaxListed = 32, kMaxListedTriangles = 16,
                           kMaxListedBesideTree = 4;
+  // set_max_placed's default: at most this many triangles are copied into the world for
+  // placed instances (Embree's tree and the copies: about 3 MiB).
+  static constexpr size_t kDefaultMaxPlaced = 1 << 15;
 
   SceneGeometry();
   ~SceneGeometry();
@@ -86,6 +90,14 @@ class SceneGeometry {
   // tree. 0: nothing listed. Hits are pbrt-v3's triangle test's and the same quadric test;
   // tests compare.
   void set_max_listed(size_t n) { max_listed_ = n; }
+  // Before build(): still instances of objects made only of still triangle meshes are copied
+  // into the world (their vertices through the instance's transform, as a world mesh's go
+  // through its own) rather than put under Embree instances, while the copies come to at most
+  // n triangles in all; objects are taken whole (every instance of one, or none), in the
+  // archive's order. One tree instead of two levels: no ray transformed into each instance on
+  // the way down. Hits are those of the instanced geometry (same vertices, same arithmetic;
+  // tests compare), and still report their instance. 0: every instance under Embree's.
+  void set_max_placed(size_t n) { max_placed_ = n; }
   // Before build(): Embree's device configuration (rtcNewDevice's string), e.g.
   // "max_isa=sse4.2" to use the kernels a CPU without AVX would. Hits do not depend on
   // it (intersect() measures Embree's triangle again itself); tests check that.
@@ -128,6 +140,7 @@ class SceneGeometry {
   Bounds3 world_bounds_;
   bool watertight_ = false;
   size_t max_listed_ = kDefaultMaxListed;
+  size_t max_placed_ = kDefaultMaxPlaced;
   std::string embree_config_;
   GeometryStats stats_;
 };

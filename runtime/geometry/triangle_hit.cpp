@@ -89,10 +89,12 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   const uint32_t v[3] = {idx[0], idx[1], idx[2]};
   float b0 = 1 - b1 - b2;
 
+  // Buffer space: where Embree intersected the triangle.
+  const Transform* buffer_to_world = space.positions_in_world ? nullptr : space.to_world;
   Vec3 pb[3], p[3];
   for (int i = 0; i < 3; ++i) {
     pb[i] = load3(space.positions, v[i]);
-    p[i] = space.to_world ? space.to_world->point(pb[i]) : pb[i];
+    p[i] = buffer_to_world ? buffer_to_world->point(pb[i]) : pb[i];
   }
   hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
 
@@ -104,12 +106,12 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
   }
   const float b[3] = {b0, b1, b2};
-  if (space.to_world) {
+  if (buffer_to_world) {
     // Embree intersected the buffer-space triangle with a ray it took to
     // buffer space itself; our world vertices are rounded images of that
     // triangle. Widen the bound by both roundings (vertices out, ray origin in)
     // so spawned rays clear the surface Embree sees, not just ours.
-    const Transform& x = *space.to_world;
+    const Transform& x = *buffer_to_world;
     Vec3 hb = b0 * pb[0] + b1 * pb[1] + b2 * pb[2];
     Vec3 out = gamma_bound(3) * abs_point_sum(x.matrix(), hb);
     Vec3 in = gamma_bound(3) * abs_point_sum(x.inverse_matrix(), si->p);

@@ -34,6 +34,9 @@ struct TriangleSpace {
   const Transform* to_world = nullptr;
   // to_world is an instance's transform (pbrt-v3's TransformedPrimitive).
   bool instance = false;
+  // The positions went through to_world too (an instance copied into the world): to_world
+  // still takes normals and tangents there.
+  bool positions_in_world = false;
   // ... and it mirrors: pbrt-v3 transforms the instance-space normal as a
   // normal, which is the world-edge cross product flipped.
   bool instance_mirrors = false;

@@ -337,7 +337,7 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       "  integrator             %s (maxdepth %d)\n"
       "  samples per pixel      %lld\n"
       "  shapes                 %u triangles, %u quadrics, %u curve pieces, %u instances (%u "
-      "meshes copied)\n"
+      "placed in the world; %u meshes copied)\n"
       "  load archive           %.3f s\n"
       "  build scene            %.3f s (Embree %.3f s, %.1f MiB)\n"
       "  time to first pixels   %.3f s\n"
@@ -347,8 +347,8 @@ std::string format_render_stats(const std::string& input, const RenderJobResult&
       "  threads                %d\n"
       "  peak memory            %.1f MiB\n",
       input.c_str(), r.effects.c_str(), r.integrator.c_str(), r.max_depth, r.samples_per_pixel,
-      gs.triangles, gs.quadrics, gs.curves, gs.instances, gs.copied_meshes, archive_seconds,
-      r.build_seconds, gs.build_seconds, double(gs.embree_bytes) / (1 << 20),
+      gs.triangles, gs.quadrics, gs.curves, gs.instances, gs.placed_instances, gs.copied_meshes,
+      archive_seconds, r.build_seconds, gs.build_seconds, double(gs.embree_bytes) / (1 << 20),
       archive_seconds + r.setup_seconds + rs.first_tile_seconds, rs.seconds,
       rs.seconds > 0 ? double(rs.samples) / rs.seconds : 0.0, (unsigned long long)rs.camera_rays,
       (unsigned long long)rs.rays, (unsigned long long)rs.shadow_rays,

@@ -51,13 +51,21 @@ AttributeBegin
 AttributeEnd
 )";
 
-TEST(SceneGeometryInstance, HitsWhereTheInstanceTransformPutsThem) {
-  auto s = load_world("sg_inst", kInstances);
+// Under Embree's instances (set_max_placed(0)) and copied into the world.
+class SceneGeometryInstanceBoth : public testing::TestWithParam<bool> {};
+
+TEST_P(SceneGeometryInstanceBoth, HitsWhereTheInstanceTransformPutsThem) {
+  const bool placed = GetParam();
+  auto s = load_world(placed ? "sg_inst_placed" : "sg_inst", kInstances, false,
+                      placed ? SceneGeometry::kDefaultMaxPlaced : 0);
   ASSERT_TRUE(s->built) << s->error;
   const GeometryStats& st = s->geometry.stats();
   EXPECT_EQ(st.instances, 4u);
-  EXPECT_EQ(st.triangles, 2u);      // one per object definition, shared by the instances
-  EXPECT_EQ(st.copied_meshes, 1u);  // "lifted" has its own transform inside the object
+  EXPECT_EQ(st.placed_instances, placed ? 4u : 0u);
+  // One per object definition, shared by the instances; or one per instance.
+  EXPECT_EQ(st.triangles, placed ? 4u : 2u);
+  // "lifted" has its own transform inside the object: copied through it once, or per instance.
+  EXPECT_EQ(st.copied_meshes, 1u);
   SurfaceInteraction si;
 
   // The definition itself is not in the world.
@@ -96,6 +104,8 @@ TEST(SceneGeometryInstance, HitsWhereTheInstanceTransformPutsThem) {
   expect_vec_near(b.lo, {-12, -11, 5}, 1e-5f);
   expect_vec_near(b.hi, {11, 11, 6}, 1e-5f);
 }
+
+INSTANTIATE_TEST_SUITE_P(EmbreeOrPlaced, SceneGeometryInstanceBoth, testing::Bool());
 
 TEST(SceneGeometryInstance, QuadricsInWorldAndInInstances) {
   auto s = load_world("sg_inst_quadric", R"(

@@ -29,25 +29,28 @@ struct LoadedScene {
 
 // Builds s->archive's (loaded) shape and texture tables and its geometry, with Embree's
 // device configuration when one is given; s->built, or s->error saying what failed.
-inline void build_geometry(LoadedScene* s, bool watertight, const std::string& embree_config = "") {
+inline void build_geometry(LoadedScene* s, bool watertight, const std::string& embree_config = "",
+                           size_t max_placed = SceneGeometry::kDefaultMaxPlaced) {
   if (!s->shapes.build(s->archive, &s->error)) return;
   if (!s->textures.build(s->archive, &s->error)) return;
   s->geometry.set_watertight(watertight);
   s->geometry.set_embree_config(embree_config);
+  s->geometry.set_max_placed(max_placed);
   s->built = s->geometry.build(s->archive, s->shapes, &s->textures, &s->error);
 }
 
 // Compiles `world` (the text between WorldBegin and WorldEnd) and builds the
 // geometry; the archive must compile (the test fails otherwise), build() may
 // fail, leaving its message in error.
-inline std::unique_ptr<LoadedScene> load_world(const std::string& name, const std::string& world,
-                                               bool watertight = false) {
+inline std::unique_ptr<LoadedScene> load_world(
+    const std::string& name, const std::string& world, bool watertight = false,
+    size_t max_placed = SceneGeometry::kDefaultMaxPlaced) {
   auto s = std::make_unique<LoadedScene>();
   std::string text = "Camera \"perspective\"\nWorldBegin\n" + world + "\nWorldEnd\n";
   bool ok = testing_support::compile_text(testing_support::scratch_dir(name), text, &s->archive);
   EXPECT_TRUE(ok);
   if (!ok) return s;
-  build_geometry(s.get(), watertight);
+  build_geometry(s.get(), watertight, "", max_placed);
   return s;
 }
 
