@@ -150,6 +150,9 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
                        settings.large_step_probability, kStreams, settings.seed);
     Vec2 p_current;
     Rgb l_current = paths.l(sampler, depth, &p_current, &c);
+    // Counted per chain: one shared counter bumped per mutation bounces its cache line
+    // between the cores.
+    uint64_t chain_accepted = 0;
     for (int64_t j = 0; j < mutations; ++j) {
       if ((j & 1023) == 1023) progress.add(1024);
       sampler.start_iteration();
@@ -162,7 +165,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
         film->add_splat(p_proposed, l_proposed * (accept / y_proposed));
       if (y_current > 0) film->add_splat(p_current, l_current * ((1 - accept) / y_current));
       if (rng.next_float() < accept) {
-        ++accepted;
+        ++chain_accepted;
         p_current = p_proposed;
         l_current = l_proposed;
         sampler.accept();
@@ -171,6 +174,7 @@ bool render_mlt(const RenderScene& scene, const Camera& camera, Film* film,
       }
     }
     progress.add(mutations & 1023);
+    accepted += chain_accepted;
   });
   progress.finish();
   film->commit_splats();
