@@ -108,7 +108,8 @@ bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
 
 bool PrimList::any(const Ray& ray, uint32_t skip_shape) const {
   return each_met(ray, &ray.tmax, [&](const Entry& e) {
-    if (e.quadric >= 0 && quadrics_[size_t(e.quadric)].shape == skip_shape) return false;
+    if (e.quadric >= 0 && skip_shape != kNone && quadrics_[size_t(e.quadric)].shape == skip_shape)
+      return false;
     float t;
     return test(e, ray, ray.tmax, &t, nullptr, nullptr);
   });

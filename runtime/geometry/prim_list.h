@@ -30,7 +30,7 @@ class PrimList {
   // Triangle `prim` of a mesh whose world vertices are p0, p1, p2; tag names the mesh.
   void add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim);
   // A still quadric; s and q must outlive the list. shape is its ShapeTable index (occluded's
-  // skip_shape).
+  // skip_shape), or kNone for one never skipped.
   void add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
                    uint32_t tag, uint32_t shape);
   size_t size() const { return entries_.size(); }

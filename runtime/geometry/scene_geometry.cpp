@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstring>
 #include <deque>
 #include <mutex>
 #include <vector>
@@ -30,7 +31,9 @@ struct GeomData {
   const float* positions = nullptr;  // triangles: the vertex buffer Embree reads
   bool copied = false;               // positions are a copy through the shape's transform
   uint32_t placed = kNone;   // an instance copied into the world: its index in Impl::instances,
-                             // whose transform the positions went through too
+                             // whose transform the positions (a quadric's prepared transform)
+                             // went through too
+  Bounds3 placed_box;        // a placed quadric's world box
   PreparedQuadric prepared;  // quadrics; inside instances only .shape applies
 };
 
@@ -107,7 +110,7 @@ struct SceneGeometry::Impl {
   std::deque<VertexPatches> patches;               // watertight vertex fallback (watertight.h)
   std::deque<AnimatedTransform> instance_motions;  // moving object instances
   bool watertight = false;                         // SceneGeometry::set_watertight
-  size_t max_placed = 0;                           // SceneGeometry::set_max_placed
+  std::vector<bool> placed;  // by object: its instances copied into the world (choose_placed)
   // Shapes queried by testing each (prim_list.h) rather than through Embree: every shape of a
   // scene of a few (kAll), or the still world quadrics of one with few (kQuadrics: no user
   // geometry callbacks in Embree's traversal). A listed hit's tag indexes listed_geoms.
@@ -276,7 +279,8 @@ void alpha_filter_occluded(const RTCFilterFunctionNArguments* args) {
 
 void quadric_bounds(const RTCBoundsFunctionArguments* args) {
   const auto* g = static_cast<const GeomData*>(args->geometryUserPtr);
-  Bounds3 b = quadric_world_bounds((*g->impl->shapes)[g->shape]);
+  const Bounds3 b =
+      g->placed != kNone ? g->placed_box : quadric_world_bounds((*g->impl->shapes)[g->shape]);
   *args->bounds_o = {b.lo.x, b.lo.y, b.lo.z, 0, b.hi.x, b.hi.y, b.hi.z, 0};
 }
 
@@ -416,7 +420,8 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
   const unsigned inst_id = args->context->instID[0];
-  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID) return;
+  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID && g->placed == kNone)
+    return;
   Ray r = *ctx->ray;
   r.tmax = ray->tfar;
   float t = 0;
@@ -485,12 +490,14 @@ class Builder {
   unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds,
                        uint32_t placed = kNone);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
+  // Quadric geometry g (its prepared form set) as an Embree user geometry of scene.
+  unsigned attach_user_quadric(RTCScene scene, const GeomData& g);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
-  // Which objects' instances are copied into the world (SceneGeometry::set_max_placed).
-  std::vector<bool> placed_objects(const std::vector<const AnimatedTransform*>& instance_motions);
-  // Object instance i of a placed object: its meshes copied into the top level.
+  // Object instance i of a placed object (Impl::placed): its meshes copied into the top level,
+  // its quadrics tested there through the instance's transform times their own.
   void place_instance(uint32_t i, const Transform& to_world);
+  void place_quadric(uint32_t shape, uint32_t placed, const Transform& to_world);
   // A moving mesh inside an object whose instance's transform is a right-handed similarity
   // (rotation, uniform scale, translation: M = T R s) that, if it moves, only translates: the
   // instance's keyframes times the mesh's as one motion, or null for another instance. Its
@@ -508,6 +515,9 @@ class Builder {
   // Listed shapes (Impl::listing): a still world quadric, or a world mesh's triangles (its
   // Embree geometry g, whose vertex buffer holds world positions).
   void list_quadric(uint32_t shape);
+  // Quadric geometry g (its prepared form set) listed behind box; skip_shape: its ShapeTable
+  // index for occluded()'s skip_shape, or kNone.
+  void list_quadric(const GeomData& g, const Bounds3& box, uint32_t skip_shape);
   void list_triangles(const GeomData& g);
 
   Impl* impl_;
@@ -653,7 +663,12 @@ void Builder::list_quadric(uint32_t shape) {
   g.shape = shape;
   g.quadric = true;
   g.prepared = prepare_quadric(s);
-  impl_->listed.add_quadric(s, g.prepared, box, uint32_t(impl_->listed_geoms.size()), shape);
+  list_quadric(g, box, shape);
+}
+
+void Builder::list_quadric(const GeomData& g, const Bounds3& box, uint32_t skip_shape) {
+  impl_->listed.add_quadric(shapes_[g.shape], g.prepared, box, uint32_t(impl_->listed_geoms.size()),
+                            skip_shape);
   impl_->listed_geoms.push_back(&g);
   ++stats_->quadrics;
 }
@@ -679,9 +694,14 @@ unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds
   g.shape = shape;
   g.quadric = true;
   g.prepared = prepare_quadric(s);
+  return attach_user_quadric(scene, g);
+}
+
+unsigned Builder::attach_user_quadric(RTCScene scene, const GeomData& g) {
   RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(geom, 1);
-  rtcSetGeometryUserData(geom, &g);
+  // Embree's API is not const-correct; the callbacks only read it.
+  rtcSetGeometryUserData(geom, const_cast<GeomData*>(&g));
   rtcSetGeometryBoundsFunction(geom, quadric_bounds, nullptr);
   rtcSetGeometryIntersectFunction(geom, user_intersect<world_quadric_hit>);
   rtcSetGeometryOccludedFunction(geom, user_occluded<world_quadric_hit>);
@@ -739,35 +759,6 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
   bounds_->extend(to_world.bounds(impl_->children[child].bounds));
 }
 
-// Objects whose every shape is a still triangle mesh and whose every instance is still, in the
-// archive's order, while their copies (triangles times instances) fit in max_placed.
-std::vector<bool> Builder::placed_objects(
-    const std::vector<const AnimatedTransform*>& instance_motions) {
-  std::vector<bool> placed(a_.objects.size, false);
-  std::vector<uint64_t> uses(a_.objects.size, 0);
-  std::vector<bool> moves(a_.objects.size, false);
-  for (uint32_t i = 0; i < a_.instances.size; ++i) {
-    ++uses[a_.instances[i].object];
-    if (instance_motions[i]) moves[a_.instances[i].object] = true;
-  }
-  uint64_t budget = impl_->max_placed;
-  for (uint32_t o = 0; o < a_.objects.size; ++o) {
-    if (uses[o] == 0 || moves[o]) continue;
-    const pbrta::ObjectRecord& rec = a_.objects[o];
-    uint64_t triangles = 0;
-    bool still_meshes = true;
-    for (uint32_t k = 0; k < rec.num_shapes; ++k) {
-      const ShapeInfo& s = shapes_[a_.object_shapes[rec.first_shape + k]];
-      still_meshes = still_meshes && s.kind == ShapeKind::kTriangles && !s.motion;
-      triangles += empty_mesh(s) ? 0 : s.mesh.num_triangles;
-    }
-    if (!still_meshes || triangles == 0 || triangles * uses[o] > budget) continue;
-    budget -= triangles * uses[o];
-    placed[o] = true;
-  }
-  return placed;
-}
-
 void Builder::place_instance(uint32_t i, const Transform& to_world) {
   InstanceData d;
   d.to_world = to_world;
@@ -782,16 +773,43 @@ void Builder::place_instance(uint32_t i, const Transform& to_world) {
   for (uint32_t k = 0; k < rec.num_shapes; ++k) {
     const uint32_t shape = a_.object_shapes[rec.first_shape + k];
     const ShapeInfo& s = shapes_[shape];
+    if (is_quadric(s.kind)) {
+      object_box.extend(quadric_world_bounds(s));
+      place_quadric(shape, index, to_world);
+      continue;
+    }
     if (empty_mesh(s)) continue;
     const bool copy = !s.object_to_world.is_identity();
     for (uint32_t v = 0; v < s.mesh.num_vertices; ++v)
       object_box.extend(copy ? s.object_to_world.point(s.mesh.position(v)) : s.mesh.position(v));
     unsigned id = attach_mesh(impl_->top, shape, copy, &copies_box, index);
     record_top(id, &impl_->geoms.back(), kNone);
+    if (impl_->listing == Impl::Listing::kAll) list_triangles(impl_->geoms.back());
   }
   bounds_->extend(to_world.bounds(object_box));
   ++stats_->instances;
   ++stats_->placed_instances;
+}
+
+// The instance's transform times the shape's, prepared once: one transform per test, where an
+// Embree instance takes the ray through both. Its box holds the surface under the composed
+// transform (with that transform's rounding) and under the two (pbrt-v3's world bound).
+void Builder::place_quadric(uint32_t shape, uint32_t placed, const Transform& to_world) {
+  ShapeInfo composed = shapes_[shape];
+  composed.object_to_world = to_world * composed.object_to_world;
+  GeomData& g = impl_->geoms.emplace_back();
+  g.impl = impl_;
+  g.shape = shape;
+  g.quadric = true;
+  g.placed = placed;
+  g.prepared = prepare_quadric(composed);
+  g.placed_box = quadric_world_bounds(composed);
+  g.placed_box.extend(to_world.bounds(quadric_world_bounds(shapes_[shape])));
+  if (impl_->listing != Impl::Listing::kNone) {
+    list_quadric(g, g.placed_box, kNone);
+  } else {
+    record_top(attach_user_quadric(impl_->top, g), &g, kNone);
+  }
 }
 
 // Time steps for a motion Embree's quaternion decomposition cannot hold. Between steps Embree
@@ -995,7 +1013,7 @@ bool Builder::run() {
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> moving_in_object(a_.objects.size);
   std::vector<bool> instanced(a_.objects.size, false);
   for (const pbrta::InstanceRecord& r : a_.instances) instanced[r.object] = true;
-  const std::vector<bool> placed = placed_objects(instance_motions);
+  const std::vector<bool>& placed = impl_->placed;
   for (uint32_t o = 0; o < a_.objects.size; ++o) {
     if (!instanced[o] || placed[o]) continue;  // defined, never used; or copied per instance
     const pbrta::ObjectRecord& rec = a_.objects[o];
@@ -1090,21 +1108,66 @@ namespace {
 // 5-9% fewer where they are few and were Embree's only user geometry (a cloud's disk, a
 // room's light sphere); where curves or moving quadrics keep Embree calling back anyway, or
 // with more quadrics, 1-6% more (all-shapes, anim-bluespheres, veach-mis's five).
+// Objects whose every shape is a still quadric or still triangle mesh (quadrics without masks)
+// and whose every instance is still, in the archive's order, while their copies (triangles,
+// or one a quadric, times instances) fit in max_placed.
+std::vector<bool> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& shapes,
+                                size_t max_placed) {
+  std::vector<bool> placed(a.objects.size, false);
+  std::vector<uint64_t> uses(a.objects.size, 0);
+  std::vector<bool> moves(a.objects.size, false);
+  for (const pbrta::InstanceRecord& r : a.instances) {
+    ++uses[r.object];
+    const pbrta::TransformRecord& t = a.transforms[r.transform];
+    if (std::memcmp(t.start, t.end, sizeof t.start) != 0) moves[r.object] = true;
+  }
+  uint64_t budget = max_placed;
+  for (uint32_t o = 0; o < a.objects.size; ++o) {
+    if (uses[o] == 0 || moves[o]) continue;
+    const pbrta::ObjectRecord& rec = a.objects[o];
+    uint64_t copies = 0;
+    bool still = true;
+    for (uint32_t k = 0; k < rec.num_shapes; ++k) {
+      const ShapeInfo& s = shapes[a.object_shapes[rec.first_shape + k]];
+      if (is_quadric(s.kind)) {
+        still = still && !s.motion && !s.has_alpha_mask() && !s.has_shadow_mask();
+        ++copies;
+      } else {
+        still = still && s.kind == ShapeKind::kTriangles && !s.motion;
+        copies += empty_mesh(s) ? 0 : s.mesh.num_triangles;
+      }
+    }
+    if (!still || copies == 0 || copies * uses[o] > budget) continue;
+    budget -= copies * uses[o];
+    placed[o] = true;
+  }
+  return placed;
+}
+
 Impl::Listing choose_listing(const Impl& impl, size_t max_listed) {
   if (max_listed == 0 || impl.watertight) return Impl::Listing::kNone;
   const ShapeTable& shapes = *impl.shapes;
+  const pbrta::SceneArchive& a = *impl.archive;
+  // Placed objects' shapes count as world shapes, once per instance.
+  std::vector<uint32_t> uses(a.objects.size, 0);
+  bool instanced = false;
+  for (const pbrta::InstanceRecord& r : a.instances) {
+    ++uses[r.object];
+    instanced = instanced || !impl.placed[r.object];
+  }
   size_t quadrics = 0, triangles = 0;
-  bool instanced = impl.archive->instances.size > 0, unlisted_user_geometry = false,
-       other_meshes = false;
+  bool unlisted_user_geometry = false, other_meshes = false;
   for (uint32_t i = 0; i < shapes.size(); ++i) {
     const ShapeInfo& s = shapes[i];
-    if (is_quadric(s.kind) && listable(s)) {
-      ++quadrics;
+    const bool placed = s.object != kNone && impl.placed[s.object];
+    const uint32_t copies = placed ? uses[s.object] : 1;
+    if (is_quadric(s.kind) && (listable(s) || placed)) {
+      quadrics += copies;
     } else if (is_quadric(s.kind) || s.kind == ShapeKind::kCurve) {
       unlisted_user_geometry = unlisted_user_geometry || s.object == kNone || instanced;
-    } else if (listable(s)) {
-      triangles += empty_mesh(s) ? 0 : s.mesh.num_triangles;
-    } else {
+    } else if (listable(s) || (placed && !s.has_alpha_mask() && !s.has_shadow_mask())) {
+      triangles += empty_mesh(s) ? 0 : size_t(s.mesh.num_triangles) * copies;
+    } else if (s.object == kNone || placed) {
       other_meshes = true;
     }
   }
@@ -1138,7 +1201,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   rtcSetDeviceMemoryMonitorFunction(impl_->device, on_embree_memory, impl_.get());
 
   impl_->watertight = watertight_;
-  impl_->max_placed = max_placed_;
+  impl_->placed = choose_placed(archive, shapes, max_placed_);
   impl_->listing = choose_listing(*impl_, max_listed_);
   Builder builder(impl_.get(), &stats_, &world_bounds_, error);
   if (!builder.run()) {

@@ -83,20 +83,24 @@ class SceneGeometry {
   void set_watertight(bool on) { watertight_ = on; }
   // Before build(): shapes tested one by one behind their boxes (prim_list.h) rather than put
   // in Embree, unless watertight: a scene of at most n primitives, kMaxListedTriangles of them
-  // triangles at most, all of them still world shapes without masks (no instances or curves),
-  // is listed whole and Embree is never asked; otherwise its still world quadrics without
-  // masks, when there are at most kMaxListedBesideTree and Embree would have no other user
-  // geometry (curves, moving or instanced quadrics), are listed and tested beside Embree's
+  // triangles at most, all of them still world shapes without masks (placed instances'
+  // copies count as world shapes; no other instances, no curves), is listed whole and Embree
+  // is never asked; otherwise its still world quadrics without masks (placed ones too), when
+  // there are at most kMaxListedBesideTree and Embree would have no other user geometry
+  // (curves, moving or Embree-instanced quadrics), are listed and tested beside Embree's
   // tree. 0: nothing listed. Hits are pbrt-v3's triangle test's and the same quadric test;
   // tests compare.
   void set_max_listed(size_t n) { max_listed_ = n; }
-  // Before build(): still instances of objects made only of still triangle meshes are copied
-  // into the world (their vertices through the instance's transform, as a world mesh's go
-  // through its own) rather than put under Embree instances, while the copies come to at most
-  // n triangles in all; objects are taken whole (every instance of one, or none), in the
-  // archive's order. One tree instead of two levels: no ray transformed into each instance on
-  // the way down. Hits are those of the instanced geometry (same vertices, same arithmetic;
-  // tests compare), and still report their instance. 0: every instance under Embree's.
+  // Before build(): still instances of objects made only of still triangle meshes and still
+  // quadrics are copied into the world rather than put under Embree instances: a mesh's
+  // vertices through the instance's transform (as a world mesh's go through its own), a
+  // quadric tested through the instance's transform times its own. While the copies come to at
+  // most n (triangles, and one per quadric) in all; objects are taken whole (every instance of
+  // one, or none), in the archive's order. One tree instead of two levels (or, for a few
+  // shapes, a list: set_max_listed): no ray transformed into each instance on the way down.
+  // Triangle hits are those of the instanced geometry (same vertices, same arithmetic), quadric
+  // hits up to the product transform's rounding (tests compare); all still report their
+  // instance. 0: every instance under Embree's.
   void set_max_placed(size_t n) { max_placed_ = n; }
   // Before build(): Embree's device configuration (rtcNewDevice's string), e.g.
   // "max_isa=sse4.2" to use the kernels a CPU without AVX would. Hits do not depend on

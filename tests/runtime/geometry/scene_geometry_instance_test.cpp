@@ -128,7 +128,8 @@ AttributeEnd
 Shape "trianglemesh" "integer indices" [0 1 2] "point P" [-100 -100 -3  100 -100 -3  0 100 -3]
 )");
   ASSERT_TRUE(s->built) << s->error;
-  EXPECT_EQ(s->geometry.stats().quadrics, 2u);
+  // The world's, and the ball's once per instance (placed in the world).
+  EXPECT_EQ(s->geometry.stats().quadrics, 3u);
   SurfaceInteraction si;
   ASSERT_TRUE(s->geometry.intersect(make_ray({0, 20, -2}, {0, 0, 1}), &si));
   EXPECT_EQ(si.shape, 0u);
