@@ -129,8 +129,9 @@ TEST(SceneGeometryPlaced, HitsAsUnderEmbreeInstances) {
     if (a.instance == kNone) continue;
     ++in_instances;
     mirrored += a.instance == 3;
-    if (a.instance != 4)
+    if (a.instance != 4) {
       for (int k = 0; k < 3; ++k) EXPECT_LE(a.p_error[k], b.p_error[k]) << i;
+    }
     // Leaving the hit into either side, from each build's own point.
     const Vec3 d = uniform_sample_sphere({rng.next_float(), rng.next_float()});
     SurfaceInteraction a2, b2;
@@ -140,8 +141,9 @@ TEST(SceneGeometryPlaced, HitsAsUnderEmbreeInstances) {
     if (!ha2) continue;
     ++leaving;
     // (A sphere is met again from inside; a triangle never.)
-    if (placed->shapes[a.shape].kind == ShapeKind::kTriangles)
+    if (placed->shapes[a.shape].kind == ShapeKind::kTriangles) {
       EXPECT_FALSE(a2.shape == a.shape && a2.prim == a.prim && a2.instance == a.instance) << i;
+    }
     EXPECT_EQ(a2.shape, b2.shape) << i;
     EXPECT_EQ(a2.prim, b2.prim) << i;
     EXPECT_EQ(a2.instance, b2.instance) << i;
