@@ -87,6 +87,11 @@ bool empty_mesh(const ShapeInfo& s) {
   return s.mesh.num_triangles == 0 || s.mesh.num_vertices == 0;
 }
 
+// An archive transform that differs at the shutter's start and end.
+bool moves(const pbrta::TransformRecord& t) {
+  return std::memcmp(t.start, t.end, sizeof t.start) != 0;
+}
+
 }  // namespace
 
 struct SceneGeometry::Impl {
@@ -574,7 +579,7 @@ bool Builder::check_instances(std::vector<Transform>* transforms,
     }
     transforms->push_back(x);
     motions->push_back(nullptr);
-    if (std::memcmp(t.start, t.end, sizeof t.start) == 0) continue;
+    if (!moves(t)) continue;
     motions->back() = &impl_->instance_motions.emplace_back(t.start, t.end, float(t.start_time),
                                                             float(t.end_time));
   }
@@ -1099,15 +1104,6 @@ SceneGeometry::~SceneGeometry() = default;
 
 namespace {
 
-// Which shapes build() lists (Impl::listing). callgrind over the reference scenes that
-// qualify (instructions at --spp 2, listed against all in Embree): listed whole, the scenes
-// of a few triangles and quadrics take 3-13% fewer. A room of 14 triangles takes 9-16% more
-// instructions listed (Embree's tree tests four triangles at once), yet renders 6-12% faster
-// built for the CPU (the nine hm-* rooms, 1 thread, 3 interleaved rounds; veach-mis's 17
-// primitives 3%), so up to 16 triangles are listed. Quadrics alone listed beside the tree:
-// 5-9% fewer where they are few and were Embree's only user geometry (a cloud's disk, a
-// room's light sphere); where curves or moving quadrics keep Embree calling back anyway, or
-// with more quadrics, 1-6% more (all-shapes, anim-bluespheres, veach-mis's five).
 // Objects whose every shape is a still quadric or still triangle mesh (quadrics without masks)
 // and whose every instance is still, in the archive's order, while their copies (triangles,
 // or one a quadric, times instances) fit in max_placed.
@@ -1115,15 +1111,14 @@ std::vector<bool> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& 
                                 size_t max_placed) {
   std::vector<bool> placed(a.objects.size, false);
   std::vector<uint64_t> uses(a.objects.size, 0);
-  std::vector<bool> moves(a.objects.size, false);
+  std::vector<bool> moving(a.objects.size, false);
   for (const pbrta::InstanceRecord& r : a.instances) {
     ++uses[r.object];
-    const pbrta::TransformRecord& t = a.transforms[r.transform];
-    if (std::memcmp(t.start, t.end, sizeof t.start) != 0) moves[r.object] = true;
+    if (moves(a.transforms[r.transform])) moving[r.object] = true;
   }
   uint64_t budget = max_placed;
   for (uint32_t o = 0; o < a.objects.size; ++o) {
-    if (uses[o] == 0 || moves[o]) continue;
+    if (uses[o] == 0 || moving[o]) continue;
     const pbrta::ObjectRecord& rec = a.objects[o];
     uint64_t copies = 0;
     bool still = true;
@@ -1144,6 +1139,15 @@ std::vector<bool> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& 
   return placed;
 }
 
+// Which shapes build() lists (Impl::listing). callgrind over the reference scenes that
+// qualify (instructions at --spp 2, listed against all in Embree): listed whole, the scenes
+// of a few triangles and quadrics take 3-13% fewer. A room of 14 triangles takes 9-16% more
+// instructions listed (Embree's tree tests four triangles at once), yet renders 6-12% faster
+// built for the CPU (the nine hm-* rooms, 1 thread, 3 interleaved rounds; veach-mis's 17
+// primitives 3%), so up to 16 triangles are listed. Quadrics alone listed beside the tree:
+// 5-9% fewer where they are few and were Embree's only user geometry (a cloud's disk, a
+// room's light sphere); where curves or moving quadrics keep Embree calling back anyway, or
+// with more quadrics, 1-6% more (all-shapes, anim-bluespheres, veach-mis's five).
 Impl::Listing choose_listing(const Impl& impl, size_t max_listed) {
   if (max_listed == 0 || impl.watertight) return Impl::Listing::kNone;
   const ShapeTable& shapes = *impl.shapes;
