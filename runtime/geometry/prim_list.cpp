@@ -19,20 +19,20 @@ void PrimList::add_box(const Bounds3& b) {
   }
 }
 
-void PrimList::add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim) {
+void PrimList::add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim, bool masked) {
   Bounds3 b;
   b.extend(p0);
   b.extend(p1);
   b.extend(p2);
   add_box(b);
-  entries_.push_back({tag, prim, -1, uint32_t(tris_.size() / 3)});
+  entries_.push_back({tag, prim, -1, uint32_t(tris_.size() / 3), masked});
   tris_.insert(tris_.end(), {p0, p1, p2});
 }
 
 void PrimList::add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
                            uint32_t tag, uint32_t shape) {
   add_box(world_box);
-  entries_.push_back({tag, 0, int32_t(quadrics_.size()), 0});
+  entries_.push_back({tag, 0, int32_t(quadrics_.size()), 0, false});
   quadrics_.push_back({&s, &q, shape});
 }
 
@@ -62,7 +62,8 @@ bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* h
   if (e.quadric < 0) {
     const Vec3* p = &tris_[3 * size_t(e.triangle)];
     float b1, b2;
-    if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best))
+    if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best) ||
+        dropped(e, *t, b1, b2, ray, hit == nullptr))
       return false;
     if (hit) *hit = {e.tag, e.prim, *t, b1, b2};
     return true;

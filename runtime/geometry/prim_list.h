@@ -11,7 +11,9 @@
 // that qualify (scene_geometry.h) and Embree for every other.
 //
 // A triangle hit gives the caller its tag and triangle and the barycentrics of the hit; a
-// quadric hit its tag and, for a closest-hit query, its whole interaction. Hits are taken in
+// quadric hit its tag and, for a closest-hit query, its whole interaction. A masked triangle's
+// hit is first put to the caller's mask test (set_mask_test), which may drop it, as an
+// Embree filter would. Hits are taken in
 // (0, ray.tmax), the interval open at tmax. Const queries are thread-safe.
 #pragma once
 
@@ -27,8 +29,17 @@ namespace rt {
 
 class PrimList {
  public:
-  // Triangle `prim` of a mesh whose world vertices are p0, p1, p2; tag names the mesh.
-  void add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim);
+  // Triangle `prim` of a mesh whose world vertices are p0, p1, p2; tag names the mesh. masked:
+  // its hits go through the mask test.
+  void add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t prim, bool masked = false);
+  // Whether a masked triangle's hit (tag, prim, at t with barycentrics b1, b2 of the ray) is
+  // dropped; shadow: for any(). ctx is handed back.
+  using MaskTest = bool (*)(const void* ctx, uint32_t tag, uint32_t prim, float t, float b1,
+                            float b2, const Ray& ray, bool shadow);
+  void set_mask_test(MaskTest test, const void* ctx) {
+    mask_test_ = test;
+    mask_ctx_ = ctx;
+  }
   // A still quadric; s and q must outlive the list. shape is its ShapeTable index (occluded's
   // skip_shape), or kNone for one never skipped.
   void add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
@@ -49,6 +60,7 @@ class PrimList {
     uint32_t tag, prim;
     int32_t quadric;  // index into quadrics_, or -1 for triangle prim of tris_
     uint32_t triangle;
+    bool masked;
   };
   struct QuadricRef {
     const ShapeInfo* s;
@@ -70,11 +82,16 @@ class PrimList {
   // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction.
   bool test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
             SurfaceInteraction* si) const;
+  bool dropped(const Entry& e, float t, float b1, float b2, const Ray& ray, bool shadow) const {
+    return e.masked && mask_test_(mask_ctx_, e.tag, e.prim, t, b1, b2, ray, shadow);
+  }
 
   std::vector<BoxGroup> groups_;
   std::vector<Entry> entries_;
   std::vector<Vec3> tris_;  // 3 world vertices per triangle
   std::vector<QuadricRef> quadrics_;
+  MaskTest mask_test_ = nullptr;
+  const void* mask_ctx_ = nullptr;
 };
 
 }  // namespace rt

@@ -78,9 +78,11 @@ bool is_quadric(ShapeKind k) {
   return k != ShapeKind::kTriangles && k != ShapeKind::kCurve;
 }
 
-// A world shape PrimList may hold: still and without masks.
+// A world shape PrimList may hold: still, and a quadric without masks (a mesh's masks are
+// PrimList's mask test).
 bool listable(const ShapeInfo& s) {
-  return s.object == kNone && !s.motion && !s.has_alpha_mask() && !s.has_shadow_mask();
+  return s.object == kNone && !s.motion &&
+         (s.kind == ShapeKind::kTriangles || (!s.has_alpha_mask() && !s.has_shadow_mask()));
 }
 
 bool empty_mesh(const ShapeInfo& s) {
@@ -201,6 +203,19 @@ struct SceneGeometry::Impl {
   bool masked(float value, uint32_t texture, const SurfaceInteraction& si) const {
     return texture != kNone ? textures->eval_float(texture, si) == 0 : value == 0;
   }
+  // Whether the masks of triangle prim of mesh g drop its hit (at t_hit, barycentrics u, v of
+  // the world ray) as pbrt-v3 would, the hit rebuilt for them; shadow: for an any-hit query,
+  // where shadowalpha applies too.
+  bool mask_drops(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
+                  const Ray& ray, float t_hit, bool shadow) const {
+    const ShapeInfo& s = (*shapes)[g.shape];
+    SurfaceInteraction si;
+    fill_triangle(g, inst, prim, u, v, ray, &t_hit, &si);
+    bool drop = s.has_alpha_mask() && masked(s.alpha, s.alpha_texture, si);
+    if (shadow && !drop && s.has_shadow_mask())
+      drop = masked(s.shadow_alpha, s.shadow_alpha_texture, si);
+    return drop;
+  }
 };
 
 namespace {
@@ -265,15 +280,16 @@ void alpha_filter(const RTCFilterFunctionNArguments* args, bool shadow) {
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   const Impl* impl = g->impl;
   const RTCHit* hit = reinterpret_cast<const RTCHit*>(args->hit);
-  const ShapeInfo& s = (*impl->shapes)[g->shape];
-  SurfaceInteraction si;
-  float t_hit = reinterpret_cast<const RTCRay*>(args->ray)->tfar;
-  impl->fill_triangle(*g, impl->instance_of(args->context->instID[0]), hit->primID, hit->u, hit->v,
-                      *ctx->ray, &t_hit, &si);
-  bool drop = s.has_alpha_mask() && impl->masked(s.alpha, s.alpha_texture, si);
-  if (shadow && !drop && s.has_shadow_mask())
-    drop = impl->masked(s.shadow_alpha, s.shadow_alpha_texture, si);
-  if (drop) args->valid[0] = 0;
+  if (impl->mask_drops(*g, impl->instance_of(args->context->instID[0]), hit->primID, hit->u, hit->v,
+                       *ctx->ray, reinterpret_cast<const RTCRay*>(args->ray)->tfar, shadow))
+    args->valid[0] = 0;
+}
+
+// PrimList's mask test (PrimList::MaskTest): a listed mesh's masks.
+bool listed_mask_drops(const void* ctx, uint32_t tag, uint32_t prim, float t, float b1, float b2,
+                       const Ray& ray, bool shadow) {
+  const auto* impl = static_cast<const Impl*>(ctx);
+  return impl->mask_drops(*impl->listed_geoms[tag], nullptr, prim, b1, b2, ray, t, shadow);
 }
 void alpha_filter_intersect(const RTCFilterFunctionNArguments* args) {
   alpha_filter(args, false);
@@ -684,9 +700,10 @@ void Builder::list_triangles(const GeomData& g) {
     return Vec3{g.positions[3 * v], g.positions[3 * v + 1], g.positions[3 * v + 2]};
   };
   const uint32_t tag = uint32_t(impl_->listed_geoms.size());
+  const bool masked = s.has_alpha_mask() || s.has_shadow_mask();
   for (uint32_t t = 0; t < s.mesh.num_triangles; ++t) {
     const uint32_t* i = s.mesh.indices + 3 * size_t(t);
-    impl_->listed.add_triangle(p(i[0]), p(i[1]), p(i[2]), tag, t);
+    impl_->listed.add_triangle(p(i[0]), p(i[1]), p(i[2]), tag, t, masked);
   }
   impl_->listed_geoms.push_back(&g);
 }
@@ -1169,7 +1186,7 @@ Impl::Listing choose_listing(const Impl& impl, size_t max_listed) {
       quadrics += copies;
     } else if (is_quadric(s.kind) || s.kind == ShapeKind::kCurve) {
       unlisted_user_geometry = unlisted_user_geometry || s.object == kNone || instanced;
-    } else if (listable(s) || (placed && !s.has_alpha_mask() && !s.has_shadow_mask())) {
+    } else if (listable(s) || placed) {
       triangles += empty_mesh(s) ? 0 : size_t(s.mesh.num_triangles) * copies;
     } else if (s.object == kNone || placed) {
       other_meshes = true;
@@ -1207,6 +1224,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   impl_->watertight = watertight_;
   impl_->placed = choose_placed(archive, shapes, max_placed_);
   impl_->listing = choose_listing(*impl_, max_listed_);
+  impl_->listed.set_mask_test(listed_mask_drops, impl_.get());
   Builder builder(impl_.get(), &stats_, &world_bounds_, error);
   if (!builder.run()) {
     impl_.reset();

@@ -83,9 +83,10 @@ class SceneGeometry {
   void set_watertight(bool on) { watertight_ = on; }
   // Before build(): shapes tested one by one behind their boxes (prim_list.h) rather than put
   // in Embree, unless watertight: a scene of at most n primitives, kMaxListedTriangles of them
-  // triangles at most, all of them still world shapes without masks (placed instances'
-  // copies count as world shapes; no other instances, no curves), is listed whole and Embree
-  // is never asked; otherwise its still world quadrics without masks (placed ones too), when
+  // triangles at most, all of them still world shapes (placed instances' copies count as
+  // world shapes; no other instances, no curves; quadrics without masks, meshes' masks tested
+  // as Embree's filters test them), is listed whole and Embree is never asked; otherwise its
+  // still world quadrics without masks (placed ones too), when
   // there are at most kMaxListedBesideTree and Embree would have no other user geometry
   // (curves, moving or Embree-instanced quadrics), are listed and tested beside Embree's
   // tree. 0: nothing listed. Hits are pbrt-v3's triangle test's and the same quadric test;

@@ -3,9 +3,10 @@
 // rays inside it, for rays leaving the surfaces they hit (where a test that misses its own
 // error bound hits the surface again), and the same occlusion for segments between hit
 // points: what was hit and the whole interaction, bit for bit, but where two surfaces meet at
-// one distance. Both listings: a small scene listed whole, and a larger one whose quadrics
-// alone are tested beside Embree's tree. (Fails when the box test drops its rounding margin,
-// or when occluded() forgets skip_shape: tried.)
+// one distance. Both listings: a small scene listed whole (with an alpha-masked wall and one
+// whose shadowalpha is 0), and a larger one whose quadrics alone are tested beside Embree's
+// tree. (Fails when the box test drops its rounding margin, when occluded() forgets
+// skip_shape, when the list ignores masks or applies shadowalpha to closest hits: tried.)
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -63,9 +64,19 @@ AttributeBegin
 AttributeEnd
 )";
   // The larger scene may have only SceneGeometry::kMaxListedBesideTree quadrics listed.
-  if (extra_walls == 0)
+  if (extra_walls == 0) {
     w += "AttributeBegin\n Translate 1 -2 0.7\n"
          " Shape \"disk\" \"float radius\" 0.9 \"float innerradius\" 0.2\nAttributeEnd\n";
+    // A wall with holes (an alpha texture), and one that casts no shadow (shadowalpha 0).
+    w += R"(Texture "holes" "float" "dots" "float inside" 0 "float outside" 1
+  "float uscale" 4 "float vscale" 4
+Shape "trianglemesh" "integer indices" [0 1 2  0 2 3]
+  "point P" [-3.5 -1 0  -2.5 -1.2 0  -2.5 -1.2 2.5  -3.5 -1 2.5] "float uv" [0 0  1 0  1 1  0 1]
+  "texture alpha" "holes"
+Shape "trianglemesh" "integer indices" [0 1 2  0 2 3]
+  "point P" [3.5 1 0  3.5 2 0  3.5 2 2  3.5 1 2] "float shadowalpha" 0
+)";
+  }
   for (int i = 0; i < extra_walls; ++i) {
     const float x = -3.5f + 0.5f * float(i);
     w += "Shape \"trianglemesh\" \"integer indices\" [0 1 2  0 2 3] \"point P\" [" +
