@@ -62,6 +62,7 @@ bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* h
   if (e.quadric < 0) {
     const Vec3* p = &tris_[3 * size_t(e.triangle)];
     float b1, b2;
+    // any() asks with no hit record: a shadow query, where shadowalpha masks too.
     if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best) ||
         dropped(e, *t, b1, b2, ray, hit == nullptr))
       return false;

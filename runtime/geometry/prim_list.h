@@ -12,9 +12,9 @@
 //
 // A triangle hit gives the caller its tag and triangle and the barycentrics of the hit; a
 // quadric hit its tag and, for a closest-hit query, its whole interaction. A masked triangle's
-// hit is first put to the caller's mask test (set_mask_test), which may drop it, as an
-// Embree filter would. Hits are taken in
-// (0, ray.tmax), the interval open at tmax. Const queries are thread-safe.
+// hit is first put to the caller's mask test (set_mask_test), which may drop it, as an Embree
+// filter would. Hits are taken in (0, ray.tmax), the interval open at tmax. Const queries are
+// thread-safe.
 #pragma once
 
 #include <cstdint>
