@@ -117,7 +117,9 @@ struct SceneGeometry::Impl {
   std::deque<VertexPatches> patches;               // watertight vertex fallback (watertight.h)
   std::deque<AnimatedTransform> instance_motions;  // moving object instances
   bool watertight = false;                         // SceneGeometry::set_watertight
-  std::vector<bool> placed;  // by object: its instances copied into the world (choose_placed)
+  // By object: how many instances of it are copied into the world (choose_placed), 0 for an
+  // object left to Embree's instances.
+  std::vector<uint32_t> placed_copies;
   // Shapes queried by testing each (prim_list.h) rather than through Embree: every shape of a
   // scene of a few (kAll), or the still world quadrics of one with few (kQuadrics: no user
   // geometry callbacks in Embree's traversal). A listed hit's tag indexes listed_geoms.
@@ -153,11 +155,17 @@ struct SceneGeometry::Impl {
     return inst ? children[inst->child].geoms[geom_id] : top_geoms[geom_id];
   }
 
+  // The instance a hit on g belongs to: the one g was placed for, else the Embree instance
+  // the query went through (null for the world).
+  const InstanceData* instance_for(const GeomData& g, const InstanceData* embree_inst) const {
+    return g.placed != kNone ? &instances[g.placed] : embree_inst;
+  }
+
   // The interaction at triangle prim, which Embree hit at *t_hit with barycentrics (u, v);
   // triangle_interaction measures them again (they depend on the CPU) and updates *t_hit.
   void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
                      const Ray& ray, float* t_hit, SurfaceInteraction* si) const {
-    if (g.placed != kNone) inst = &instances[g.placed];
+    inst = instance_for(g, inst);
     TriangleSpace space;
     space.positions = g.positions;
     space.buffer_has_shape_transform = g.copied;
@@ -182,7 +190,7 @@ struct SceneGeometry::Impl {
   // already in *si; a triangle's is left to complete() in *pending.
   void record_hit(const GeomData* g, const InstanceData* inst, uint32_t prim, float u, float v,
                   float t, SurfaceInteraction* si, SceneGeometry::PendingHit* pending) const {
-    if (g->placed != kNone) inst = &instances[g->placed];
+    inst = instance_for(*g, inst);
     if (g->quadric || g->curve) {
       si->prim = g->curve ? prim : 0;
       si->face_index = 0;
@@ -507,7 +515,8 @@ class Builder {
   bool check_instances(std::vector<Transform>* transforms,
                        std::vector<const AnimatedTransform*>* motions);
   RTCScene new_scene();
-  // placed: an instance (index into Impl::instances) the copy also goes through.
+  // placed: an instance (index into Impl::instances) the copy also goes through. bounds may be
+  // null (a placed copy: the world bound takes the object's box instead).
   unsigned attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3* bounds,
                        uint32_t placed = kNone);
   unsigned attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds);
@@ -515,9 +524,12 @@ class Builder {
   unsigned attach_user_quadric(RTCScene scene, const GeomData& g);
   unsigned attach_curve(RTCScene scene, uint32_t shape, Bounds3* bounds);
   void attach_instance(uint32_t child, const Transform& to_world, uint32_t archive_instance);
-  // Object instance i of a placed object (Impl::placed): its meshes copied into the top level,
-  // its quadrics tested there through the instance's transform times their own.
-  void place_instance(uint32_t i, const Transform& to_world);
+  // A placed object's box in its own space, as an Embree child scene of it would bound it.
+  Bounds3 object_bounds(uint32_t object) const;
+  // Object instance i of a placed object (Impl::placed_copies), whose box is object_box: its
+  // meshes copied into the top level, its quadrics tested there through the instance's
+  // transform times their own.
+  void place_instance(uint32_t i, const Transform& to_world, const Bounds3& object_box);
   void place_quadric(uint32_t shape, uint32_t placed, const Transform& to_world);
   // A moving mesh inside an object whose instance's transform is a right-handed similarity
   // (rotation, uniform scale, translation: M = T R s) that, if it moves, only translates: the
@@ -643,8 +655,9 @@ unsigned Builder::attach_mesh(RTCScene scene, uint32_t shape, bool copy, Bounds3
     positions = c.data();
     if (copy) ++stats_->copied_meshes;
   }
-  for (uint32_t v = 0; v < m.num_vertices; ++v)
-    bounds->extend(Vec3{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]});
+  if (bounds)
+    for (uint32_t v = 0; v < m.num_vertices; ++v)
+      bounds->extend(Vec3{positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]});
 
   GeomData& g = impl_->geoms.emplace_back();
   g.impl = impl_;
@@ -781,7 +794,23 @@ void Builder::attach_instance(uint32_t child, const Transform& to_world,
   bounds_->extend(to_world.bounds(impl_->children[child].bounds));
 }
 
-void Builder::place_instance(uint32_t i, const Transform& to_world) {
+Bounds3 Builder::object_bounds(uint32_t object) const {
+  const pbrta::ObjectRecord& rec = a_.objects[object];
+  Bounds3 box;
+  for (uint32_t k = 0; k < rec.num_shapes; ++k) {
+    const ShapeInfo& s = shapes_[a_.object_shapes[rec.first_shape + k]];
+    if (is_quadric(s.kind)) {
+      box.extend(quadric_world_bounds(s));
+    } else if (!empty_mesh(s)) {
+      const bool copy = !s.object_to_world.is_identity();  // as attach_mesh's buffer
+      for (uint32_t v = 0; v < s.mesh.num_vertices; ++v)
+        box.extend(copy ? s.object_to_world.point(s.mesh.position(v)) : s.mesh.position(v));
+    }
+  }
+  return box;
+}
+
+void Builder::place_instance(uint32_t i, const Transform& to_world, const Bounds3& object_box) {
   InstanceData d;
   d.to_world = to_world;
   d.archive_instance = i;
@@ -789,25 +818,20 @@ void Builder::place_instance(uint32_t i, const Transform& to_world) {
   impl_->instances.push_back(d);
   const uint32_t index = uint32_t(impl_->instances.size() - 1);
   const pbrta::ObjectRecord& rec = a_.objects[a_.instances[i].object];
-  // pbrt-v3's world bound takes the object's box through the instance's transform, as
-  // attach_instance does, not the (tighter) box of the copied vertices.
-  Bounds3 object_box, copies_box;
   for (uint32_t k = 0; k < rec.num_shapes; ++k) {
     const uint32_t shape = a_.object_shapes[rec.first_shape + k];
     const ShapeInfo& s = shapes_[shape];
     if (is_quadric(s.kind)) {
-      object_box.extend(quadric_world_bounds(s));
       place_quadric(shape, index, to_world);
-      continue;
+    } else if (!empty_mesh(s)) {
+      const unsigned id =
+          attach_mesh(impl_->top, shape, !s.object_to_world.is_identity(), nullptr, index);
+      record_top(id, &impl_->geoms.back(), kNone);
+      if (impl_->listing == Impl::Listing::kAll) list_triangles(impl_->geoms.back());
     }
-    if (empty_mesh(s)) continue;
-    const bool copy = !s.object_to_world.is_identity();
-    for (uint32_t v = 0; v < s.mesh.num_vertices; ++v)
-      object_box.extend(copy ? s.object_to_world.point(s.mesh.position(v)) : s.mesh.position(v));
-    unsigned id = attach_mesh(impl_->top, shape, copy, &copies_box, index);
-    record_top(id, &impl_->geoms.back(), kNone);
-    if (impl_->listing == Impl::Listing::kAll) list_triangles(impl_->geoms.back());
   }
+  // pbrt-v3's world bound takes the object's box through the instance's transform, as
+  // attach_instance does, not the (tighter) box of the copied vertices.
   bounds_->extend(to_world.bounds(object_box));
   ++stats_->instances;
   ++stats_->placed_instances;
@@ -1035,9 +1059,14 @@ bool Builder::run() {
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> moving_in_object(a_.objects.size);
   std::vector<bool> instanced(a_.objects.size, false);
   for (const pbrta::InstanceRecord& r : a_.instances) instanced[r.object] = true;
-  const std::vector<bool>& placed = impl_->placed;
+  // Placed objects: their boxes, once each, for their instances' world bounds.
+  std::vector<Bounds3> placed_box(a_.objects.size);
   for (uint32_t o = 0; o < a_.objects.size; ++o) {
-    if (!instanced[o] || placed[o]) continue;  // defined, never used; or copied per instance
+    if (impl_->placed_copies[o] > 0) {
+      placed_box[o] = object_bounds(o);
+      continue;
+    }
+    if (!instanced[o]) continue;  // defined, never used
     const pbrta::ObjectRecord& rec = a_.objects[o];
     uint32_t child = kNone;
     for (uint32_t k = 0; k < rec.num_shapes; ++k) {
@@ -1083,8 +1112,8 @@ bool Builder::run() {
   for (uint32_t i = 0; i < a_.instances.size; ++i) {
     const uint32_t object = a_.instances[i].object;
     const AnimatedTransform* m = instance_motions[i];
-    if (placed[object]) {
-      place_instance(i, instance_transforms[i]);
+    if (impl_->placed_copies[object] > 0) {
+      place_instance(i, instance_transforms[i], placed_box[object]);
       continue;
     }
     for (auto [own, shape] : moving_in_object[object]) {
@@ -1123,11 +1152,12 @@ namespace {
 
 // Objects whose every shape is a still quadric or still triangle mesh (quadrics without masks)
 // and whose every instance is still, in the archive's order, while their copies (triangles,
-// or one a quadric, times instances) fit in max_placed.
-std::vector<bool> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& shapes,
-                                size_t max_placed) {
-  std::vector<bool> placed(a.objects.size, false);
-  std::vector<uint64_t> uses(a.objects.size, 0);
+// or one a quadric, times instances) fit in max_placed: by object, its instance count if
+// placed, else 0 (Impl::placed_copies).
+std::vector<uint32_t> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& shapes,
+                                    size_t max_placed) {
+  std::vector<uint32_t> placed(a.objects.size, 0);
+  std::vector<uint32_t> uses(a.objects.size, 0);
   std::vector<bool> moving(a.objects.size, false);
   for (const pbrta::InstanceRecord& r : a.instances) {
     ++uses[r.object];
@@ -1151,7 +1181,7 @@ std::vector<bool> choose_placed(const pbrta::SceneArchive& a, const ShapeTable& 
     }
     if (!still || copies == 0 || copies * uses[o] > budget) continue;
     budget -= copies * uses[o];
-    placed[o] = true;
+    placed[o] = uses[o];
   }
   return placed;
 }
@@ -1170,18 +1200,15 @@ Impl::Listing choose_listing(const Impl& impl, size_t max_listed) {
   const ShapeTable& shapes = *impl.shapes;
   const pbrta::SceneArchive& a = *impl.archive;
   // Placed objects' shapes count as world shapes, once per instance.
-  std::vector<uint32_t> uses(a.objects.size, 0);
   bool instanced = false;
-  for (const pbrta::InstanceRecord& r : a.instances) {
-    ++uses[r.object];
-    instanced = instanced || !impl.placed[r.object];
-  }
+  for (const pbrta::InstanceRecord& r : a.instances)
+    instanced = instanced || impl.placed_copies[r.object] == 0;
   size_t quadrics = 0, triangles = 0;
   bool unlisted_user_geometry = false, other_meshes = false;
   for (uint32_t i = 0; i < shapes.size(); ++i) {
     const ShapeInfo& s = shapes[i];
-    const bool placed = s.object != kNone && impl.placed[s.object];
-    const uint32_t copies = placed ? uses[s.object] : 1;
+    const bool placed = s.object != kNone && impl.placed_copies[s.object] > 0;
+    const uint32_t copies = placed ? impl.placed_copies[s.object] : 1;
     if (is_quadric(s.kind) && (listable(s) || placed)) {
       quadrics += copies;
     } else if (is_quadric(s.kind) || s.kind == ShapeKind::kCurve) {
@@ -1222,7 +1249,7 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   rtcSetDeviceMemoryMonitorFunction(impl_->device, on_embree_memory, impl_.get());
 
   impl_->watertight = watertight_;
-  impl_->placed = choose_placed(archive, shapes, max_placed_);
+  impl_->placed_copies = choose_placed(archive, shapes, max_placed_);
   impl_->listing = choose_listing(*impl_, max_listed_);
   impl_->listed.set_mask_test(listed_mask_drops, impl_.get());
   Builder builder(impl_.get(), &stats_, &world_bounds_, error);
