@@ -172,6 +172,8 @@ struct SceneGeometry::Impl {
     space.positions_in_world = g.placed != kNone;
     space.instance = inst != nullptr;
     space.instance_mirrors = inst && inst->mirrors;
+    // A listed scene's hits are all PrimList's.
+    space.measured = listing == Listing::kAll;
     // A moving instance's transform is made per hit. (Not a std::optional<Transform>: GCC
     // zeroes its 136 bytes on every call, moving or not.)
     if (inst && inst->motion) {

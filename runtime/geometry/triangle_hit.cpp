@@ -96,7 +96,7 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     pb[i] = load3(space.positions, v[i]);
     p[i] = buffer_to_world ? buffer_to_world->point(pb[i]) : pb[i];
   }
-  hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
+  if (!space.measured) hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
 
   // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
   si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];

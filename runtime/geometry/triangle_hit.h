@@ -40,14 +40,17 @@ struct TriangleSpace {
   // ... and it mirrors: pbrt-v3 transforms the instance-space normal as a
   // normal, which is the world-edge cross product flipped.
   bool instance_mirrors = false;
+  // t and the barycentrics come from our own test on these very world vertices (PrimList's
+  // watertight test), not from Embree's CPU-dependent kernels: nothing to measure again.
+  bool measured = false;
 };
 
 // Fills si (p, p_error, n, wo, time, uv, dpdu, dpdv, dndu, dndv, shading,
 // prim, face_index; not shape/instance, not differentials) for Embree's hit of
 // triangle prim of mesh shape s at *t_hit with barycentrics (1-b1-b2, b1, b2),
-// both measured again first (*t_hit is updated). A mesh rays pass through (s.passes_through)
-// without vertex normals or tangents gets only p, p_error, n (shading.n = n), wo, time, prim and
-// face_index: nothing reads the rest of a surface that is only passed through.
+// both measured again first (*t_hit is updated) unless space.measured. A mesh rays pass through
+// (s.passes_through) without vertex normals or tangents gets only p, p_error, n (shading.n = n),
+// wo, time, prim and face_index: nothing reads the rest of a surface that is only passed through.
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
                           float b2, const Ray& ray, float* t_hit, SurfaceInteraction* si);
 
