@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "runtime/core/normal_sample.h"
+
 namespace rt {
 
 MltSampler::MltSampler(int64_t mutations_per_pixel, uint64_t rng_index, float sigma,
@@ -66,7 +68,7 @@ void MltSampler::ensure_ready(size_t index) {
   } else {
     // The small steps it missed, as one: their normal offsets add up in variance.
     const int64_t steps = iteration_ - x.last_modified;
-    const float normal = std::sqrt(2.f) * erf_inv(2 * rng_.next_float() - 1);
+    const float normal = normal_sample(rng_);
     x.value += normal * sigma_ * std::sqrt(float(steps));
     x.value -= std::floor(x.value);
     x.value = std::min(x.value, kOneMinusEpsilon);  // -1e-9 wraps to 1 in float
