@@ -3,20 +3,22 @@
 
 #include <algorithm>
 
+#include "runtime/core/fast_trig.h"
+
 namespace rt {
 
 Vec2 concentric_sample_disk(Vec2 u) {
   float ox = 2 * u.x - 1, oy = 2 * u.y - 1;
   if (ox == 0 && oy == 0) return {0, 0};
-  float r, theta;
+  // pbrt's angle is pi/4 (oy / ox), or pi/2 - pi/4 (ox / oy), whose cosine and sine are the
+  // sine and cosine of pi/4 (ox / oy): either way an angle within pi/4 of 0.
+  float s, c;
   if (std::fabs(ox) > std::fabs(oy)) {
-    r = ox;
-    theta = kPiOver4 * (oy / ox);
-  } else {
-    r = oy;
-    theta = kPiOver2 - kPiOver4 * (ox / oy);
+    sin_cos_quarter(kPiOver4 * (oy / ox), &s, &c);
+    return {ox * c, ox * s};
   }
-  return {r * std::cos(theta), r * std::sin(theta)};
+  sin_cos_quarter(kPiOver4 * (ox / oy), &s, &c);
+  return {oy * s, oy * c};
 }
 
 Vec2 uniform_sample_disk(Vec2 u) {

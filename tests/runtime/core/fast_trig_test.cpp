@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "runtime/core/rng.h"
+#include "runtime/core/sampling.h"
 
 namespace rt {
 namespace {
@@ -54,6 +55,50 @@ TEST(FastTrig, Atan2WithinThreeUlpsInEveryOctant) {
   EXPECT_EQ(fast_atan2(-1.f, 0.f), -kPiOver2);
   EXPECT_NEAR(fast_atan2(-1.f, -1.f), -3 * kPiOver4, 2.4e-7);
   EXPECT_NEAR(fast_atan2(1.f, -1.f), 3 * kPiOver4, 2.4e-7);
+}
+
+TEST(FastTrig, SinCosQuarterWithinTwoUlps) {
+  double worst_s = 0, worst_c = 0;
+  const int n = 2000000;
+  for (int i = 0; i <= n; ++i) {
+    const float phi = kPiOver4 * (-1 + 2 * float(i) / n);
+    float s, c;
+    sin_cos_quarter(phi, &s, &c);
+    worst_s = std::max(worst_s, std::fabs(s - std::sin(double(phi))));
+    worst_c = std::max(worst_c, std::fabs(c - std::cos(double(phi))));
+  }
+  // Absolute: two ulps of a float in [1/2, 1) (2^-24 each), where cos is and |sin| ends.
+  EXPECT_LT(worst_s, 2 * 0x1p-24);
+  EXPECT_LT(worst_c, 2 * 0x1p-24);
+  float s, c;
+  sin_cos_quarter(0, &s, &c);
+  EXPECT_EQ(s, 0.f);
+  EXPECT_EQ(c, 1.f);
+}
+
+TEST(FastTrig, ConcentricDiskAsPbrtsAngles) {
+  // The disk mapping by pbrt's angles and libm, to rounding: every octant, the diagonals and
+  // the axes.
+  Rng rng(9);
+  double worst = 0;
+  for (int i = 0; i < 1000000; ++i) {
+    Vec2 u{rng.next_float(), rng.next_float()};
+    if (i % 11 == 0) u.y = u.x;      // a diagonal
+    if (i % 13 == 0) u.y = 1 - u.x;  // the other
+    if (i % 17 == 0) u.x = 0.5f;     // an axis
+    const double ox = 2.0 * u.x - 1, oy = 2.0 * u.y - 1;
+    double x = 0, y = 0;
+    if (ox != 0 || oy != 0) {
+      const bool wide = std::fabs(ox) > std::fabs(oy);
+      const double r = wide ? ox : oy;
+      const double theta = wide ? kPi / 4 * (oy / ox) : kPi / 2 - kPi / 4 * (ox / oy);
+      x = r * std::cos(theta);
+      y = r * std::sin(theta);
+    }
+    const Vec2 d = concentric_sample_disk(u);
+    worst = std::max({worst, std::fabs(d.x - x), std::fabs(d.y - y)});
+  }
+  EXPECT_LT(worst, 3e-7);
 }
 
 }  // namespace
