@@ -182,23 +182,43 @@ CameraSampleUse Camera::sample_use(uint64_t effects) const {
 // The same rays as the general path below up to rounding, in a third of its arithmetic: one
 // 3x3 product, no perspective divide, one normalisation per direction. (Camera rays took
 // 8-14% of the whitted hm-* scenes' time.)
-float Camera::still_pinhole_ray(const CameraSample& s, RayDifferential* out) const {
+float Camera::still_pinhole_ray(const CameraSample& s, const float* diff_scale,
+                                RayDifferential* out) const {
   const Vec3 v = s.p_film.x * dir_x_ + s.p_film.y * dir_y_ + dir_0_;
-  out->d = normalize(v);
-  out->o = origin_past_error(origin_world_, out->d, origin_error_);
+  const Vec3 d = normalize(v), o = origin_past_error(origin_world_, d, origin_error_);
+  out->d = d;
+  out->o = o;
   out->tmax = kInfinity;
   out->time = lerp(s.time, shutter_open_, shutter_close_);
   out->has_differentials = differentials_;
   if (differentials_) {
-    out->rx_o = out->ry_o = origin_world_;
-    out->rx_d = normalize(v + dir_x_);
-    out->ry_d = normalize(v + dir_y_);
+    Vec3 rx_o = origin_world_, ry_o = origin_world_;
+    Vec3 rx_d = normalize(v + dir_x_), ry_d = normalize(v + dir_y_);
+    if (diff_scale) {  // RayDifferential::scale_differentials' arithmetic
+      const float k = *diff_scale;
+      rx_o = o + (rx_o - o) * k;
+      ry_o = o + (ry_o - o) * k;
+      rx_d = d + (rx_d - d) * k;
+      ry_d = d + (ry_d - d) * k;
+    }
+    out->rx_o = rx_o;
+    out->ry_o = ry_o;
+    out->rx_d = rx_d;
+    out->ry_d = ry_d;
   }
   return 1;
 }
 
+float Camera::generate_ray_differential(const CameraSample& s, float diff_scale,
+                                        RayDifferential* out) const {
+  if (still_pinhole_) return still_pinhole_ray(s, &diff_scale, out);
+  const float w = generate_ray_differential(s, out);
+  out->scale_differentials(diff_scale);
+  return w;
+}
+
 float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* out) const {
-  if (still_pinhole_) return still_pinhole_ray(s, out);
+  if (still_pinhole_) return still_pinhole_ray(s, nullptr, out);
   if (type_ == Type::kRealistic) {
     std::optional<Transform> moving;
     const Transform& w = to_world(lerp(s.time, shutter_open_, shutter_close_), &moving);

@@ -55,8 +55,8 @@ struct Paths {
     cs.time = sampler.get_1d();
     cs.p_lens = sampler.get_2d();
     RayDifferential ray;
-    if (camera.generate_ray_differential(cs, &ray) == 0) return Rgb();
-    ray.scale_differentials(1 / std::sqrt(float(mutations_per_pixel)));
+    if (camera.generate_ray_differential(cs, 1 / std::sqrt(float(mutations_per_pixel)), &ray) == 0)
+      return Rgb();
     ++counters->camera_rays;
     buffers.reserve(size_t(std::max(s, t)) + 1);
     Vertex* cam = buffers.camera_path();

@@ -212,11 +212,10 @@ class SppmRender {
     sampler.set_sample_number(iteration);
     const CameraSample cs = pixel_camera_sample(sampler, p, sample_use_);
     RayDifferential ray;
-    const float weight = camera_.generate_ray_differential(cs, &ray);
+    const float weight = camera_.generate_ray_differential(cs, diff_scale_, &ray);
     ++tc->rays.camera_rays;
     ++tc->samples;
     if (weight == 0) return;
-    ray.scale_differentials(diff_scale_);
 
     const int max_depth = settings_.max_depth;
     Bsdf bsdf;

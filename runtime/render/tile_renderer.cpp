@@ -70,8 +70,7 @@ bool TileRenderer::render(int64_t first, int64_t last, int begin, int end, const
               do {
                 const CameraSample cs = pixel_camera_sample(sampler, pixel, sample_use_);
                 RayDifferential ray;
-                float w = camera_.generate_ray_differential(cs, &ray);
-                ray.scale_differentials(diff_scale_);
+                float w = camera_.generate_ray_differential(cs, diff_scale_, &ray);
                 ++ts.rays.camera_rays;
                 Rgb l;
                 if (w > 0) l = integrator_.li(ray, sampler, &ts.rays);
