@@ -118,5 +118,40 @@ TEST(CameraDifferentials, RealisticMakesThemAlways) {
                    true);
 }
 
+// Rays asked for with their differentials scaled are the rays scaled afterwards, bit for bit:
+// the still pinhole scales them itself, every other camera through scale_differentials.
+TEST(CameraDifferentials, ScaledAsScaleDifferentialsScales) {
+  for (const char* camera_text :
+       {"Camera \"perspective\" \"float fov\" 40",
+        "Camera \"perspective\" \"float fov\" 40 \"float lensradius\" 0.05 "
+        "\"float focaldistance\" 2",
+        "Camera \"orthographic\""}) {
+    SCOPED_TRACE(camera_text);
+    pbrta::SceneArchive a;
+    Camera camera;
+    ASSERT_TRUE(build_camera("diff_scaled", scene(camera_text, true), &a, &camera));
+    Rng rng(3);
+    for (int i = 0; i < 200; ++i) {
+      CameraSample cs;
+      cs.p_film = {40 * rng.next_float(), 30 * rng.next_float()};
+      cs.p_lens = {rng.next_float(), rng.next_float()};
+      const float scale = 0.05f + rng.next_float();
+      RayDifferential scaled, after;
+      const float w = camera.generate_ray_differential(cs, scale, &scaled);
+      ASSERT_EQ(w, camera.generate_ray_differential(cs, &after));
+      after.scale_differentials(scale);
+      ASSERT_TRUE(scaled.has_differentials);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(scaled.o[k], after.o[k]);
+        EXPECT_EQ(scaled.d[k], after.d[k]);
+        EXPECT_EQ(scaled.rx_o[k], after.rx_o[k]);
+        EXPECT_EQ(scaled.ry_o[k], after.ry_o[k]);
+        EXPECT_EQ(scaled.rx_d[k], after.rx_d[k]);
+        EXPECT_EQ(scaled.ry_d[k], after.ry_d[k]);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rt
