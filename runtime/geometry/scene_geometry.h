@@ -92,7 +92,9 @@ class SceneGeometry {
   // still world quadrics without masks (placed ones too), when there are at most
   // kMaxListedBesideTree and Embree would have no other user geometry (curves, moving or
   // Embree-instanced quadrics), are listed and tested beside Embree's tree. 0: nothing
-  // listed. Hits are pbrt-v3's triangle test's and the same quadric test; tests compare.
+  // listed. Hits are pbrt-v3's triangle test's (a listed triangle's interaction is built on
+  // that test's t and barycentrics, not measured again) and the same quadric test; tests
+  // compare.
   void set_max_listed(size_t n) { max_listed_ = n; }
   // Before build(): still instances of objects made only of still triangle meshes and still
   // quadrics are copied into the world rather than put under Embree instances: a mesh's
