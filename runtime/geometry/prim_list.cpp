@@ -94,12 +94,13 @@ bool PrimList::each_met(const Ray& ray, const float* tmax, Visit visit) const {
   return false;
 }
 
-bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
+bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si,
+                       uint32_t skip_shape) const {
   float best = ray.tmax;
   bool found = false;
   each_met(ray, &best, [&](const Entry& e) {
     float t;
-    if (test(e, ray, best, &t, hit, si)) {
+    if (!skips(e, skip_shape) && test(e, ray, best, &t, hit, si)) {
       best = t;
       found = true;
     }
@@ -110,10 +111,8 @@ bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const {
 
 bool PrimList::any(const Ray& ray, uint32_t skip_shape) const {
   return each_met(ray, &ray.tmax, [&](const Entry& e) {
-    if (e.quadric >= 0 && skip_shape != kNone && quadrics_[size_t(e.quadric)].shape == skip_shape)
-      return false;
     float t;
-    return test(e, ray, ray.tmax, &t, nullptr, nullptr);
+    return !skips(e, skip_shape) && test(e, ray, ray.tmax, &t, nullptr, nullptr);
   });
 }
 

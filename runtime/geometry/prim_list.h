@@ -50,8 +50,9 @@ class PrimList {
     uint32_t tag = 0, prim = 0;
     float t = 0, b1 = 0, b2 = 0;  // triangles: barycentrics of p1 and p2
   };
-  // The closest hit; a quadric's interaction goes to *si (untouched for a triangle's).
-  bool closest(const Ray& ray, Hit* hit, SurfaceInteraction* si) const;
+  // The closest hit, skipping the quadric of ShapeTable index skip_shape; a quadric's
+  // interaction goes to *si (untouched for a triangle's).
+  bool closest(const Ray& ray, Hit* hit, SurfaceInteraction* si, uint32_t skip_shape = kNone) const;
   // Any hit, skipping the quadric of ShapeTable index skip_shape.
   bool any(const Ray& ray, uint32_t skip_shape) const;
 
@@ -82,6 +83,10 @@ class PrimList {
   // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction.
   bool test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
             SurfaceInteraction* si) const;
+  bool skips(const Entry& e, uint32_t skip_shape) const {
+    return e.quadric >= 0 && skip_shape != kNone &&
+           quadrics_[size_t(e.quadric)].shape == skip_shape;
+  }
   bool dropped(const Entry& e, float t, float b1, float b2, const Ray& ray, bool shadow) const {
     return e.masked && mask_test_(mask_ctx_, e.tag, e.prim, t, b1, b2, ray, shadow);
   }

@@ -71,7 +71,7 @@ struct QueryContext {
   const Ray* ray;                  // the world-space ray
   SurfaceInteraction* quadric_si;  // intersect(): the accepted quadric or curve hit, or null
   float near_t;                    // triangle hits at t <= near_t are re-tested (near_filter)
-  uint32_t skip_shape;             // occluded(): a world quadric that cannot block this ray
+  uint32_t skip_shape;             // a world quadric that cannot block or stop this ray
 };
 
 bool is_quadric(ShapeKind k) {
@@ -418,6 +418,11 @@ bool world_curve_piece_hit(const GeomData& g, unsigned inst_id, uint32_t piece, 
 using UserHit = bool (*)(const GeomData&, unsigned, uint32_t, const Ray&, float*,
                          SurfaceInteraction*);
 
+// Whether the query's skip_shape names g's world shape (not a copy under an instance).
+bool skipped(const GeomData& g, const QueryContext& ctx, unsigned inst_id) {
+  return g.shape == ctx.skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID && g.placed == kNone;
+}
+
 // Embree's callbacks for user geometries: the closest hit, its interaction left in the query
 // context for intersect(), and any hit. Embree does not rescale instanced rays, so t is the
 // same in every space.
@@ -428,6 +433,7 @@ void user_intersect(const RTCIntersectFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRayHit* rh = reinterpret_cast<RTCRayHit*>(args->rayhit);
   unsigned inst_id = args->context->instID[0];
+  if (skipped(*g, *ctx, inst_id)) return;
   Ray r = *ctx->ray;
   r.tmax = rh->ray.tfar;
   SurfaceInteraction si;
@@ -451,8 +457,7 @@ void user_occluded(const RTCOccludedFunctionNArguments* args) {
   const auto* ctx = reinterpret_cast<const QueryContext*>(args->context);
   RTCRay* ray = reinterpret_cast<RTCRay*>(args->ray);
   const unsigned inst_id = args->context->instID[0];
-  if (g->shape == ctx->skip_shape && inst_id == RTC_INVALID_GEOMETRY_ID && g->placed == kNone)
-    return;
+  if (skipped(*g, *ctx, inst_id)) return;
   Ray r = *ctx->ray;
   r.tmax = ray->tfar;
   float t = 0;
@@ -1265,19 +1270,19 @@ bool SceneGeometry::build(const pbrta::SceneArchive& archive, const ShapeTable& 
   return true;
 }
 
-bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si) const {
+bool SceneGeometry::intersect(const Ray& ray, SurfaceInteraction* si, uint32_t skip_shape) const {
   PendingHit pending;
-  if (!intersect_ids(ray, si, &pending)) return false;
+  if (!intersect_ids(ray, si, &pending, skip_shape)) return false;
   complete(pending, ray, si);
   return true;
 }
 
-bool SceneGeometry::intersect_ids(const Ray& ray, SurfaceInteraction* si,
-                                  PendingHit* pending) const {
+bool SceneGeometry::intersect_ids(const Ray& ray, SurfaceInteraction* si, PendingHit* pending,
+                                  uint32_t skip_shape) const {
   if (!impl_ || !(ray.tmax > 0)) return false;
   PrimList::Hit h;
   if (impl_->listing == Impl::Listing::kAll) {
-    if (!impl_->listed.closest(ray, &h, si)) return false;
+    if (!impl_->listed.closest(ray, &h, si, skip_shape)) return false;
     impl_->record_hit(impl_->listed_geoms[h.tag], nullptr, h.prim, h.b1, h.b2, h.t, si, pending);
     return true;
   }
@@ -1286,7 +1291,7 @@ bool SceneGeometry::intersect_ids(const Ray& ray, SurfaceInteraction* si,
   ctx.ray = &ray;
   ctx.quadric_si = si;
   ctx.near_t = near_t(ray);
-  ctx.skip_shape = kNone;
+  ctx.skip_shape = skip_shape;
   RTCRayHit rh;
   init_ray(ray, &rh.ray);
   rh.ray.time = impl_->embree_time(ray.time);
@@ -1298,7 +1303,7 @@ bool SceneGeometry::intersect_ids(const Ray& ray, SurfaceInteraction* si,
     // The listed quadrics, up to Embree's hit: a nearer one replaces it (and its *si).
     Ray nearer = ray;
     if (found) nearer.tmax = rh.ray.tfar;
-    if (impl_->listed.closest(nearer, &h, si)) {
+    if (impl_->listed.closest(nearer, &h, si, skip_shape)) {
       impl_->record_hit(impl_->listed_geoms[h.tag], nullptr, 0, 0, 0, h.t, si, pending);
       return true;
     }

@@ -115,7 +115,9 @@ class SceneGeometry {
   // Closest hit in (0, ray.tmax): fills p, p_error, n, wo, time, uv, dpdu,
   // dpdv, dndu, dndv, the shading frame, shape, prim, instance, face_index;
   // not the differentials (SurfaceInteraction::compute_differentials).
-  bool intersect(const Ray& ray, SurfaceInteraction* si) const;
+  // skip_shape: a world sphere or disk the ray cannot meet (a ray leaving an area light's own
+  // shape: LightSet::shape_left_behind); its test is skipped.
+  bool intersect(const Ray& ray, SurfaceInteraction* si, uint32_t skip_shape = kNone) const;
   // The same hit in two steps, for a caller that may need only what was hit: intersect_ids()
   // fills si's shape, prim and instance (a quadric's or curve's whole interaction too: it is
   // made while Embree traverses) and keeps the rest of the hit in *pending; complete() then
@@ -126,7 +128,8 @@ class SceneGeometry {
     uint32_t prim = 0;
     float u = 0, v = 0, t = 0;
   };
-  bool intersect_ids(const Ray& ray, SurfaceInteraction* si, PendingHit* pending) const;
+  bool intersect_ids(const Ray& ray, SurfaceInteraction* si, PendingHit* pending,
+                     uint32_t skip_shape = kNone) const;
   void complete(const PendingHit& pending, const Ray& ray, SurfaceInteraction* si) const;
   // Any hit in (0, ray.tmax). skip_shape: a world sphere or disk that the
   // caller knows cannot block this ray (an area light's own shape, for a

@@ -123,6 +123,16 @@ Rgb LightSet::sample_le(uint32_t light, Vec2 u1, Vec2 u2, float time, Ray* ray, 
   return Rgb();
 }
 
+uint32_t LightSet::shape_left_behind(uint32_t light, const Ray& ray, Vec3 n_light) const {
+  const Entry& e = entries_[light];
+  if (e.kind != LightKind::kArea) return kNone;
+  const ShapeInfo& shape = (*shapes_)[e.shape];
+  if (shape.kind == ShapeKind::kDisk) return e.shape;
+  // sample_shape_area's sphere normal is outward but for ReverseOrientation.
+  const Vec3 outward = shape.reverse_orientation ? -n_light : n_light;
+  return shape.kind == ShapeKind::kSphere && dot(ray.d, outward) > 0 ? e.shape : kNone;
+}
+
 void LightSet::pdf_le(uint32_t light, const Ray& ray, Vec3 n_light, float* pdf_pos,
                       float* pdf_dir) const {
   const Entry& e = entries_[light];

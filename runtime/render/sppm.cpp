@@ -292,10 +292,11 @@ class SppmRender {
 
     RayDifferential ray(emitted);
     Bsdf bsdf;
-    for (int depth = 0; depth < settings_.max_depth; ++depth) {
+    uint32_t skip = scene_.lights.shape_left_behind(uint32_t(light), emitted, n_light);
+    for (int depth = 0; depth < settings_.max_depth; ++depth, skip = kNone) {
       SurfaceInteraction si;
       ++tc->rays.rays;
-      if (!scene_.geometry.intersect(ray, &si)) break;
+      if (!scene_.geometry.intersect(ray, &si, skip)) break;
       // The first hit is direct light, which the camera pass estimated already.
       if (depth > 0) deposit(si.p, -ray.d, beta, tc);
       if (!scattering_at(scene_, &si, ray, TransportMode::kImportance, true, &bsdf)) {

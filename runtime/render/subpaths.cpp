@@ -179,14 +179,14 @@ Rgb Subpaths::g(const Vertex& v0, const Vertex& v1) const {
 // A walk from ray, filling path[0 ..) (path[-1] is where it starts); pdf is the
 // solid-angle density of ray's direction. pbrt-v3's RandomWalk: no Russian roulette.
 int Subpaths::random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float pdf, int max_depth,
-                          TransportMode mode, Vertex* path) const {
+                          TransportMode mode, Vertex* path, uint32_t skip_first) const {
   if (max_depth == 0) return 0;
   int bounces = 0;
   float pdf_fwd = pdf, pdf_rev = 0;
-  for (;;) {
+  for (uint32_t skip = skip_first;; skip = kNone) {
     SurfaceInteraction si;
     ++counters->rays;
-    const bool found = scene.geometry.intersect(ray, &si);
+    const bool found = scene.geometry.intersect(ray, &si, skip);
     bool scattered = false;
     Vec3 p;
     if (medium != kNone) {
@@ -306,7 +306,8 @@ int Subpaths::light_subpath(int max_depth, float time, Vertex* path) const {
   v.medium = scene.lights.emission_medium(v.light, ray.d, n_light);
   Rgb beta = le * (abs_dot(n_light, ray.d) / (light_pmf * pdf_pos * pdf_dir));
   int n = random_walk(RayDifferential(ray), v.medium, beta, pdf_dir, max_depth - 1,
-                      TransportMode::kImportance, path + 1);
+                      TransportMode::kImportance, path + 1,
+                      scene.lights.shape_left_behind(v.light, ray, n_light));
   if (v.infinite) {
     // Lights at infinity: the first hit's density is the emission disk's, projected; the
     // light's own is that of sampling its direction.

@@ -99,8 +99,9 @@ struct Subpaths {
   uint32_t medium_toward(const Vertex& v, Vec3 w) const;
   Rgb visibility(const Vertex& from, const Interaction& to) const;
   Rgb g(const Vertex& v0, const Vertex& v1) const;
+  // skip_first: a world quadric the first ray cannot meet (SceneGeometry::intersect).
   int random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float pdf, int max_depth,
-                  TransportMode mode, Vertex* path) const;
+                  TransportMode mode, Vertex* path, uint32_t skip_first = kNone) const;
   float mis_weight(const Vertex* light_path, const Vertex* camera_path, const Vertex& sampled,
                    int s, int t) const;
 };
