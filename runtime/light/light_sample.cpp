@@ -37,8 +37,7 @@ int LightSet::nsamples(uint32_t light) const {
 
 // The direction-dependent factor of a positional light for emission along w
 // (world space, from the light outwards): pbrt-v3's Falloff, Projection, Scale.
-Rgb LightSet::positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const {
-  if (kind == LightKind::kPoint) return Rgb(1);  // the same in every direction
+Rgb LightSet::shaped_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const {
   Rgb factor(1);
   Vec3 wl = pl.world_to_light.vector(w);
   if (kind == LightKind::kSpot) {

@@ -203,7 +203,14 @@ class LightSet {
     Distribution2D distribution;  // the map's (none for a constant light: sampled uniformly)
   };
 
-  Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
+  // The intensity's factor toward w: 1 for a point light, here, without a call (the shaped
+  // lights' function realigns its stack for its locals, and a point light's return through it
+  // took 2% of a whitted room, perf).
+  Rgb positional_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const {
+    return kind == LightKind::kPoint ? Rgb(1) : shaped_factor(kind, pl, w);
+  }
+  // Spot, projection and goniometric lights' factor.
+  Rgb shaped_factor(LightKind kind, const PositionalLight& pl, Vec3 w) const;
   // The radiance along w_world (towards the light); with pdf, also infinite_pdf's value.
   Rgb infinite_lookup(const InfiniteLight& il, Vec3 w_world, float* pdf = nullptr,
                       const MapDirection& known = {}) const;
