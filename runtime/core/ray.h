@@ -25,12 +25,16 @@ struct RayDifferential : Ray {
   Vec3 rx_o, rx_d, ry_o, ry_d;
   RayDifferential() = default;
   explicit RayDifferential(const Ray& r) : Ray(r) {}
+  // A differential origin or direction moved toward the ray's own by the factor s.
+  static Vec3 scaled(Vec3 own, Vec3 differential, float s) {
+    return own + (differential - own) * s;
+  }
   void scale_differentials(float s) {
     if (!has_differentials) return;
-    rx_o = o + (rx_o - o) * s;
-    ry_o = o + (ry_o - o) * s;
-    rx_d = d + (rx_d - d) * s;
-    ry_d = d + (ry_d - d) * s;
+    rx_o = scaled(o, rx_o, s);
+    ry_o = scaled(o, ry_o, s);
+    rx_d = scaled(d, rx_d, s);
+    ry_d = scaled(d, ry_d, s);
   }
 };
 

@@ -161,8 +161,9 @@ struct SceneGeometry::Impl {
     return g.placed != kNone ? &instances[g.placed] : embree_inst;
   }
 
-  // The interaction at triangle prim, which Embree hit at *t_hit with barycentrics (u, v);
-  // triangle_interaction measures them again (they depend on the CPU) and updates *t_hit.
+  // The interaction at triangle prim, hit at *t_hit with barycentrics (u, v): Embree's, which
+  // triangle_interaction measures again (they depend on the CPU) and updates *t_hit, or, in a
+  // scene listed whole, PrimList's own, which it keeps.
   void fill_triangle(const GeomData& g, const InstanceData* inst, uint32_t prim, float u, float v,
                      const Ray& ray, float* t_hit, SurfaceInteraction* si) const {
     inst = instance_for(g, inst);

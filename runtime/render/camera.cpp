@@ -194,12 +194,11 @@ float Camera::still_pinhole_ray(const CameraSample& s, const float* diff_scale,
   if (differentials_) {
     Vec3 rx_o = origin_world_, ry_o = origin_world_;
     Vec3 rx_d = normalize(v + dir_x_), ry_d = normalize(v + dir_y_);
-    if (diff_scale) {  // RayDifferential::scale_differentials' arithmetic
-      const float k = *diff_scale;
-      rx_o = o + (rx_o - o) * k;
-      ry_o = o + (ry_o - o) * k;
-      rx_d = d + (rx_d - d) * k;
-      ry_d = d + (ry_d - d) * k;
+    if (diff_scale) {  // as RayDifferential::scale_differentials scales them
+      rx_o = RayDifferential::scaled(o, rx_o, *diff_scale);
+      ry_o = RayDifferential::scaled(o, ry_o, *diff_scale);
+      rx_d = RayDifferential::scaled(d, rx_d, *diff_scale);
+      ry_d = RayDifferential::scaled(d, ry_d, *diff_scale);
     }
     out->rx_o = rx_o;
     out->ry_o = ry_o;
