@@ -4,6 +4,8 @@
 
 #include "runtime/light/lights.h"
 
+#include "runtime/geometry/quadric_intersect.h"
+
 namespace rt {
 
 namespace {
@@ -242,6 +244,31 @@ bool LightSet::add_area_lights(const pbrta::SceneArchive& a, std::string* error)
     if (info.kind != ShapeKind::kTriangles) continue;
     triangles_.resize(count());
     for (uint32_t p = 0; p < n; ++p) triangles_[area_first_[s] + p] = world_triangle(info, p);
+  }
+  reach_.assign(count(), Bounds3{});
+  for (uint32_t light = 0; light < count(); ++light) {
+    const Entry& e = entries_[light];
+    if (e.kind != LightKind::kArea) continue;
+    const ShapeInfo& info = shapes[e.shape];
+    Bounds3 b;
+    if (info.kind == ShapeKind::kTriangles) {
+      const WorldTriangle& t = triangles_[light];
+      b.extend(t.p0);
+      b.extend(t.p1);
+      b.extend(t.p2);
+    } else {
+      b = quadric_world_bounds(info);
+    }
+    // Hits are found on the shape within rounding of it (a few ulps of the coordinates): a
+    // ten-thousandth of the box's size and of its distance from the origin is far beyond that.
+    const Vec3 mag = vmax(abs(b.lo), abs(b.hi));
+    const Vec3 d = b.diagonal();
+    const float pad =
+        1e-4f * (std::max(mag.x, std::max(mag.y, mag.z)) + std::max(d.x, std::max(d.y, d.z))) +
+        1e-30f;
+    b.lo = b.lo - Vec3{pad, pad, pad};
+    b.hi = b.hi + Vec3{pad, pad, pad};
+    reach_[light] = b;
   }
   return true;
 }

@@ -112,6 +112,12 @@ class LightSet {
                               float pdf_area) const;
   float pdf_li(uint32_t light, const Interaction& ref, Vec3 wi, const Interaction* hit) const;
   uint32_t area_light_at(const SurfaceInteraction& hit) const;  // kNone if not emitting
+  // false only when `ray` (t > 0, any length) cannot meet area light `light`'s shape: it misses
+  // a box padded well beyond rounding around it. pbrt-v3's EstimateDirect asks the light's
+  // shape alone (Pdf_Li) before it traces a scattering sample through the scene, and traces
+  // only a direction that meets it; the box answers the same for the directions that matter
+  // (the shape's neighbourhood) at a slab test's cost. true for every other kind of light.
+  bool may_meet(uint32_t light, const Ray& ray) const;
   Rgb area_le(const SurfaceInteraction& hit, Vec3 w) const;
   Rgb infinite_le(const RayDifferential& ray) const;
   // One infinite light's radiance along an escaping ray (0 for other kinds):
@@ -238,6 +244,9 @@ class LightSet {
   // By light index, for emitting triangles (empty when there are none): the world-space
   // triangle every sample and pdf of that light would otherwise transform and measure again.
   std::vector<WorldTriangle> triangles_;
+  // By light index (area lights; empty boxes for the others): the shape's box, padded
+  // (may_meet).
+  std::vector<Bounds3> reach_;
   // The radiance an area light's point `it` sends toward ref_p and the direction *wi to it;
   // false where the sample gives nothing (pdf 0, or it is at ref_p).
   bool area_point_li(uint32_t light, Vec3 ref_p, const Interaction& it, float pdf, Vec3* wi,

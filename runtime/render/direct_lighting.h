@@ -138,6 +138,10 @@ Rgb estimate_direct(const RenderScene& scene, const Interaction& it, const Verte
   MapDirection map_wi;
   if constexpr (kInfinite) map_wi = lights.prefetch_infinite(light, wi);
   Ray ray = it.spawn_ray(wi);
+  // A direction that cannot meet the light is not traced (pbrt-v3's Pdf_Li test first): most
+  // of a small light's scattering samples miss it, and each was a closest-hit query.
+  if constexpr (kAreaLights)
+    if (!lights.may_meet(light, ray)) return ld;
   SurfaceInteraction hit;
   // Only a hit on this light is read: the rest of a triangle's interaction waits until it is
   // one.
