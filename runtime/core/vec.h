@@ -200,6 +200,27 @@ struct Bounds3 {
     *c = center();
     *r = empty() ? 0 : distance(*c, hi);
   }
+  // Whether the ray o + t d meets the box for some t in [0, tmax]: the slab test with the far
+  // distances widened by their rounding (pbrt book 3rd ed. 3.9.2), so no box the ray meets is
+  // missed. A NaN distance (0 times an infinite 1 / d: the origin on a face the ray runs
+  // along) bounds nothing: only a definite comparison rejects.
+  bool meets(Vec3 o, Vec3 d, float tmax) const {
+    float t0 = 0, t1 = tmax;
+    for (int a = 0; a < 3; ++a) {
+      const float inv = 1 / d[a];
+      float tn = (lo[a] - o[a]) * inv, tf = (hi[a] - o[a]) * inv;
+      if (tn > tf) {
+        const float swap = tn;
+        tn = tf;
+        tf = swap;
+      }
+      tf *= 1 + 2 * gamma_bound(3);
+      if (tn > t0) t0 = tn;
+      if (tf < t1) t1 = tf;
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
 };
 
 }  // namespace rt

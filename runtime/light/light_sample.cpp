@@ -267,22 +267,7 @@ float LightSet::pdf_li(uint32_t light, const Interaction& ref, Vec3 wi,
 }
 
 bool LightSet::may_meet(uint32_t light, const Ray& ray) const {
-  if (entries_[light].kind != LightKind::kArea) return true;
-  const Bounds3& b = reach_[light];
-  // The slab test with the far distances widened by their rounding (pbrt book 3rd ed. 3.9.2).
-  // A NaN distance (0 times an infinite 1 / d: the origin on a face the ray runs along)
-  // bounds nothing: only a definite comparison rejects.
-  float t0 = 0, t1 = kInfinity;
-  for (int a = 0; a < 3; ++a) {
-    const float inv = 1 / ray.d[a];
-    float tn = (b.lo[a] - ray.o[a]) * inv, tf = (b.hi[a] - ray.o[a]) * inv;
-    if (tn > tf) std::swap(tn, tf);
-    tf *= 1 + 2 * gamma_bound(3);
-    if (tn > t0) t0 = tn;
-    if (tf < t1) t1 = tf;
-    if (t0 > t1) return false;
-  }
-  return true;
+  return entries_[light].kind != LightKind::kArea || reach_[light].meets(ray.o, ray.d, kInfinity);
 }
 
 uint32_t LightSet::area_light_at(const SurfaceInteraction& hit) const {
