@@ -7,8 +7,9 @@
 // two transforms, so its hits agree up to that product's rounding. Rays leaving those hits,
 // from each build's own point, never hit their own triangle again and hit the same thing.
 // Objects with a moving instance, and objects over the budget, stay instanced. (Fails when the
-// copy skips the shape's own transform, when a placed hit reports no instance, or when a
-// placed quadric takes the instance's transform alone: tried.)
+// copy skips the shape's own transform, when a placed hit reports no instance, when a
+// placed quadric takes the instance's transform alone, or when an instanced quadric's box is
+// tested with the world ray instead of Embree's ray in the instance's space: tried.)
 #include <gtest/gtest.h>
 
 #include "scene_geometry_test_support.h"
