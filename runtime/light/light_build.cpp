@@ -1,10 +1,10 @@
 // runtime/light/light_build.cpp — LightSet::build: the archive's lights as
 // pbrt-v3's Create*Light functions make them (see lights.h).
+#include <algorithm>
 #include <cmath>
 
-#include "runtime/light/lights.h"
-
 #include "runtime/geometry/quadric_intersect.h"
+#include "runtime/light/lights.h"
 
 namespace rt {
 

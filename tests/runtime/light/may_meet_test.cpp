@@ -85,29 +85,27 @@ Shape "trianglemesh" "point P" [-1 -1 0  1 -1 0  1 1 0  -1 1 0  0 0 0.8  0 -1.5 
 }
 
 TEST(MayMeet, QuadricLights) {
-  expect_sound_and_useful(trace("may_meet_sphere", R"(
+  const char* const kLights[][2] = {{"may_meet_sphere", R"(
 AreaLightSource "diffuse" "rgb L" [1 1 1] "bool twosided" "true"
 Translate 0.7 -0.3 0.2
 Scale 1 0.5 2
 Shape "sphere" "float radius" 0.6 "float zmin" -0.3 "float phimax" 270
-)",
-                                {-3, -3, -3}, {3, 3, 3}, 20000),
-                          1000);
-  expect_sound_and_useful(trace("may_meet_disk", R"(
+)"},
+                                    {"may_meet_disk", R"(
 AreaLightSource "diffuse" "rgb L" [1 1 1] "bool twosided" "true"
 Rotate 60 0 1 1
 Translate 0.5 0 0.3
 Shape "disk" "float radius" 1.2 "float innerradius" 0.2
-)",
-                                {-3, -3, -3}, {3, 3, 3}, 20000),
-                          1000);
-  expect_sound_and_useful(trace("may_meet_cylinder", R"(
+)"},
+                                    {"may_meet_cylinder", R"(
 AreaLightSource "diffuse" "rgb L" [1 1 1] "bool twosided" "true"
 Rotate 40 1 0 0
 Shape "cylinder" "float radius" 0.5 "float zmin" -0.7 "float zmax" 0.4
-)",
-                                {-3, -3, -3}, {3, 3, 3}, 20000),
-                          1000);
+)"}};
+  for (const auto& [name, world] : kLights) {
+    SCOPED_TRACE(name);
+    expect_sound_and_useful(trace(name, world, {-3, -3, -3}, {3, 3, 3}, 20000), 1000);
+  }
 }
 
 TEST(MayMeet, FarFromTheOrigin) {
