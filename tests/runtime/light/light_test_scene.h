@@ -11,6 +11,7 @@
 #include <string>
 
 #include "runtime/core/rng.h"
+#include "runtime/geometry/scene_geometry.h"
 #include "runtime/geometry/shape_table.h"
 #include "runtime/light/lights.h"
 #include "runtime/runtime_test_support.h"
@@ -45,6 +46,15 @@ inline bool load_light_scene(const std::string& name, const std::string& world,
     return false;
   }
   return true;
+}
+
+// The scene's geometry, for tests that trace rays; fails the test (and returns false) when it
+// does not build.
+inline bool build_light_scene_geometry(const LightScene& s, SceneGeometry* geometry) {
+  std::string error;
+  if (geometry->build(s.archive, s.shapes, nullptr, &error)) return true;
+  ADD_FAILURE() << "geometry: " << error;
+  return false;
 }
 
 inline Bounds3 box(Vec3 lo, Vec3 hi) {

@@ -28,11 +28,7 @@ Tally trace(const std::string& name, const std::string& world, Vec3 lo, Vec3 hi,
   Tally tally;
   if (!load_light_scene(name, world, box(lo, hi), &s)) return tally;
   SceneGeometry geometry;
-  std::string error;
-  if (!geometry.build(s.archive, s.shapes, nullptr, &error)) {
-    ADD_FAILURE() << error;
-    return tally;
-  }
+  if (!build_light_scene_geometry(s, &geometry)) return tally;
   Rng rng(5);
   for (int i = 0; i < n; ++i) {
     const Vec3 p{lo.x + rng.next_float() * (hi.x - lo.x), lo.y + rng.next_float() * (hi.y - lo.y),

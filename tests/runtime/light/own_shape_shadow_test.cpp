@@ -26,11 +26,7 @@ Counts shadow_rays(const std::string& name, const std::string& world, Vec3 lo, V
   Counts c;
   if (!load_light_scene(name, world, box(lo, hi), &s)) return c;
   SceneGeometry geometry;
-  std::string error;
-  if (!geometry.build(s.archive, s.shapes, nullptr, &error)) {
-    ADD_FAILURE() << error;
-    return c;
-  }
+  if (!build_light_scene_geometry(s, &geometry)) return c;
   Rng rng(11);
   for (int i = 0; i < n; ++i) {
     Vec3 p{lo.x + rng.next_float() * (hi.x - lo.x), lo.y + rng.next_float() * (hi.y - lo.y),
@@ -137,11 +133,7 @@ Leaving leaving_rays(const std::string& name, const std::string& light, size_t m
   if (!load_light_scene(name, world, box({-9, -9, -9}, {9, 9, 9}), &s)) return c;
   SceneGeometry geometry;
   geometry.set_max_listed(max_listed);
-  std::string error;
-  if (!geometry.build(s.archive, s.shapes, nullptr, &error)) {
-    ADD_FAILURE() << error;
-    return c;
-  }
+  if (!build_light_scene_geometry(s, &geometry)) return c;
   Rng rng(17);
   for (int i = 0; i < 20000; ++i) {
     Ray ray;
@@ -217,8 +209,7 @@ TEST(OwnShapeShadow, ASkippedShapeIsNotHit) {
   for (size_t max_listed : {size_t(32), size_t(0)}) {
     SceneGeometry geometry;
     geometry.set_max_listed(max_listed);
-    std::string error;
-    ASSERT_TRUE(geometry.build(s.archive, s.shapes, nullptr, &error)) << error;
+    ASSERT_TRUE(build_light_scene_geometry(s, &geometry));
     Ray ray;
     ray.o = {0.1f, -5, 0.2f};
     ray.d = {0, 1, 0};
