@@ -742,13 +742,13 @@ void Builder::list_triangles(const GeomData& g) {
 
 unsigned Builder::attach_quadric(RTCScene scene, uint32_t shape, Bounds3* bounds) {
   const ShapeInfo& s = shapes_[shape];
-  bounds->extend(quadric_world_bounds(s));
   GeomData& g = impl_->geoms.emplace_back();
   g.impl = impl_;
   g.shape = shape;
   g.quadric = true;
   g.prepared = prepare_quadric(s);
   g.box = quadric_world_bounds(s);
+  bounds->extend(g.box);
   return attach_user_quadric(scene, g);
 }
 
