@@ -161,4 +161,30 @@ void Bsdf::pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) co
   if (b.z != 0) *pdf_ba = sum_ba / matching;
 }
 
+Rgb Bsdf::f_pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) const {
+  *pdf_ab = *pdf_ba = 0;
+  if (n_ == 0) return Rgb(0);
+  const Vec3 a = world_to_local(a_world), b = world_to_local(b_world);
+  const bool reflect = dot(b_world, frame_.ng) * dot(a_world, frame_.ng) > 0;
+  Rgb f(0);
+  float sum_ab = 0, sum_ba = 0;
+  int matching = 0;
+  for (int i = 0; i < n_; ++i) {
+    const Bxdf& lobe = lobes_[i];
+    if (!lobe.matches(kAllBxdf)) continue;
+    ++matching;
+    float ab, ba;
+    if ((reflect && (lobe.flags & kReflection)) || (!reflect && (lobe.flags & kTransmission)))
+      f += lobe.f_pdf_both(a, b, &ab, &ba);
+    else
+      lobe.pdf_both(a, b, &ab, &ba);
+    sum_ab += ab;
+    sum_ba += ba;
+  }
+  if (matching == 0) return Rgb(0);
+  if (a.z != 0) *pdf_ab = sum_ab / matching;
+  if (b.z != 0) *pdf_ba = sum_ba / matching;
+  return a.z != 0 ? f : Rgb(0);
+}
+
 }  // namespace rt

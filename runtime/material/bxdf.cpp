@@ -312,6 +312,31 @@ void Bxdf::pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const {
   *pdf_ba = MicrofacetDistribution::pdf_given(d, distribution.g1(b), b, wh) / (4 * dot(b, wh));
 }
 
+Rgb Bxdf::f_pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const {
+  if (kind != BxdfKind::kMicrofacetReflection) {
+    pdf_both(a, b, pdf_ab, pdf_ba);
+    return f(a, b);
+  }
+  // The half vector, D and both lambdas serve f and the two pdfs (each term as f(), pdf_both()
+  // compute it).
+  const Vec3 sum = a + b;
+  const float cos_a = abs_cos_theta(a), cos_b = abs_cos_theta(b);
+  const bool f_zero = cos_a == 0 || cos_b == 0 || (sum.x == 0 && sum.y == 0 && sum.z == 0);
+  const bool same_side = same_hemisphere(a, b);
+  *pdf_ab = *pdf_ba = 0;
+  if (f_zero && !same_side) return Rgb(0);
+  const Vec3 wh = normalize(sum);
+  const float dh = distribution.d(wh);
+  const float lambda_a = distribution.lambda(a), lambda_b = distribution.lambda(b);
+  if (same_side) {
+    *pdf_ab = MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_a), a, wh) / (4 * dot(a, wh));
+    *pdf_ba = MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_b), b, wh) / (4 * dot(b, wh));
+  }
+  if (f_zero) return Rgb(0);
+  const Rgb fr = fresnel.evaluate(dot(b, face_forward(wh, Vec3{0, 0, 1})));
+  return scale * (r * fr * (dh * (1 / (1 + lambda_a + lambda_b)) / (4 * cos_b * cos_a)));
+}
+
 Rgb Bxdf::f_pdf(Vec3 wo, Vec3 wi, float* pdf) const {
   return scale * raw_f_pdf(*this, wo, wi, pdf);
 }

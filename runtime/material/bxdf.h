@@ -87,6 +87,8 @@ struct Bxdf {
   // pdf(a, b) and pdf(b, a) at once, the same values: a microfacet reflection lobe makes the
   // half vector and D, which the two share, once (bidirectional MIS asks for both).
   void pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const;
+  // f(a, b) with pdf_both(a, b): what a bidirectional connection asks of each joined end.
+  Rgb f_pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const;
 };
 
 // Bsdf copies lobes by value; the union must keep that a plain byte copy.

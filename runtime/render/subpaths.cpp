@@ -50,7 +50,8 @@ float Subpaths::convert_density(const Vertex& from, float pdf, const Vertex& nex
   Vec3 w = next.p() - from.p();
   float d2 = length_squared(w);
   if (d2 == 0) return 0;
-  if (next.on_surface()) pdf *= abs_dot(next.ng(), w / std::sqrt(d2));
+  // One division: the cosine's normalisation and the squared distance together.
+  if (next.on_surface()) return pdf * abs_dot(next.ng(), w) / (d2 * std::sqrt(d2));
   return pdf / d2;
 }
 
@@ -151,6 +152,25 @@ void Subpaths::pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float
   v.bsdf.pdf_both(wa, wb, &ab, &ba);
   *to_b = convert_density(v, ab, b);
   *to_a = convert_density(v, ba, a);
+}
+
+bool Subpaths::joined_end(const Vertex& v, const Vertex& prev, const Vertex& other,
+                          TransportMode mode, Rgb* f, float* to_other, float* to_prev) const {
+  if (v.type != VertexType::kSurface) return false;
+  Vec3 wi = other.p() - v.p();
+  if (length_squared(wi) == 0) {
+    *f = Rgb();
+    *to_other = *to_prev = 0;
+    return true;
+  }
+  wi = normalize(wi);
+  // The walk's own direction back to prev (f's wo), for the densities too.
+  const Vec3 wo = v.si.wo;
+  float ab, ba;
+  *f = v.bsdf.f_pdf_both(wo, wi, &ab, &ba) * shading_normal_correction(v.si, wo, wi, mode);
+  *to_other = convert_density(v, ab, other);
+  *to_prev = convert_density(v, ba, prev);
+  return true;
 }
 
 // The medium a ray leaving vertex v along w travels in: a surface that bounds two media
@@ -323,7 +343,8 @@ int Subpaths::light_subpath(int max_depth, float time, Vertex* path) const {
 // pbrt-v3's MISWeight: the power heuristic over every strategy that could make the path of
 // s light and t camera vertices, from ratios of reverse to forward densities.
 float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
-                           const Vertex& sampled, int s, int t) const {
+                           const Vertex& sampled, int s, int t,
+                           const JoinedDensities& known) const {
   if (s + t == 2) return 1;
   const Vertex* qs = s > 0 ? &light_path[s - 1] : nullptr;
   const Vertex* pt = t > 0 ? &camera_path[t - 1] : nullptr;
@@ -336,18 +357,26 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
   // The joined ends' reverse densities, which neither walk knew.
   // Each joined end's two (toward the other end and back along its own path) come together.
   float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
-  if (s == 0)
+  if (s == 0) {
     pt_rev = pdf_light_origin(*pt, *pt_minus);
-  else if (qs_minus)
+  } else if (known.qs) {
+    pt_rev = known.pt_rev;
+    qs_minus_rev = known.qs_minus_rev;
+  } else if (qs_minus) {
     pdf_both(*qs, *qs_minus, *pt, &pt_rev, &qs_minus_rev);
-  else
+  } else {
     pt_rev = pdf(*qs, nullptr, *pt);
-  if (s == 0)
+  }
+  if (s == 0) {
     pt_minus_rev = pt_minus ? pdf_light(*pt, *pt_minus) : 0;
-  else if (pt_minus)
+  } else if (known.pt) {
+    qs_rev = known.qs_rev;
+    pt_minus_rev = known.pt_minus_rev;
+  } else if (pt_minus) {
     pdf_both(*pt, *pt_minus, *qs, &qs_rev, &pt_minus_rev);
-  else
+  } else {
     qs_rev = pdf(*pt, nullptr, *qs);
+  }
   auto remap0 = [](float f) { return f != 0 ? f : 1.f; };
 
   float sum = 0, ri = 1;
@@ -378,6 +407,7 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
   if (t > 1 && s != 0 && camera_path[t - 1].type == VertexType::kLight) return Rgb();
   Rgb l;
   Vertex sampled;
+  JoinedDensities known;
   if (s == 0) {
     const Vertex& pt = camera_path[t - 1];
     if (is_light(pt)) l = le(pt, camera_path[t - 2]) * pt.beta;
@@ -394,7 +424,11 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       sampled.si.n = lens.n;
       sampled.si.time = lens.time;
       sampled.beta = we / pdf;
-      l = qs.beta * f(qs, sampled, TransportMode::kImportance) * sampled.beta;
+      Rgb fq;
+      known.qs = s > 1 && joined_end(qs, light_path[s - 2], sampled, TransportMode::kImportance,
+                                     &fq, &known.pt_rev, &known.qs_minus_rev);
+      if (!known.qs) fq = f(qs, sampled, TransportMode::kImportance);
+      l = qs.beta * fq * sampled.beta;
       if (qs.on_surface()) l *= abs_dot(wi, qs.ns());
       if (!l.is_black()) l *= visibility(qs, lens);
     }
@@ -414,7 +448,11 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       static_cast<Interaction&>(sampled.si) = ls.p_light;
       sampled.beta = lw / (ls.pdf * light_pmf);
       sampled.pdf_fwd = pdf_light_origin(sampled, pt);
-      l = pt.beta * f(pt, sampled, TransportMode::kRadiance) * sampled.beta;
+      Rgb fp;
+      known.pt = t > 1 && joined_end(pt, camera_path[t - 2], sampled, TransportMode::kRadiance, &fp,
+                                     &known.qs_rev, &known.pt_minus_rev);
+      if (!known.pt) fp = f(pt, sampled, TransportMode::kRadiance);
+      l = pt.beta * fp * sampled.beta;
       if (pt.on_surface()) l *= abs_dot(ls.wi, pt.ns());
       if (!l.is_black()) l *= visibility(pt, ls.p_light);
     }
@@ -422,14 +460,20 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
     const Vertex& qs = light_path[s - 1];
     const Vertex& pt = camera_path[t - 1];
     if (connectible(qs) && connectible(pt)) {
-      l = qs.beta * f(qs, pt, TransportMode::kImportance) * f(pt, qs, TransportMode::kRadiance) *
-          pt.beta;
+      Rgb fq, fp;
+      known.qs = joined_end(qs, light_path[s - 2], pt, TransportMode::kImportance, &fq,
+                            &known.pt_rev, &known.qs_minus_rev);
+      if (!known.qs) fq = f(qs, pt, TransportMode::kImportance);
+      known.pt = joined_end(pt, camera_path[t - 2], qs, TransportMode::kRadiance, &fp,
+                            &known.qs_rev, &known.pt_minus_rev);
+      if (!known.pt) fp = f(pt, qs, TransportMode::kRadiance);
+      l = qs.beta * fq * fp * pt.beta;
       if (!l.is_black()) l *= g(qs, pt);
     }
   }
   if (mis) *mis = 0;
   if (l.is_black()) return l;
-  const float w = mis_weight(light_path, camera_path, sampled, s, t);
+  const float w = mis_weight(light_path, camera_path, sampled, s, t, known);
   if (mis) *mis = w;
   return l * w;
 }

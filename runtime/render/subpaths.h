@@ -102,8 +102,17 @@ struct Subpaths {
   // skip_first: a world quadric the first ray cannot meet (SceneGeometry::intersect).
   int random_walk(RayDifferential ray, uint32_t medium, Rgb beta, float pdf, int max_depth,
                   TransportMode mode, Vertex* path, uint32_t skip_first = kNone) const;
+  // A joined end's reverse densities, when connect() found them with its f (joined_end).
+  struct JoinedDensities {
+    bool qs = false, pt = false;  // which end's pair is known
+    float pt_rev = 0, qs_minus_rev = 0, qs_rev = 0, pt_minus_rev = 0;
+  };
+  // f(v, other, mode), with v's densities towards other and back towards prev (pdf_both's),
+  // from one evaluation of v's BSDF; false (and nothing written) where v is no surface.
+  bool joined_end(const Vertex& v, const Vertex& prev, const Vertex& other, TransportMode mode,
+                  Rgb* f, float* to_other, float* to_prev) const;
   float mis_weight(const Vertex* light_path, const Vertex* camera_path, const Vertex& sampled,
-                   int s, int t) const;
+                   int s, int t, const JoinedDensities& known) const;
 };
 
 }  // namespace rt
