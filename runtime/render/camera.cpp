@@ -151,25 +151,27 @@ Vec3 world_origin(const Transform& w, Vec3 o, Vec3 d_world) {
 
 }  // namespace
 
-float Camera::realistic_ray(const CameraSample& s, Ray* ray) const {
+Ray Camera::realistic_film_ray(const CameraSample& s, float* pupil_area) const {
   Vec2 u{s.p_film.x / float(resolution_.x), s.p_film.y / float(resolution_.y)};
   // The film is seen from behind the lens: x mirrored.
   Vec3 p_film{-lerp(u.x, -film_extent_.x / 2, film_extent_.x / 2),
               lerp(u.y, -film_extent_.y / 2, film_extent_.y / 2), 0};
-  float area;
-  Vec3 p_rear = lens_.sample_exit_pupil({p_film.x, p_film.y}, s.p_lens, &area);
+  Vec3 p_rear = lens_.sample_exit_pupil({p_film.x, p_film.y}, s.p_lens, pupil_area);
   Ray film_ray;
   film_ray.o = p_film;
   film_ray.d = p_rear - p_film;
   film_ray.time = lerp(s.time, shutter_open_, shutter_close_);
-  if (!lens_.trace_from_film(film_ray, ray)) return 0;
+  return film_ray;
+}
+
+float Camera::realistic_weight(const Ray& film_ray, float pupil_area, Ray* ray) const {
   ray->time = film_ray.time;
   ray->tmax = kInfinity;
   float cos_theta = normalize(film_ray.d).z;
   float cos4 = (cos_theta * cos_theta) * (cos_theta * cos_theta);
-  if (simple_weighting_) return cos4 * area / lens_.pupil_bounds()[0].area();
+  if (simple_weighting_) return cos4 * pupil_area / lens_.pupil_bounds()[0].area();
   float rz = lens_.rear_z();
-  return (shutter_close_ - shutter_open_) * (cos4 * area) / (rz * rz);
+  return (shutter_close_ - shutter_open_) * (cos4 * pupil_area) / (rz * rz);
 }
 
 CameraSampleUse Camera::sample_use(uint64_t effects) const {
@@ -221,8 +223,26 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
   if (type_ == Type::kRealistic) {
     std::optional<Transform> moving;
     const Transform& w = to_world(lerp(s.time, shutter_open_, shutter_close_), &moving);
-    auto world_ray = [&](const CameraSample& cs, Ray* r) {
-      float weight = realistic_ray(cs, r);
+    auto shifted = [&](int axis, float eps) {
+      CameraSample cs = s;
+      (axis == 0 ? cs.p_film.x : cs.p_film.y) += eps;
+      return cs;
+    };
+    // The ray and its two neighbours a twentieth of a pixel away (finite differences, made
+    // even where no texture reads them, as pbrt-v3 drops a ray whose neighbours the lens
+    // stops), traced through the lens together; a neighbour the lens stops is tried on the
+    // other side alone.
+    Ray film[3], lens[3];
+    float area[3];
+    bool passed[3];
+    film[0] = realistic_film_ray(s, &area[0]);
+    film[1] = realistic_film_ray(shifted(0, 0.05f), &area[1]);
+    film[2] = realistic_film_ray(shifted(1, 0.05f), &area[2]);
+    lens_.trace_from_film(film, 3, lens, passed);
+    auto world_ray = [&](int k, Ray* r) {
+      if (!passed[k]) return 0.f;
+      *r = lens[k];
+      float weight = realistic_weight(film[k], area[k], r);
       if (weight > 0) {
         const Vec3 dw = w.vector(r->d);
         r->o = world_origin(w, r->o, dw);
@@ -231,19 +251,20 @@ float Camera::generate_ray_differential(const CameraSample& s, RayDifferential* 
       return weight;
     };
     Ray central;
-    float weight = world_ray(s, &central);
+    float weight = world_ray(0, &central);
     if (weight == 0) return 0;
     *out = RayDifferential(central);
-    // Finite differences a twentieth of a pixel away, on whichever side the lens lets through;
-    // made even where no texture reads them, as pbrt-v3 drops a ray whose neighbours the lens
-    // stops.
     for (int axis = 0; axis < 2; ++axis) {
       float shifted_weight = 0;
       for (float eps : {0.05f, -0.05f}) {
-        CameraSample shifted = s;
-        (axis == 0 ? shifted.p_film.x : shifted.p_film.y) += eps;
         Ray r;
-        shifted_weight = world_ray(shifted, &r);
+        if (eps > 0) {
+          shifted_weight = world_ray(1 + axis, &r);
+        } else {
+          film[0] = realistic_film_ray(shifted(axis, eps), &area[0]);
+          passed[0] = lens_.trace_from_film(film[0], &lens[0]);
+          shifted_weight = world_ray(0, &r);
+        }
         Vec3 o = central.o + (r.o - central.o) / eps;
         Vec3 d = central.d + (r.d - central.d) / eps;
         (axis == 0 ? out->rx_o : out->ry_o) = o;

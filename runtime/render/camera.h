@@ -131,8 +131,11 @@ class Camera {
 
  private:
   bool build_realistic(const pbrta::SceneArchive& archive, uint32_t entity, std::string* error);
-  // The realistic camera's camera-space ray; weight 0 when the lens stops it.
-  float realistic_ray(const CameraSample& sample, Ray* ray) const;
+  // The realistic camera's ray from the film toward the exit pupil (lens space), and the area
+  // of the pupil bounds it was sampled in.
+  Ray realistic_film_ray(const CameraSample& sample, float* pupil_area) const;
+  // The weight of the ray the lens made of film_ray, whose time and extent it sets.
+  float realistic_weight(const Ray& film_ray, float pupil_area, Ray* ray) const;
   // Where a ray leaving the lens meets the film, for we() and pdf_we(): false when it faces
   // away from the viewing direction; else its cosine to it and its raster point.
   bool project_to_raster(const Ray& ray, float* cos_theta, Vec2* p_raster) const;

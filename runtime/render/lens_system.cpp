@@ -74,41 +74,62 @@ void LensSystem::prepare_film_steps() {
 // division, and the normal is the hit's offset from the centre times 1/|R|
 // instead of a normalisation: two divisions and two square roots fewer per
 // interface, on a chain of dependent interfaces.
+[[gnu::always_inline]] inline bool LensSystem::film_step(const FilmStep& s, Ray& r) {
+  float t;
+  if (s.radius == 0) {
+    // A ray bent back toward the film by the previous interface never
+    // reaches the stop's plane.
+    if (r.d.z >= 0) return false;
+    t = (s.plane_z - r.o.z) / r.d.z;
+  } else {
+    const double ox = r.o.x, oy = r.o.y, oz = double(r.o.z) - s.center_z;
+    const double b = ox * r.d.x + oy * r.d.y + oz * r.d.z;
+    const double c = ox * ox + oy * oy + oz * oz - double(s.radius) * s.radius;
+    const double disc = b * b - c;
+    if (disc < 0) return false;
+    const double root = std::sqrt(disc);
+    // The nearer or farther root, by which way the ray travels and which
+    // way the surface bulges.
+    const bool nearer = (r.d.z > 0) != (s.radius < 0);
+    t = float(nearer ? -b - root : -b + root);
+    if (t < 0) return false;
+  }
+  const Vec3 p = r.at(t);
+  if (p.x * p.x + p.y * p.y > s.aperture2) return false;
+  r.o = p;
+  if (s.radius != 0) {
+    const Vec3 n = face_forward(Vec3{p.x, p.y, p.z - s.center_z} * s.inv_abs_radius, -r.d);
+    Vec3 w;
+    if (!refract(-r.d, n, s.eta_ratio, &w)) return false;
+    r.d = w;
+  }
+  return true;
+}
+
 bool LensSystem::trace_from_film(const Ray& camera_ray, Ray* out) const {
   Ray r = mirror_z(camera_ray);
   r.d = normalize(r.d);
-  for (const FilmStep& s : film_steps_) {
-    float t;
-    if (s.radius == 0) {
-      // A ray bent back toward the film by the previous interface never
-      // reaches the stop's plane.
-      if (r.d.z >= 0) return false;
-      t = (s.plane_z - r.o.z) / r.d.z;
-    } else {
-      const double ox = r.o.x, oy = r.o.y, oz = double(r.o.z) - s.center_z;
-      const double b = ox * r.d.x + oy * r.d.y + oz * r.d.z;
-      const double c = ox * ox + oy * oy + oz * oz - double(s.radius) * s.radius;
-      const double disc = b * b - c;
-      if (disc < 0) return false;
-      const double root = std::sqrt(disc);
-      // The nearer or farther root, by which way the ray travels and which
-      // way the surface bulges.
-      const bool nearer = (r.d.z > 0) != (s.radius < 0);
-      t = float(nearer ? -b - root : -b + root);
-      if (t < 0) return false;
-    }
-    const Vec3 p = r.at(t);
-    if (p.x * p.x + p.y * p.y > s.aperture2) return false;
-    r.o = p;
-    if (s.radius != 0) {
-      const Vec3 n = face_forward(Vec3{p.x, p.y, p.z - s.center_z} * s.inv_abs_radius, -r.d);
-      Vec3 w;
-      if (!refract(-r.d, n, s.eta_ratio, &w)) return false;
-      r.d = w;
-    }
-  }
+  for (const FilmStep& s : film_steps_)
+    if (!film_step(s, r)) return false;
   if (out) *out = mirror_z(r);
   return true;
+}
+
+void LensSystem::trace_from_film(const Ray* camera_rays, int n, Ray* out, bool* passed) const {
+  Ray r[kMaxTraced];
+  bool alive[kMaxTraced] = {};
+  for (int k = 0; k < n; ++k) {
+    r[k] = mirror_z(camera_rays[k]);
+    r[k].d = normalize(r[k].d);
+    alive[k] = true;
+  }
+  for (const FilmStep& s : film_steps_)
+    for (int k = 0; k < n; ++k)
+      if (alive[k]) alive[k] = film_step(s, r[k]);
+  for (int k = 0; k < n; ++k) {
+    passed[k] = alive[k];
+    if (alive[k]) out[k] = mirror_z(r[k]);
+  }
 }
 
 bool LensSystem::trace_from_scene(const Ray& camera_ray, Ray* out) const {

@@ -46,6 +46,11 @@ class LensSystem {
   // A ray leaving the film toward the rear element, traced out of the front
   // one; false when an element's aperture or total internal reflection stops it.
   bool trace_from_film(const Ray& camera_ray, Ray* out) const;
+  // The same for n <= kMaxTraced rays at once (passed[k]: ray k's result, out[k] its ray):
+  // interface by interface, so that their chains of dependent square roots and divisions
+  // overlap (a camera sample traces its ray and two neighbours for the differentials).
+  static constexpr int kMaxTraced = 4;
+  void trace_from_film(const Ray* camera_rays, int n, Ray* out, bool* passed) const;
   // A ray entering the front element, traced to the film side.
   bool trace_from_scene(const Ray& camera_ray, Ray* out) const;
 
@@ -75,6 +80,8 @@ class LensSystem {
     float radius;    // signed curvature radius; 0 for the stop
     float inv_abs_radius, aperture2, eta_ratio;
   };
+  // Ray r (lens space, unit direction) on to interface s: false when s stops it.
+  static bool film_step(const FilmStep& s, Ray& r);
   bool thick_lens(float pz[2], float fz[2], std::string* error) const;
   void prepare_film_steps();
 

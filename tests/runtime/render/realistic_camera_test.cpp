@@ -1,9 +1,11 @@
 // The realistic camera on the real fisheye lens of the shared corpus: the
 // lens focuses at the focus distance, the exit pupil bounds hold every ray
-// that gets through, and the camera's rays carry positive weights.
+// that gets through, rays traced together come out as each alone, and the
+// camera's rays carry positive weights.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "runtime/core/rng.h"
 #include "runtime/render/camera.h"
@@ -134,6 +136,44 @@ TEST(RealisticCamera, ExitPupilBoundsHoldEveryRayThatGetsThrough) {
   EXPECT_LT(std::abs(axis.min.x + axis.max.x), 0.05f * (axis.max.x - axis.min.x));
   EXPECT_GT(bounds[40].min.x, axis.min.x + 0.1f * (axis.max.x - axis.min.x));
   EXPECT_FLOAT_EQ(bounds.back().max.x, 1.5f * rear);
+}
+
+// Rays traced through the lens together pass or stop as each does alone, and come out with the
+// same bits, whatever the others do (random film points and rear points, a third of them outside
+// the rear element, so that rays stop at different interfaces).
+TEST(RealisticCamera, RaysTracedTogetherComeOutAsEachAlone) {
+  LensSystem lens;
+  ASSERT_TRUE(build_lens("realistic_batch", 5.5f, 0.55f, &lens));
+  const float rear = lens.rear_radius(), half_diagonal = 0.035f / 2;
+  Rng rng(17);
+  int through = 0, stopped = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const int n = 1 + int(rng.next_u32(LensSystem::kMaxTraced));
+    Ray in[LensSystem::kMaxTraced], out[LensSystem::kMaxTraced];
+    bool passed[LensSystem::kMaxTraced];
+    for (int k = 0; k < n; ++k) {
+      Vec3 p_film{(2 * rng.next_float() - 1) * half_diagonal,
+                  (2 * rng.next_float() - 1) * half_diagonal, 0};
+      Vec3 p_rear{(2 * rng.next_float() - 1) * 1.5f * rear,
+                  (2 * rng.next_float() - 1) * 1.5f * rear, lens.rear_z()};
+      in[k] = Ray{p_film, p_rear - p_film};
+      in[k].time = rng.next_float();
+    }
+    lens.trace_from_film(in, n, out, passed);
+    for (int k = 0; k < n; ++k) {
+      Ray alone;
+      const bool ok = lens.trace_from_film(in[k], &alone);
+      ASSERT_EQ(passed[k], ok) << "ray " << k << " of " << n;
+      if (!ok) {
+        ++stopped;
+        continue;
+      }
+      ++through;
+      ASSERT_EQ(std::memcmp(&alone, &out[k], sizeof alone), 0) << "ray " << k << " of " << n;
+    }
+  }
+  EXPECT_GT(through, 2000);
+  EXPECT_GT(stopped, 2000);
 }
 
 TEST(RealisticCamera, CameraRaysLeaveTheFrontElementWithPositiveWeight) {
