@@ -107,8 +107,12 @@ Interaction sample_shape_area(const ShapeInfo& s, uint32_t prim, Vec2 u, float* 
   *pdf_area = 0;
   if (!can_sample(s.kind)) return it;
   const Transform& m = s.object_to_world;
-  if (s.kind == ShapeKind::kTriangles)
-    return sample_triangle_area(s, prim, tri ? *tri : world_triangle(s, prim), u, pdf_area);
+  // Every path returns `it` itself, which the caller's return slot then holds (a second
+  // returned object made a copy of this one, reloaded in pieces just after its fields' stores).
+  if (s.kind == ShapeKind::kTriangles) {
+    it = sample_triangle_area(s, prim, tri ? *tri : world_triangle(s, prim), u, pdf_area);
+    return it;
+  }
   QuadricShape q = make_quadric_shape(s);
   Vec3 p_obj, p_obj_err;
   switch (s.kind) {
