@@ -154,23 +154,24 @@ void Subpaths::pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float
   *to_a = convert_density(v, ba, a);
 }
 
-bool Subpaths::joined_end(const Vertex& v, const Vertex& prev, const Vertex& other,
-                          TransportMode mode, Rgb* f, float* to_other, float* to_prev) const {
-  if (v.type != VertexType::kSurface) return false;
+Rgb Subpaths::end_f(const Vertex& v, const Vertex* prev, const Vertex& other, TransportMode mode,
+                    bool* known, float* to_other, float* to_prev) const {
+  *known = prev && v.type == VertexType::kSurface;
+  if (!*known) return f(v, other, mode);
   Vec3 wi = other.p() - v.p();
   if (length_squared(wi) == 0) {
-    *f = Rgb();
     *to_other = *to_prev = 0;
-    return true;
+    return Rgb();
   }
   wi = normalize(wi);
   // The walk's own direction back to prev (f's wo), for the densities too.
   const Vec3 wo = v.si.wo;
   float ab, ba;
-  *f = v.bsdf.f_pdf_both(wo, wi, &ab, &ba) * shading_normal_correction(v.si, wo, wi, mode);
+  const Rgb value =
+      v.bsdf.f_pdf_both(wo, wi, &ab, &ba) * shading_normal_correction(v.si, wo, wi, mode);
   *to_other = convert_density(v, ab, other);
-  *to_prev = convert_density(v, ba, prev);
-  return true;
+  *to_prev = convert_density(v, ba, *prev);
+  return value;
 }
 
 // The medium a ray leaving vertex v along w travels in: a surface that bounds two media
@@ -424,10 +425,9 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       sampled.si.n = lens.n;
       sampled.si.time = lens.time;
       sampled.beta = we / pdf;
-      Rgb fq;
-      known.qs = s > 1 && joined_end(qs, light_path[s - 2], sampled, TransportMode::kImportance,
-                                     &fq, &known.pt_rev, &known.qs_minus_rev);
-      if (!known.qs) fq = f(qs, sampled, TransportMode::kImportance);
+      const Rgb fq =
+          end_f(qs, s > 1 ? &light_path[s - 2] : nullptr, sampled, TransportMode::kImportance,
+                &known.qs, &known.pt_rev, &known.qs_minus_rev);
       l = qs.beta * fq * sampled.beta;
       if (qs.on_surface()) l *= abs_dot(wi, qs.ns());
       if (!l.is_black()) l *= visibility(qs, lens);
@@ -448,10 +448,8 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
       static_cast<Interaction&>(sampled.si) = ls.p_light;
       sampled.beta = lw / (ls.pdf * light_pmf);
       sampled.pdf_fwd = pdf_light_origin(sampled, pt);
-      Rgb fp;
-      known.pt = t > 1 && joined_end(pt, camera_path[t - 2], sampled, TransportMode::kRadiance, &fp,
-                                     &known.qs_rev, &known.pt_minus_rev);
-      if (!known.pt) fp = f(pt, sampled, TransportMode::kRadiance);
+      const Rgb fp = end_f(pt, t > 1 ? &camera_path[t - 2] : nullptr, sampled,
+                           TransportMode::kRadiance, &known.pt, &known.qs_rev, &known.pt_minus_rev);
       l = pt.beta * fp * sampled.beta;
       if (pt.on_surface()) l *= abs_dot(ls.wi, pt.ns());
       if (!l.is_black()) l *= visibility(pt, ls.p_light);
@@ -460,13 +458,10 @@ Rgb Subpaths::connect(const Vertex* light_path, const Vertex* camera_path, int s
     const Vertex& qs = light_path[s - 1];
     const Vertex& pt = camera_path[t - 1];
     if (connectible(qs) && connectible(pt)) {
-      Rgb fq, fp;
-      known.qs = joined_end(qs, light_path[s - 2], pt, TransportMode::kImportance, &fq,
-                            &known.pt_rev, &known.qs_minus_rev);
-      if (!known.qs) fq = f(qs, pt, TransportMode::kImportance);
-      known.pt = joined_end(pt, camera_path[t - 2], qs, TransportMode::kRadiance, &fp,
-                            &known.qs_rev, &known.pt_minus_rev);
-      if (!known.pt) fp = f(pt, qs, TransportMode::kRadiance);
+      const Rgb fq = end_f(qs, &light_path[s - 2], pt, TransportMode::kImportance, &known.qs,
+                           &known.pt_rev, &known.qs_minus_rev);
+      const Rgb fp = end_f(pt, &camera_path[t - 2], qs, TransportMode::kRadiance, &known.pt,
+                           &known.qs_rev, &known.pt_minus_rev);
       l = qs.beta * fq * fp * pt.beta;
       if (!l.is_black()) l *= g(qs, pt);
     }

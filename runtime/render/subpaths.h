@@ -107,10 +107,11 @@ struct Subpaths {
     bool qs = false, pt = false;  // which end's pair is known
     float pt_rev = 0, qs_minus_rev = 0, qs_rev = 0, pt_minus_rev = 0;
   };
-  // f(v, other, mode), with v's densities towards other and back towards prev (pdf_both's),
-  // from one evaluation of v's BSDF; false (and nothing written) where v is no surface.
-  bool joined_end(const Vertex& v, const Vertex& prev, const Vertex& other, TransportMode mode,
-                  Rgb* f, float* to_other, float* to_prev) const;
+  // f(v, other, mode). Where v is a surface with a vertex prev before it on its own path, also
+  // v's densities towards other and back towards prev (pdf_both's) from the same evaluation of
+  // its BSDF, and *known set.
+  Rgb end_f(const Vertex& v, const Vertex* prev, const Vertex& other, TransportMode mode,
+            bool* known, float* to_other, float* to_prev) const;
   float mis_weight(const Vertex* light_path, const Vertex* camera_path, const Vertex& sampled,
                    int s, int t, const JoinedDensities& known) const;
 };
