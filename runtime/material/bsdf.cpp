@@ -142,25 +142,6 @@ float Bsdf::pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags) const {
   return matching > 0 ? pdf / matching : 0;
 }
 
-void Bsdf::pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) const {
-  *pdf_ab = *pdf_ba = 0;
-  if (n_ == 0) return;
-  const Vec3 a = world_to_local(a_world), b = world_to_local(b_world);
-  float sum_ab = 0, sum_ba = 0;
-  int matching = 0;
-  for (int i = 0; i < n_; ++i)
-    if (lobes_[i].matches(kAllBxdf)) {
-      ++matching;
-      float ab, ba;
-      lobes_[i].pdf_both(a, b, &ab, &ba);
-      sum_ab += ab;
-      sum_ba += ba;
-    }
-  if (matching == 0) return;
-  if (a.z != 0) *pdf_ab = sum_ab / matching;
-  if (b.z != 0) *pdf_ba = sum_ba / matching;
-}
-
 Rgb Bsdf::f_pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) const {
   *pdf_ab = *pdf_ba = 0;
   if (n_ == 0) return Rgb(0);

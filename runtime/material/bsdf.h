@@ -55,12 +55,10 @@ class Bsdf {
   Rgb sample_f(Vec3 wo_world, Vec3* wi_world, Vec2 u, float* pdf, uint8_t flags = kAllBxdf,
                uint8_t* sampled_flags = nullptr) const;
   float pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags = kAllBxdf) const;
-  // pdf(a, b) and pdf(b, a) over all lobes at once, the same values.
-  void pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) const;
   // f() and pdf() at once, the same values: the frame change and what lobes share made once.
   Rgb f_pdf(Vec3 wo_world, Vec3 wi_world, uint8_t flags, float* pdf) const;
-  // f(a, b) and pdf_both(a, b) at once, the same values up to rounding (the lobes' shared
-  // terms made once): a bidirectional connection's end asks for all three.
+  // f(a, b), pdf(a, b) and pdf(b, a) at once, the same values (the frame change and what
+  // lobes share made once): a bidirectional connection's end asks for all three.
   Rgb f_pdf_both(Vec3 a_world, Vec3 b_world, float* pdf_ab, float* pdf_ba) const;
 
   float eta = 1;

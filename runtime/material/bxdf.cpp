@@ -163,30 +163,39 @@ float raw_pdf(const Bxdf& b, Vec3 wo, Vec3 wi) {
   return 0;
 }
 
-// raw_f and raw_pdf together. A microfacet reflection lobe computes its half vector, D and
-// lambda(wo) once for both, in the same arithmetic as the two apart (same values).
+// A microfacet reflection lobe's f at (wo, wi), its pdf from wo to wi and, when pdf_io is
+// given, from wi to wo: the half vector, D and the lambdas made once for all, each value in the
+// same arithmetic as raw_f, raw_pdf and Bxdf::pdf_both make it apart (same values).
+Rgb microfacet_reflection_f_pdfs(const Bxdf& b, Vec3 wo, Vec3 wi, float* pdf_oi, float* pdf_io) {
+  const Vec3 sum = wi + wo;
+  const bool same_side = same_hemisphere(wo, wi);
+  const float cos_o = abs_cos_theta(wo), cos_i = abs_cos_theta(wi);
+  const bool f_zero = cos_i == 0 || cos_o == 0 || (sum.x == 0 && sum.y == 0 && sum.z == 0);
+  *pdf_oi = 0;
+  if (pdf_io) *pdf_io = 0;
+  if (!same_side && f_zero) return Rgb(0);
+  const Vec3 wh = normalize(sum);
+  const MicrofacetDistribution& d = b.distribution;
+  const float dh = d.d(wh), lambda_o = d.lambda(wo);
+  const float lambda_i = !f_zero || (pdf_io && same_side) ? d.lambda(wi) : 0;
+  if (same_side) {
+    *pdf_oi = MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_o), wo, wh) / (4 * dot(wo, wh));
+    if (pdf_io)
+      *pdf_io =
+          MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_i), wi, wh) / (4 * dot(wi, wh));
+  }
+  if (f_zero) return Rgb(0);
+  Rgb fr = b.fresnel.evaluate(dot(wi, face_forward(wh, Vec3{0, 0, 1})));
+  return b.r * fr * (dh * (1 / (1 + lambda_o + lambda_i)) / (4 * cos_i * cos_o));
+}
+
+// raw_f and raw_pdf together (same values).
 Rgb raw_f_pdf(const Bxdf& b, Vec3 wo, Vec3 wi, float* pdf) {
   if (b.kind != BxdfKind::kMicrofacetReflection) {
     *pdf = raw_pdf(b, wo, wi);
     return raw_f(b, wo, wi);
   }
-  const Vec3 sum = wi + wo;
-  const Vec3 wh = normalize(sum);
-  const bool same_side = same_hemisphere(wo, wi);
-  const float cos_o = abs_cos_theta(wo), cos_i = abs_cos_theta(wi);
-  const bool f_zero = cos_i == 0 || cos_o == 0 || (sum.x == 0 && sum.y == 0 && sum.z == 0);
-  if (!same_side && f_zero) {
-    *pdf = 0;
-    return Rgb(0);
-  }
-  const MicrofacetDistribution& d = b.distribution;
-  const float dh = d.d(wh), lambda_o = d.lambda(wo);
-  *pdf = same_side
-             ? MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_o), wo, wh) / (4 * dot(wo, wh))
-             : 0;
-  if (f_zero) return Rgb(0);
-  Rgb fr = b.fresnel.evaluate(dot(wi, face_forward(wh, Vec3{0, 0, 1})));
-  return b.r * fr * (dh * (1 / (1 + lambda_o + d.lambda(wi))) / (4 * cos_i * cos_o));
+  return microfacet_reflection_f_pdfs(b, wo, wi, pdf, nullptr);
 }
 
 // Refraction through the +z interface; which side wo is on picks the indices.
@@ -317,24 +326,7 @@ Rgb Bxdf::f_pdf_both(Vec3 a, Vec3 b, float* pdf_ab, float* pdf_ba) const {
     pdf_both(a, b, pdf_ab, pdf_ba);
     return f(a, b);
   }
-  // The half vector, D and both lambdas serve f and the two pdfs (each term as f(), pdf_both()
-  // compute it).
-  const Vec3 sum = a + b;
-  const float cos_a = abs_cos_theta(a), cos_b = abs_cos_theta(b);
-  const bool f_zero = cos_a == 0 || cos_b == 0 || (sum.x == 0 && sum.y == 0 && sum.z == 0);
-  const bool same_side = same_hemisphere(a, b);
-  *pdf_ab = *pdf_ba = 0;
-  if (f_zero && !same_side) return Rgb(0);
-  const Vec3 wh = normalize(sum);
-  const float dh = distribution.d(wh);
-  const float lambda_a = distribution.lambda(a), lambda_b = distribution.lambda(b);
-  if (same_side) {
-    *pdf_ab = MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_a), a, wh) / (4 * dot(a, wh));
-    *pdf_ba = MicrofacetDistribution::pdf_given(dh, 1 / (1 + lambda_b), b, wh) / (4 * dot(b, wh));
-  }
-  if (f_zero) return Rgb(0);
-  const Rgb fr = fresnel.evaluate(dot(b, face_forward(wh, Vec3{0, 0, 1})));
-  return scale * (r * fr * (dh * (1 / (1 + lambda_a + lambda_b)) / (4 * cos_b * cos_a)));
+  return scale * microfacet_reflection_f_pdfs(*this, a, b, pdf_ab, pdf_ba);
 }
 
 Rgb Bxdf::f_pdf(Vec3 wo, Vec3 wi, float* pdf) const {

@@ -134,26 +134,6 @@ float Subpaths::pdf(const Vertex& v, const Vertex* prev, const Vertex& next) con
   return convert_density(v, pdf, next);
 }
 
-void Subpaths::pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float* to_b,
-                        float* to_a) const {
-  if (v.type != VertexType::kSurface) {
-    *to_b = pdf(v, &a, b);
-    *to_a = pdf(v, &b, a);
-    return;
-  }
-  Vec3 wa = a.p() - v.p(), wb = b.p() - v.p();
-  if (length_squared(wa) == 0 || length_squared(wb) == 0) {
-    *to_b = *to_a = 0;
-    return;
-  }
-  wa = normalize(wa);
-  wb = normalize(wb);
-  float ab, ba;
-  v.bsdf.pdf_both(wa, wb, &ab, &ba);
-  *to_b = convert_density(v, ab, b);
-  *to_a = convert_density(v, ba, a);
-}
-
 Rgb Subpaths::end_f(const Vertex& v, const Vertex* prev, const Vertex& other, TransportMode mode,
                     bool* known, float* to_other, float* to_prev) const {
   *known = prev && v.type == VertexType::kSurface;
@@ -356,7 +336,8 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
   else if (t == 1)
     pt = &sampled;
   // The joined ends' reverse densities, which neither walk knew.
-  // Each joined end's two (toward the other end and back along its own path) come together.
+  // A surface end's two (toward the other end and back along its own path) came with its f
+  // (end_f); a medium vertex's are found here.
   float pt_rev = 0, pt_minus_rev = 0, qs_rev = 0, qs_minus_rev = 0;
   if (s == 0) {
     pt_rev = pdf_light_origin(*pt, *pt_minus);
@@ -364,7 +345,8 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
     pt_rev = known.pt_rev;
     qs_minus_rev = known.qs_minus_rev;
   } else if (qs_minus) {
-    pdf_both(*qs, *qs_minus, *pt, &pt_rev, &qs_minus_rev);
+    pt_rev = pdf(*qs, qs_minus, *pt);
+    qs_minus_rev = pdf(*qs, pt, *qs_minus);
   } else {
     pt_rev = pdf(*qs, nullptr, *pt);
   }
@@ -374,7 +356,8 @@ float Subpaths::mis_weight(const Vertex* light_path, const Vertex* camera_path,
     qs_rev = known.qs_rev;
     pt_minus_rev = known.pt_minus_rev;
   } else if (pt_minus) {
-    pdf_both(*pt, *pt_minus, *qs, &qs_rev, &pt_minus_rev);
+    qs_rev = pdf(*pt, pt_minus, *qs);
+    pt_minus_rev = pdf(*pt, qs, *pt_minus);
   } else {
     qs_rev = pdf(*pt, nullptr, *qs);
   }

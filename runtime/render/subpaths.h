@@ -94,8 +94,6 @@ struct Subpaths {
   float pdf_light(const Vertex& v, const Vertex& next) const;
   float pdf_light_origin(const Vertex& v, const Vertex& next) const;
   float pdf(const Vertex& v, const Vertex* prev, const Vertex& next) const;
-  // pdf(v, &a, b) and pdf(v, &b, a): MIS asks for both at each joined end.
-  void pdf_both(const Vertex& v, const Vertex& a, const Vertex& b, float* to_b, float* to_a) const;
   uint32_t medium_toward(const Vertex& v, Vec3 w) const;
   Rgb visibility(const Vertex& from, const Interaction& to) const;
   Rgb g(const Vertex& v0, const Vertex& v1) const;
@@ -108,8 +106,8 @@ struct Subpaths {
     float pt_rev = 0, qs_minus_rev = 0, qs_rev = 0, pt_minus_rev = 0;
   };
   // f(v, other, mode). Where v is a surface with a vertex prev before it on its own path, also
-  // v's densities towards other and back towards prev (pdf_both's) from the same evaluation of
-  // its BSDF, and *known set.
+  // v's densities towards other and back towards prev (pdf()'s, each way) from the same evaluation
+  // of its BSDF, and *known set.
   Rgb end_f(const Vertex& v, const Vertex* prev, const Vertex& other, TransportMode mode,
             bool* known, float* to_other, float* to_prev) const;
   float mis_weight(const Vertex* light_path, const Vertex* camera_path, const Vertex& sampled,
