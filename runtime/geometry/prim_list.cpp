@@ -5,14 +5,12 @@
 
 #include <algorithm>
 
-#include "runtime/geometry/watertight.h"
-
 namespace rt {
 
 void PrimList::add_box(const Bounds3& b) {
   const size_t k = entries_.size() % 4;
   if (k == 0) groups_.push_back({});
-  BoxGroup& g = groups_.back();
+  Group& g = groups_.back();
   for (int i = 0; i < 3; ++i) {
     g.lo[i][k] = next_float_down(b.lo[i]);
     g.hi[i][k] = next_float_up(b.hi[i]);
@@ -24,15 +22,17 @@ void PrimList::add_triangle(Vec3 p0, Vec3 p1, Vec3 p2, uint32_t tag, uint32_t pr
   b.extend(p0);
   b.extend(p1);
   b.extend(p2);
+  const int k = int(entries_.size() % 4);
   add_box(b);
-  entries_.push_back({tag, prim, -1, uint32_t(tris_.size() / 3), masked});
-  tris_.insert(tris_.end(), {p0, p1, p2});
+  groups_.back().tri.set(k, p0, p1, p2);
+  groups_.back().triangles |= 1 << k;
+  entries_.push_back({tag, prim, -1, masked});
 }
 
 void PrimList::add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const Bounds3& world_box,
                            uint32_t tag, uint32_t shape) {
   add_box(world_box);
-  entries_.push_back({tag, 0, int32_t(quadrics_.size()), 0, false});
+  entries_.push_back({tag, 0, int32_t(quadrics_.size()), false});
   quadrics_.push_back({&s, &q, shape});
 }
 
@@ -41,7 +41,7 @@ void PrimList::add_quadric(const ShapeInfo& s, const PreparedQuadric& q, const B
 // times an infinite 1 / d: the origin on a face the ray runs along) bounds nothing:
 // cmpunord marks it, and max / min return their second operand, the running bound, for it.
 int PrimList::group_mask(size_t g, const float o[3], const float inv[3], float tmax) const {
-  const BoxGroup& b = groups_[g];
+  const Group& b = groups_[g];
   __m128 t0 = _mm_setzero_ps(), t1 = _mm_set1_ps(tmax);
   const __m128 widen = _mm_set1_ps(1 + 2 * gamma_bound(3));
   for (int i = 0; i < 3; ++i) {
@@ -57,16 +57,15 @@ int PrimList::group_mask(size_t g, const float o[3], const float inv[3], float t
   return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
 }
 
-bool PrimList::test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
-                    SurfaceInteraction* si) const {
+bool PrimList::test(const Entry& e, const GroupHits& gh, int k, const Ray& ray, float best,
+                    float* t, Hit* hit, SurfaceInteraction* si) const {
   if (e.quadric < 0) {
-    const Vec3* p = &tris_[3 * size_t(e.triangle)];
-    float b1, b2;
+    *t = gh.t[k];
     // any() asks with no hit record: a shadow query, where shadowalpha masks too.
-    if (!watertight_triangle(ray.o, ray.d, best, p[0], p[1], p[2], t, &b1, &b2) || !(*t < best) ||
-        dropped(e, *t, b1, b2, ray, hit == nullptr))
+    if (!(gh.hits >> k & 1) || !(*t < best) ||
+        dropped(e, *t, gh.b1[k], gh.b2[k], ray, hit == nullptr))
       return false;
-    if (hit) *hit = {e.tag, e.prim, *t, b1, b2};
+    if (hit) *hit = {e.tag, e.prim, *t, gh.b1[k], gh.b2[k]};
     return true;
   }
   const QuadricRef& q = quadrics_[size_t(e.quadric)];
@@ -85,11 +84,21 @@ template <class Visit>
 bool PrimList::each_met(const Ray& ray, const float* tmax, Visit visit) const {
   const float o[3] = {ray.o.x, ray.o.y, ray.o.z};
   const float inv[3] = {1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
+  WatertightRay wr;
+  bool have_wr = false;
   for (size_t g = 0; g < groups_.size(); ++g) {
     int mask = group_mask(g, o, inv, *tmax);
-    const size_t lanes = std::min<size_t>(4, entries_.size() - 4 * g);
-    for (size_t k = 0; k < lanes; ++k, mask >>= 1)
-      if ((mask & 1) && visit(entries_[4 * g + k])) return true;
+    if (!mask) continue;
+    GroupHits gh;
+    gh.hits = 0;
+    if (const int tri = mask & groups_[g].triangles) {
+      if (!have_wr) wr = watertight_ray(ray.o, ray.d);
+      have_wr = true;
+      gh.hits = watertight_triangles4(wr, groups_[g].tri, tri, *tmax, gh.t, gh.b1, gh.b2);
+    }
+    const int lanes = int(std::min<size_t>(4, entries_.size() - 4 * g));
+    for (int k = 0; k < lanes; ++k, mask >>= 1)
+      if ((mask & 1) && visit(entries_[4 * g + size_t(k)], gh, k)) return true;
   }
   return false;
 }
@@ -98,9 +107,9 @@ bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si,
                        uint32_t skip_shape) const {
   float best = ray.tmax;
   bool found = false;
-  each_met(ray, &best, [&](const Entry& e) {
+  each_met(ray, &best, [&](const Entry& e, const GroupHits& gh, int k) {
     float t;
-    if (!skips(e, skip_shape) && test(e, ray, best, &t, hit, si)) {
+    if (!skips(e, skip_shape) && test(e, gh, k, ray, best, &t, hit, si)) {
       best = t;
       found = true;
     }
@@ -110,9 +119,9 @@ bool PrimList::closest(const Ray& ray, Hit* hit, SurfaceInteraction* si,
 }
 
 bool PrimList::any(const Ray& ray, uint32_t skip_shape) const {
-  return each_met(ray, &ray.tmax, [&](const Entry& e) {
+  return each_met(ray, &ray.tmax, [&](const Entry& e, const GroupHits& gh, int k) {
     float t;
-    return !skips(e, skip_shape) && test(e, ray, ray.tmax, &t, nullptr, nullptr);
+    return !skips(e, skip_shape) && test(e, gh, k, ray, ray.tmax, &t, nullptr, nullptr);
   });
 }
 

@@ -24,6 +24,7 @@
 #include "runtime/core/ray.h"
 #include "runtime/geometry/quadric_intersect.h"
 #include "runtime/geometry/shape_table.h"
+#include "runtime/geometry/watertight4.h"
 
 namespace rt {
 
@@ -59,8 +60,7 @@ class PrimList {
  private:
   struct Entry {
     uint32_t tag, prim;
-    int32_t quadric;  // index into quadrics_, or -1 for triangle prim of tris_
-    uint32_t triangle;
+    int32_t quadric;  // index into quadrics_, or -1 for a triangle (its group's lane)
     bool masked;
   };
   struct QuadricRef {
@@ -68,21 +68,32 @@ class PrimList {
     const PreparedQuadric* q;
     uint32_t shape;
   };
-  // Boxes four at a time, padded outwards by an ulp: lo x, y, z then hi x, y, z of entries
-  // 4 g .. 4 g + 3 (a partial last group's missing lanes are never read).
-  struct alignas(16) BoxGroup {
+  // Entries four at a time: their boxes, padded outwards by an ulp (lo x, y, z then hi x, y, z
+  // of entries 4 g .. 4 g + 3; a partial last group's missing lanes are never read), and the
+  // vertices of those that are triangles (bit k of `triangles`: entry 4 g + k), tested
+  // together (watertight4.h).
+  struct alignas(16) Group {
     float lo[3][4], hi[3][4];
+    TriangleLanes tri;
+    int triangles;
+  };
+  // The triangle lanes' answers for one group (bit k of `hits`: lane k's triangle is hit).
+  struct GroupHits {
+    int hits;
+    float t[4], b1[4], b2[4];
   };
   void add_box(const Bounds3& b);
   // Which of group g's boxes the ray meets within [0, tmax] (bit k: entry 4 g + k).
   int group_mask(size_t g, const float o[3], const float inv[3], float tmax) const;
-  // visit(entry) for each entry whose box the ray meets within [0, *tmax] (read for every
-  // group: closest() shrinks it as it goes), until visit returns true; whether one did.
+  // visit(entry, group hits, lane) for each entry whose box the ray meets within [0, *tmax]
+  // (read for every group: closest() shrinks it as it goes), until visit returns true; whether
+  // one did. A triangle's lane of the group hits was tested with the *tmax of its group.
   template <class Visit>
   bool each_met(const Ray& ray, const float* tmax, Visit visit) const;
-  // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction.
-  bool test(const Entry& e, const Ray& ray, float best, float* t, Hit* hit,
-            SurfaceInteraction* si) const;
+  // Entry e's hit in (0, best): its t, and (closest) its hit record and interaction. A
+  // triangle's test is lane k of gh.
+  bool test(const Entry& e, const GroupHits& gh, int k, const Ray& ray, float best, float* t,
+            Hit* hit, SurfaceInteraction* si) const;
   bool skips(const Entry& e, uint32_t skip_shape) const {
     return e.quadric >= 0 && skip_shape != kNone &&
            quadrics_[size_t(e.quadric)].shape == skip_shape;
@@ -91,9 +102,8 @@ class PrimList {
     return e.masked && mask_test_(mask_ctx_, e.tag, e.prim, t, b1, b2, ray, shadow);
   }
 
-  std::vector<BoxGroup> groups_;
+  std::vector<Group> groups_;
   std::vector<Entry> entries_;
-  std::vector<Vec3> tris_;  // 3 world vertices per triangle
   std::vector<QuadricRef> quadrics_;
   MaskTest mask_test_ = nullptr;
   const void* mask_ctx_ = nullptr;
