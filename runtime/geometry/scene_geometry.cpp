@@ -36,6 +36,7 @@ struct GeomData {
   Bounds3 box;               // quadrics: the box Embree is given, in the space of the scene
                              // holding it (the world, or its object's space)
   PreparedQuadric prepared;  // quadrics; inside instances only .shape applies
+  std::vector<TriangleFrame> frames;  // a listed mesh's, per triangle (triangle_hit.h)
 };
 
 // A top-level Embree instance: an object instance, or a moving mesh in its own scene.
@@ -176,6 +177,7 @@ struct SceneGeometry::Impl {
     space.instance_mirrors = inst && inst->mirrors;
     // A listed scene's hits are all PrimList's.
     space.measured = listing == Listing::kAll;
+    space.frames = g.frames.empty() ? nullptr : g.frames.data();
     // A moving instance's transform is made per hit. (Not a std::optional<Transform>: GCC
     // zeroes its 136 bytes on every call, moving or not.)
     if (inst && inst->motion) {
@@ -570,7 +572,7 @@ class Builder {
   // Quadric geometry g (its prepared form set) listed behind box; skip_shape: its ShapeTable
   // index for occluded()'s skip_shape, or kNone.
   void list_quadric(const GeomData& g, const Bounds3& box, uint32_t skip_shape);
-  void list_triangles(const GeomData& g);
+  void list_triangles(GeomData& g);
 
   Impl* impl_;
   const pbrta::SceneArchive& a_;
@@ -726,7 +728,7 @@ void Builder::list_quadric(const GeomData& g, const Bounds3& box, uint32_t skip_
   ++stats_->quadrics;
 }
 
-void Builder::list_triangles(const GeomData& g) {
+void Builder::list_triangles(GeomData& g) {
   const ShapeInfo& s = shapes_[g.shape];
   auto p = [&](uint32_t v) {
     return Vec3{g.positions[3 * v], g.positions[3 * v + 1], g.positions[3 * v + 2]};
@@ -735,7 +737,9 @@ void Builder::list_triangles(const GeomData& g) {
   const bool masked = s.has_alpha_mask() || s.has_shadow_mask();
   for (uint32_t t = 0; t < s.mesh.num_triangles; ++t) {
     const uint32_t* i = s.mesh.indices + 3 * size_t(t);
-    impl_->listed.add_triangle(p(i[0]), p(i[1]), p(i[2]), tag, t, masked);
+    const Vec3 v[3] = {p(i[0]), p(i[1]), p(i[2])};
+    impl_->listed.add_triangle(v[0], v[1], v[2], tag, t, masked);
+    g.frames.push_back(triangle_frame(s.mesh, t, v));
   }
   impl_->listed_geoms.push_back(&g);
 }

@@ -37,14 +37,13 @@ Vec3 abs_vector(const Matrix4& m, Vec3 v) {
 // twice its error bound is moved toward the centroid until it is that far
 // inside: a point of the triangle as good as the computed one (both lie within
 // the bound of the true hit, up to the margin). True when *b0..*b2 changed.
-bool keep_off_edges(const Vec3 p[3], Vec3 p_error, float* b0, float* b1, float* b2) {
-  const float m2 = 4 * length_squared(p_error);                         // (2 |error|)^2
-  const float area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
+// The frame's area2 and e2: edge i is opposite vertex i; b_i is the distance to it over the
+// height h_i = 2A / |e_i|. The margin in barycentrics: mu_i = 2|error| / h_i.
+bool keep_off_edges(const TriangleFrame& f, Vec3 p_error, float* b0, float* b1, float* b2) {
+  const float m2 = 4 * length_squared(p_error);  // (2 |error|)^2
+  const float area2 = f.area2;
   if (!(area2 > 0)) return false;
-  // Edge i is opposite vertex i; b_i is the distance to it over the height
-  // h_i = 2A / |e_i|. The margin in barycentrics: mu_i = 2|error| / h_i.
-  const float e2[3] = {length_squared(p[2] - p[1]), length_squared(p[0] - p[2]),
-                       length_squared(p[1] - p[0])};
+  const float* e2 = f.edge2;
   float b[3] = {*b0, *b1, *b2};
   const float k = m2 / area2;  // one division for the three margins
   float s = 0;
@@ -80,7 +79,41 @@ bool hit_values(Vec3 o, Vec3 d, const Vec3 p[3], float* t, float* b0, float* b1,
   return true;
 }
 
+// The geometric normal from the edges, or +z for a degenerate triangle.
+Vec3 edge_normal(const Vec3 p[3]) {
+  const Vec3 n = cross(p[0] - p[2], p[1] - p[2]);
+  return length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
+}
+
 }  // namespace
+
+TriangleFrame triangle_frame(const MeshView& m, uint32_t prim, const Vec3 p[3]) {
+  TriangleFrame f;
+  f.area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
+  f.edge2[0] = length_squared(p[2] - p[1]);
+  f.edge2[1] = length_squared(p[0] - p[2]);
+  f.edge2[2] = length_squared(p[1] - p[0]);
+  f.n = edge_normal(p);
+  const uint32_t* idx = m.indices + 3 * size_t(prim);
+  Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
+  if (m.uv)
+    for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * idx[i]], m.uv[2 * idx[i] + 1]};
+  // dp/du, dp/dv from the uv differences (pbrt-v3's degenerate-uv rule).
+  const Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
+  const Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
+  f.uv_det = duv02.x * duv12.y - duv02.y * duv12.x;
+  f.degenerate_uv = std::fabs(f.uv_det) < 1e-8f;
+  if (!f.degenerate_uv) {
+    float inv = 1 / f.uv_det;
+    f.dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+    f.dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+  }
+  if (f.degenerate_uv || length_squared(cross(f.dpdu, f.dpdv)) == 0) {
+    Vec3 ng = cross(p[2] - p[0], p[1] - p[0]);
+    if (length_squared(ng) > 0) coordinate_system(normalize(ng), &f.dpdu, &f.dpdv);
+  }
+  return f;
+}
 
 void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32_t prim, float b1,
                           float b2, const Ray& ray, float* t_hit, SurfaceInteraction* si) {
@@ -97,11 +130,25 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     p[i] = buffer_to_world ? buffer_to_world->point(pb[i]) : pb[i];
   }
   if (!space.measured) hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
+  const bool passed_only = s.passes_through && !m.normals && !m.tangents;
+  TriangleFrame made;
+  if (!space.frames || buffer_to_world) {
+    if (passed_only) {  // what the early return below reads
+      made.area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));
+      made.edge2[0] = length_squared(p[2] - p[1]);
+      made.edge2[1] = length_squared(p[0] - p[2]);
+      made.edge2[2] = length_squared(p[1] - p[0]);
+      made.n = edge_normal(p);
+    } else {
+      made = triangle_frame(m, prim, p);
+    }
+  }
+  const TriangleFrame& frame = space.frames && !buffer_to_world ? space.frames[prim] : made;
 
   // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
   si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
   si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
-  if (keep_off_edges(p, si->p_error, &b0, &b1, &b2)) {
+  if (keep_off_edges(frame, si->p_error, &b0, &b1, &b2)) {
     si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
     si->p_error = gamma_bound(7) * (abs(b0 * p[0]) + abs(b1 * p[1]) + abs(b2 * p[2]));
   }
@@ -125,13 +172,10 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   si->dpdx = si->dpdy = Vec3{};
   si->dudx = si->dvdx = si->dudy = si->dvdy = 0;
 
-  // The geometric normal from the edges.
-  const Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
-  Vec3 n = cross(dp02, dp12);
-  n = length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
+  Vec3 n = frame.n;
   if (space.instance_mirrors) n = -n;
   const bool flip = s.flip_normals();
-  if (s.passes_through && !m.normals && !m.tangents) {
+  if (passed_only) {
     // A medium's boundary, passed through: a ray leaves it from p, offset along n, and n's
     // side says which medium it enters; nothing reads its uv or shading frame (which, without
     // vertex normals or tangents, do not change n's orientation below).
@@ -146,20 +190,8 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * v[i]], m.uv[2 * v[i] + 1]};
   si->uv = b0 * uv[0] + b1 * uv[1] + b2 * uv[2];
 
-  // dp/du, dp/dv from the uv differences (pbrt-v3's degenerate-uv rule).
-  Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
-  float det = duv02.x * duv12.y - duv02.y * duv12.x;
-  bool degenerate_uv = std::fabs(det) < 1e-8f;
-  Vec3 dpdu, dpdv;
-  if (!degenerate_uv) {
-    float inv = 1 / det;
-    dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
-    dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
-  }
-  if (degenerate_uv || length_squared(cross(dpdu, dpdv)) == 0) {
-    Vec3 ng = cross(p[2] - p[0], p[1] - p[0]);
-    if (length_squared(ng) > 0) coordinate_system(normalize(ng), &dpdu, &dpdv);
-  }
+  const Vec3 dpdu = frame.dpdu, dpdv = frame.dpdv;
+  const bool degenerate_uv = frame.degenerate_uv;
   si->dpdu = dpdu;
   si->dpdv = dpdv;
   si->dndu = si->dndv = Vec3{};
@@ -202,7 +234,8 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     Vec3 dndu, dndv;
     if (m.normals && !degenerate_uv) {
       Vec3 dn1 = nw[0] - nw[2], dn2 = nw[1] - nw[2];
-      float inv = 1 / det;
+      const Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
+      float inv = 1 / frame.uv_det;
       dndu = (duv12.y * dn1 - duv02.y * dn2) * inv;
       dndv = (duv02.x * dn2 - duv12.x * dn1) * inv;
     }

@@ -21,6 +21,19 @@
 
 namespace rt {
 
+// What a triangle's interaction needs that no hit changes: made from its world vertices and
+// uv by triangle_frame, per hit or once for a scene's few listed triangles.
+struct TriangleFrame {
+  float area2 = 0;      // (twice the area)^2
+  float edge2[3] = {};  // squared length of the edge opposite each vertex
+  Vec3 n;               // the geometric normal from the edges (+z if degenerate)
+  Vec3 dpdu, dpdv;      // pbrt-v3's, with its degenerate-uv rule
+  float uv_det = 0;
+  bool degenerate_uv = false;
+};
+// p: the world vertices of triangle prim of mesh m.
+TriangleFrame triangle_frame(const MeshView& m, uint32_t prim, const Vec3 p[3]);
+
 // How the vertex buffer Embree intersected maps to world space.
 struct TriangleSpace {
   // The positions Embree was given: the archive's object-space array, or a
@@ -43,6 +56,9 @@ struct TriangleSpace {
   // t and the barycentrics come from our own test on these very world vertices (PrimList's
   // watertight test), not from Embree's CPU-dependent kernels: nothing to measure again.
   bool measured = false;
+  // Per triangle of the mesh, triangle_frame of the vertices of `positions` (read when to_world
+  // does not move them), or null: made per hit.
+  const TriangleFrame* frames = nullptr;
 };
 
 // Fills si (p, p_error, n, wo, time, uv, dpdu, dpdv, dndu, dndv, shading,
