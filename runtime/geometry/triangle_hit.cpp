@@ -85,10 +85,9 @@ Vec3 edge_normal(const Vec3 p[3]) {
   return length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
 }
 
-}  // namespace
-
-TriangleFrame triangle_frame(const MeshView& m, uint32_t prim, const Vec3 p[3]) {
-  TriangleFrame f;
+// triangle_frame's work, in place (the hit's own frame is made per hit: no copy out).
+inline void fill_frame(const MeshView& m, uint32_t prim, const Vec3 p[3], TriangleFrame* out) {
+  TriangleFrame& f = *out;
   f.area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
   f.edge2[0] = length_squared(p[2] - p[1]);
   f.edge2[1] = length_squared(p[0] - p[2]);
@@ -112,6 +111,13 @@ TriangleFrame triangle_frame(const MeshView& m, uint32_t prim, const Vec3 p[3]) 
     Vec3 ng = cross(p[2] - p[0], p[1] - p[0]);
     if (length_squared(ng) > 0) coordinate_system(normalize(ng), &f.dpdu, &f.dpdv);
   }
+}
+
+}  // namespace
+
+TriangleFrame triangle_frame(const MeshView& m, uint32_t prim, const Vec3 p[3]) {
+  TriangleFrame f;
+  fill_frame(m, prim, p, &f);
   return f;
 }
 
@@ -140,7 +146,7 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
       made.edge2[2] = length_squared(p[1] - p[0]);
       made.n = edge_normal(p);
     } else {
-      made = triangle_frame(m, prim, p);
+      fill_frame(m, prim, p, &made);
     }
   }
   const TriangleFrame& frame = space.frames && !buffer_to_world ? space.frames[prim] : made;
