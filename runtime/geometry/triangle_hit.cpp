@@ -85,14 +85,19 @@ Vec3 edge_normal(const Vec3 p[3]) {
   return length_squared(n) > 0 ? normalize(n) : Vec3{0, 0, 1};
 }
 
+// The frame's part that a surface only passed through reads: its edges and normal.
+void fill_edges(const Vec3 p[3], TriangleFrame* f) {
+  f->area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
+  f->edge2[0] = length_squared(p[2] - p[1]);
+  f->edge2[1] = length_squared(p[0] - p[2]);
+  f->edge2[2] = length_squared(p[1] - p[0]);
+  f->n = edge_normal(p);
+}
+
 // triangle_frame's work, in place (the hit's own frame is made per hit: no copy out).
 inline void fill_frame(const MeshView& m, uint32_t prim, const Vec3 p[3], TriangleFrame* out) {
   TriangleFrame& f = *out;
-  f.area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));  // (2A)^2
-  f.edge2[0] = length_squared(p[2] - p[1]);
-  f.edge2[1] = length_squared(p[0] - p[2]);
-  f.edge2[2] = length_squared(p[1] - p[0]);
-  f.n = edge_normal(p);
+  fill_edges(p, &f);
   const uint32_t* idx = m.indices + 3 * size_t(prim);
   Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
   if (m.uv)
@@ -139,15 +144,10 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   const bool passed_only = s.passes_through && !m.normals && !m.tangents;
   TriangleFrame made;
   if (!space.frames || buffer_to_world) {
-    if (passed_only) {  // what the early return below reads
-      made.area2 = length_squared(cross(p[1] - p[0], p[2] - p[0]));
-      made.edge2[0] = length_squared(p[2] - p[1]);
-      made.edge2[1] = length_squared(p[0] - p[2]);
-      made.edge2[2] = length_squared(p[1] - p[0]);
-      made.n = edge_normal(p);
-    } else {
+    if (passed_only)
+      fill_edges(p, &made);  // what the early return below reads
+    else
       fill_frame(m, prim, p, &made);
-    }
   }
   const TriangleFrame& frame = space.frames && !buffer_to_world ? space.frames[prim] : made;
 
