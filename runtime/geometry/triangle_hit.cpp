@@ -79,6 +79,15 @@ bool hit_values(Vec3 o, Vec3 d, const Vec3 p[3], float* t, float* b0, float* b1,
   return true;
 }
 
+// The uv of vertices v (pbrt-v3's (0,0) (1,0) (1,1) for a mesh without).
+void vertex_uvs(const MeshView& m, const uint32_t v[3], Vec2 uv[3]) {
+  uv[0] = {0, 0};
+  uv[1] = {1, 0};
+  uv[2] = {1, 1};
+  if (m.uv)
+    for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * v[i]], m.uv[2 * v[i] + 1]};
+}
+
 // The geometric normal from the edges, or +z for a degenerate triangle.
 Vec3 edge_normal(const Vec3 p[3]) {
   const Vec3 n = cross(p[0] - p[2], p[1] - p[2]);
@@ -98,10 +107,8 @@ void fill_edges(const Vec3 p[3], TriangleFrame* f) {
 inline void fill_frame(const MeshView& m, uint32_t prim, const Vec3 p[3], TriangleFrame* out) {
   TriangleFrame& f = *out;
   fill_edges(p, &f);
-  const uint32_t* idx = m.indices + 3 * size_t(prim);
-  Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
-  if (m.uv)
-    for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * idx[i]], m.uv[2 * idx[i] + 1]};
+  Vec2 uv[3];
+  vertex_uvs(m, m.indices + 3 * size_t(prim), uv);
   // dp/du, dp/dv from the uv differences (pbrt-v3's degenerate-uv rule).
   const Vec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
   const Vec2 duv02 = uv[0] - uv[2], duv12 = uv[1] - uv[2];
@@ -142,14 +149,16 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
   }
   if (!space.measured) hit_values(ray.o, ray.d, p, t_hit, &b0, &b1, &b2);
   const bool passed_only = s.passes_through && !m.normals && !m.tangents;
+  // Stored frames are of the buffer's own vertices: read only where those are the world's.
+  const TriangleFrame* stored = buffer_to_world ? nullptr : space.frames;
   TriangleFrame made;
-  if (!space.frames || buffer_to_world) {
+  if (!stored) {
     if (passed_only)
       fill_edges(p, &made);  // what the early return below reads
     else
       fill_frame(m, prim, p, &made);
   }
-  const TriangleFrame& frame = space.frames && !buffer_to_world ? space.frames[prim] : made;
+  const TriangleFrame& frame = stored ? stored[prim] : made;
 
   // Hit point and its error bound (pbrt book 3.9.2), on the world vertices.
   si->p = b0 * p[0] + b1 * p[1] + b2 * p[2];
@@ -191,9 +200,8 @@ void triangle_interaction(const ShapeInfo& s, const TriangleSpace& space, uint32
     return;
   }
 
-  Vec2 uv[3] = {{0, 0}, {1, 0}, {1, 1}};
-  if (m.uv)
-    for (int i = 0; i < 3; ++i) uv[i] = {m.uv[2 * v[i]], m.uv[2 * v[i] + 1]};
+  Vec2 uv[3];
+  vertex_uvs(m, v, uv);
   si->uv = b0 * uv[0] + b1 * uv[1] + b2 * uv[2];
 
   const Vec3 dpdu = frame.dpdu, dpdv = frame.dpdv;
